@@ -1,0 +1,27 @@
+/* calib.h - per-unit calibration files (ROS velodyne_pointcloud YAML:
+ * `lasers:` list of {laser_id, rot_correction, vert_correction,
+ * dist_correction, vert_offset_correction, ...} in radians and metres,
+ * `num_lasers`, `distance_resolution`). Loaded at start-up only. */
+#ifndef ROADSCAN_CALIB_H
+#define ROADSCAN_CALIB_H
+
+#include "roadscan/sensor.h"
+
+#include <stddef.h>
+
+typedef struct {
+  int lasers;
+  float dist_res_m;                       /* 0 when the file does not say */
+  float elevation_deg[RS_MAX_LASERS];
+  float azimuth_offset_deg[RS_MAX_LASERS]; /* = -rot_correction, in degrees */
+  float dist_correction_m[RS_MAX_LASERS];
+  float vert_offset_m[RS_MAX_LASERS];
+  int ignored_fields;                     /* non-zero corrections we do not model */
+} rs_calib_t;
+
+/* RS_OK, or RS_E_NOENT / RS_E_CALIB with a message naming the problem. */
+int rs_calib_load_yaml(const char *path, rs_calib_t *c, char *err, size_t errlen);
+/* Applies to a sensor of the same laser count (RS_E_CALIB otherwise). */
+int rs_calib_apply(const rs_calib_t *c, rs_sensor_t *s, char *err, size_t errlen);
+
+#endif

@@ -1,0 +1,75 @@
+/* pipeline.h - the daemon's two threads and what connects them.
+ *
+ * Packet thread: capture -> stream (parse, detect, decode) -> frame assembly
+ * into the slot it owns -> ring. Processing thread: takes complete frames,
+ * computes per-frame statistics (later: background, clustering, objects,
+ * publishing), writes the frames CSV, releases the slot. Slots are the
+ * caller's (statically allocated by the program). After start-up nothing
+ * allocates. Counters are written by their own thread and read by the
+ * caller after rs_pipeline_join. */
+#ifndef ROADSCAN_PIPELINE_H
+#define ROADSCAN_PIPELINE_H
+
+#include "roadscan/capture.h"
+#include "roadscan/frame.h"
+#include "roadscan/ring.h"
+#include "roadscan/stream.h"
+#include "roadscan/timing.h"
+
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdio.h>
+
+typedef struct {
+  const char *pcap_path;       /* offline source, or */
+  const char *iface;           /* live source */
+  rs_capture_cfg_t capture;    /* speed 0 = flat out */
+  bool lossless;               /* flat-out analysis: never drop a frame */
+  rs_stream_cfg_t stream;
+  rs_asm_cfg_t assembly;
+  FILE *frames_out;            /* optional CSV, one line per frame */
+} rs_pipeline_cfg_t;
+
+typedef struct {
+  uint64_t frames;             /* frames processed */
+  uint64_t partial_frames;
+  uint64_t points;
+  uint64_t cells_filled[RS_LAYERS];
+  double min_range, max_range;
+} rs_proc_counters_t;
+
+typedef struct {
+  rs_pipeline_cfg_t cfg;
+  rs_capture_t cap;
+  rs_stream_t stream;
+  rs_asm_t assembly;
+  bool asm_ready;
+  rs_ring_t ring;
+  rs_slot_t *slots;
+  int cur;                     /* slot being filled, -1 none */
+  pthread_t pkt_thread, proc_thread;
+  bool threads_started;
+  _Atomic bool stop;
+  _Atomic bool input_done;
+  int input_status;            /* RS_OK, or why the input ended badly */
+  char input_err[RS_ERRMSG_SIZE];
+  rs_timing_t t_packet;        /* decode + assembly per data packet (packet thread) */
+  rs_timing_t t_frame;         /* processing per frame (processing thread) */
+  rs_proc_counters_t proc;
+} rs_pipeline_t;
+
+/* Opens the source; slots: nslots (3..RS_RING_MAX_SLOTS) caller-owned slots.
+ * Returns RS_OK or a negative code with p->input_err set. */
+int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *slots, int nslots);
+int rs_pipeline_start(rs_pipeline_t *p);
+/* Asks both threads to stop (async-signal-safe: an atomic store). */
+void rs_pipeline_request_stop(rs_pipeline_t *p);
+/* Waits for the input to end (or a stop) and for every queued frame to be processed. */
+void rs_pipeline_join(rs_pipeline_t *p);
+void rs_pipeline_deinit(rs_pipeline_t *p);
+/* Human-readable summary (frames, packets, drops, errors by kind, timings). */
+void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out);
+/* The frames CSV header (one line, no newline). */
+const char *rs_pipeline_csv_header(void);
+
+#endif

@@ -1,0 +1,49 @@
+/* config.c - option value parsing (pure). */
+#include "roadscan/config.h"
+
+#include "roadscan/error.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+int rs_cfg_double(const char *key, const char *s, double lo, double hi, double *out, char *err, size_t n) {
+  char *end;
+  if (s == NULL || *s == '\0') {
+    snprintf(err, n, "%s: missing value", key);
+    return RS_E_INVAL;
+  }
+  errno = 0;
+  double v = strtod(s, &end);
+  if (errno != 0 || *end != '\0' || !isfinite(v)) {
+    snprintf(err, n, "%s: '%s' is not a number", key, s);
+    return RS_E_INVAL;
+  }
+  if (v < lo || v > hi) {
+    snprintf(err, n, "%s: %s is out of range (%g to %g)", key, s, lo, hi);
+    return RS_E_INVAL;
+  }
+  *out = v;
+  return RS_OK;
+}
+
+int rs_cfg_long(const char *key, const char *s, long lo, long hi, long *out, char *err, size_t n) {
+  char *end;
+  if (s == NULL || *s == '\0') {
+    snprintf(err, n, "%s: missing value", key);
+    return RS_E_INVAL;
+  }
+  errno = 0;
+  long v = strtol(s, &end, 10);
+  if (errno != 0 || *end != '\0') {
+    snprintf(err, n, "%s: '%s' is not an integer", key, s);
+    return RS_E_INVAL;
+  }
+  if (v < lo || v > hi) {
+    snprintf(err, n, "%s: %s is out of range (%ld to %ld)", key, s, lo, hi);
+    return RS_E_INVAL;
+  }
+  *out = v;
+  return RS_OK;
+}

@@ -1,0 +1,231 @@
+/* pipeline.c - packet thread and processing thread.
+ *
+ * Ownership: the packet thread owns cap, stream, assembly, cur and t_packet;
+ * the processing thread owns proc, t_frame and frames_out; slots move
+ * between them only through the ring. stop/input_done are atomics. */
+#include "roadscan/pipeline.h"
+
+#include "roadscan/error.h"
+
+#include <inttypes.h>
+#include <string.h>
+
+#define TAKE_TIMEOUT_MS 100
+
+const char *rs_pipeline_csv_header(void) {
+  return "frame,t_first,t_last,packets,points,columns,missing_packets,dropped_frames,"
+         "out_of_order,duplicates,late_points,shifted,collisions,partial,rows,cols,rate_hz,return_mode,"
+         "first_packet,last_packet,layer0_cells,layer1_cells,min_range,max_range,process_us";
+}
+
+int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *slots, int nslots) {
+  memset(p, 0, sizeof *p);
+  p->cfg = *cfg;
+  p->slots = slots;
+  p->cur = -1;
+  atomic_init(&p->stop, false);
+  atomic_init(&p->input_done, false);
+  rs_timing_init(&p->t_packet, "decode+assembly/pkt");
+  rs_timing_init(&p->t_frame, "processing/frame");
+  p->proc.min_range = 1e30;
+  int rc = rs_stream_init(&p->stream, &cfg->stream);
+  if (rc != RS_OK) {
+    snprintf(p->input_err, sizeof p->input_err, "%s", p->stream.err);
+    return rc;
+  }
+  /* lossless (analysis) mode: consumer takes every frame in order */
+  rc = rs_ring_init(&p->ring, nslots, cfg->lossless, !cfg->lossless);
+  if (rc != RS_OK) {
+    snprintf(p->input_err, sizeof p->input_err, "ring: %s", rs_strerror(rc));
+    return rc;
+  }
+  if (cfg->iface)
+    rc = rs_capture_open_live(&p->cap, cfg->iface, &cfg->capture);
+  else
+    rc = rs_capture_open_file(&p->cap, cfg->pcap_path, &cfg->capture);
+  if (rc != RS_OK) {
+    snprintf(p->input_err, sizeof p->input_err, "%s", p->cap.err);
+    rs_ring_deinit(&p->ring);
+    return rc;
+  }
+  return RS_OK;
+}
+
+static void publish_cur(rs_pipeline_t *p) {
+  rs_slot_t *s = &p->slots[p->cur];
+  s->meta.assembled_ns = rs_now_ns();
+  s->meta.dropped_frames = rs_ring_dropped(&p->ring);
+  rs_ring_publish(&p->ring, p->cur);
+  p->cur = rs_ring_acquire(&p->ring, &p->stop);
+}
+
+static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double ts) {
+  rs_pipeline_t *p = user;
+  if (!p->asm_ready) {
+    int rc = rs_asm_init(&p->assembly, &p->cfg.assembly, &p->stream.sensor);
+    if (rc != RS_OK) {
+      p->input_status = rc;
+      snprintf(p->input_err, sizeof p->input_err, "frame assembly: %s", rs_strerror(rc));
+      atomic_store(&p->stop, true);
+      return;
+    }
+    p->asm_ready = true;
+  }
+  /* bounded: every FRAME_DONE resumes at least one block further */
+  for (int i = 0; i <= RS_BLOCKS && p->cur >= 0; i++) {
+    if (rs_asm_feed(&p->assembly, &p->slots[p->cur], pkt, index, ts) == RS_ASM_CONSUMED) break;
+    publish_cur(p);
+  }
+  p->stream.rate_hint = p->assembly.rate;
+}
+
+static void *packet_main(void *arg) {
+  rs_pipeline_t *p = arg;
+  p->cur = rs_ring_acquire(&p->ring, &p->stop);
+  const int linktype = p->cap.linktype;
+  while (!atomic_load(&p->stop) && p->cur >= 0) {
+    rs_frame_in_t f;
+    int rc = rs_capture_next(&p->cap, &f, &p->stop);
+    if (rc == 0) continue;
+    if (rc == RS_CAPTURE_EOF) break;
+    if (rc < 0) {
+      rs_stream_count(&p->stream, rc, p->cap.err);
+      p->input_status = rc;
+      snprintf(p->input_err, sizeof p->input_err, "%s", p->cap.err);
+      break;
+    }
+    int64_t t0 = rs_now_ns();
+    uint64_t before = p->stream.n.decoded;
+    rc = rs_stream_frame(&p->stream, linktype, &f, on_packet, p);
+    if (p->stream.n.decoded != before) rs_timing_add(&p->t_packet, rs_now_ns() - t0);
+    if (rc != RS_OK) {
+      p->input_status = rc;
+      snprintf(p->input_err, sizeof p->input_err, "%s", p->stream.err);
+      break;
+    }
+  }
+  if (p->input_status == RS_OK || p->input_status == RS_E_TRUNCATED) {
+    rs_stream_finish(&p->stream, on_packet, p);
+  }
+  if (p->cur >= 0) {
+    if (p->asm_ready && rs_asm_flush(&p->assembly, &p->slots[p->cur])) {
+      p->slots[p->cur].meta.assembled_ns = rs_now_ns();
+      p->slots[p->cur].meta.dropped_frames = rs_ring_dropped(&p->ring);
+      rs_ring_publish(&p->ring, p->cur);
+    } else {
+      rs_ring_discard(&p->ring, p->cur);
+    }
+    p->cur = -1;
+  }
+  atomic_store(&p->input_done, true);
+  sem_post(&p->ring.ready);
+  return NULL;
+}
+
+static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
+  int64_t t0 = rs_now_ns();
+  const rs_frame_meta_t *m = &s->meta;
+  uint32_t filled[RS_LAYERS] = {0, 0};
+  float lo = 0.0f, hi = 0.0f;
+  const uint32_t cells = (uint32_t)m->rows * m->cols;
+  for (int l = 0; l < RS_LAYERS; l++) {
+    const float *r = s->range + (size_t)l * RS_MAX_CELLS;
+    for (uint32_t i = 0; i < cells; i++) {
+      float v = r[i];
+      if (v == 0.0f) continue;
+      if (filled[0] + filled[1] == 0 || v < lo) lo = v;
+      if (v > hi) hi = v;
+      filled[l]++;
+    }
+  }
+  p->proc.frames++;
+  if (m->partial) p->proc.partial_frames++;
+  p->proc.points += m->points;
+  p->proc.cells_filled[0] += filled[0];
+  p->proc.cells_filled[1] += filled[1];
+  if (filled[0] + filled[1] > 0) {
+    if (lo < p->proc.min_range) p->proc.min_range = lo;
+    if (hi > p->proc.max_range) p->proc.max_range = hi;
+  }
+  int64_t dt = rs_now_ns() - t0;
+  rs_timing_add(&p->t_frame, dt);
+  if (p->cfg.frames_out) {
+    fprintf(p->cfg.frames_out,
+            "%" PRIu64 ",%.6f,%.6f,%u,%u,%u,%u,%" PRIu64 ",%u,%u,%u,%u,%u,%d,%u,%u,%.3f,%s,%u,%u,%u,%u,%.3f,%.3f,%.1f\n",
+            m->seq, m->t_first, m->t_last, m->packets, m->points, m->columns, m->missing_packets, m->dropped_frames,
+            m->out_of_order, m->duplicates, m->late_points, m->shifted, m->collisions, m->partial ? 1 : 0, m->rows, m->cols,
+            (double)m->rate_hz, rs_return_mode_name(m->mode_byte), m->first_packet, m->last_packet, filled[0],
+            filled[1], (double)lo, (double)hi, (double)dt / 1000.0);
+  }
+}
+
+static void *proc_main(void *arg) {
+  rs_pipeline_t *p = arg;
+  for (;;) {
+    int idx = rs_ring_take(&p->ring, TAKE_TIMEOUT_MS);
+    if (idx < 0) {
+      if (atomic_load(&p->input_done)) {
+        idx = rs_ring_take(&p->ring, 0);
+        if (idx < 0) break;
+      } else {
+        continue;
+      }
+    }
+    process_frame(p, &p->slots[idx]);
+    rs_ring_release(&p->ring, idx);
+  }
+  if (p->cfg.frames_out) fflush(p->cfg.frames_out);
+  return NULL;
+}
+
+int rs_pipeline_start(rs_pipeline_t *p) {
+  if (pthread_create(&p->proc_thread, NULL, proc_main, p) != 0) return RS_E_THREAD;
+  if (pthread_create(&p->pkt_thread, NULL, packet_main, p) != 0) {
+    atomic_store(&p->stop, true);
+    atomic_store(&p->input_done, true);
+    pthread_join(p->proc_thread, NULL);
+    return RS_E_THREAD;
+  }
+  p->threads_started = true;
+  return RS_OK;
+}
+
+void rs_pipeline_request_stop(rs_pipeline_t *p) { atomic_store(&p->stop, true); }
+
+void rs_pipeline_join(rs_pipeline_t *p) {
+  if (!p->threads_started) return;
+  pthread_join(p->pkt_thread, NULL);
+  pthread_join(p->proc_thread, NULL);
+  p->threads_started = false;
+}
+
+void rs_pipeline_deinit(rs_pipeline_t *p) {
+  rs_capture_close(&p->cap);
+  rs_ring_deinit(&p->ring);
+}
+
+void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
+  const rs_stream_counters_t *n = &p->stream.n;
+  const rs_asm_t *a = &p->assembly;
+  fprintf(out, "roadscan summary\n");
+  fprintf(out, "  source: %s%s\n", p->cfg.iface ? "interface " : "", p->cfg.iface ? p->cfg.iface : p->cfg.pcap_path);
+  if (p->stream.sensor_ready)
+    fprintf(out, "  sensor: %s, %.2f Hz, %d x %d map\n", p->stream.sensor.info->name,
+            rs_hz_from_rate(p->assembly.rate), p->stream.sensor.lasers, a->cols);
+  else
+    fprintf(out, "  sensor: not identified (no valid data packet)\n");
+  fprintf(out, "  frames: %llu processed (%llu partial), %llu dropped\n", (unsigned long long)p->proc.frames,
+          (unsigned long long)p->proc.partial_frames, (unsigned long long)rs_ring_dropped(&p->ring));
+  fprintf(out, "  packets: %llu captured, %llu data (%llu decoded), %llu position, %llu other\n",
+          (unsigned long long)n->frames, (unsigned long long)n->data_packets, (unsigned long long)n->decoded,
+          (unsigned long long)n->position_packets, (unsigned long long)n->other_packets);
+  fprintf(out, "  stream: %llu missing, %llu out of order, %llu duplicate packets; %llu late returns dropped, %llu cell collisions\n",
+          (unsigned long long)a->missing_packets, (unsigned long long)a->out_of_order,
+          (unsigned long long)a->duplicates, (unsigned long long)a->late_points, (unsigned long long)a->collisions);
+  fprintf(out, "  points: %llu\n", (unsigned long long)p->proc.points);
+  fprintf(out, "  errors: ");
+  rs_stream_print_errors(n, out);
+  fprintf(out, "\n  timings (CLOCK_MONOTONIC):\n");
+  rs_timing_print(&p->t_packet, out);
+  rs_timing_print(&p->t_frame, out);
+}

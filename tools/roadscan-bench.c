@@ -1,0 +1,213 @@
+/* roadscan-bench - throughput and per-stage timing of decoding and frame
+ * assembly, flat out on one core (CLOCK_MONOTONIC).
+ *
+ *   roadscan-bench [--seconds S]            synthetic packets of every model and mode
+ *   roadscan-bench CAPTURE [--model NAME]   the data packets of a capture
+ *
+ * Packets are loaded into memory first, so file I/O is not timed. */
+#include "roadscan/config.h"
+#include "roadscan/error.h"
+#include "roadscan/frame.h"
+#include "roadscan/net.h"
+#include "roadscan/stream.h"
+#include "roadscan/synth.h"
+#include "roadscan/timing.h"
+
+#include <getopt.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static rs_slot_t slots[2];
+static rs_packet_t pkt;
+static rs_timing_t t_decode, t_assemble, t_frame;
+
+typedef struct {
+  uint8_t *data; /* n * RS_PAYLOAD_SIZE */
+  double *ts;
+  size_t n, cap;
+} pkts_t;
+
+static int push(pkts_t *p, const uint8_t *payload, double ts) {
+  if (p->n == p->cap) {
+    size_t nc = p->cap ? p->cap * 2 : 4096;
+    uint8_t *nd = realloc(p->data, nc * RS_PAYLOAD_SIZE);
+    if (nd == NULL) return -1;
+    p->data = nd;
+    double *nt = realloc(p->ts, nc * sizeof *nt);
+    if (nt == NULL) return -1;
+    p->ts = nt;
+    p->cap = nc;
+  }
+  memcpy(p->data + p->n * RS_PAYLOAD_SIZE, payload, RS_PAYLOAD_SIZE);
+  p->ts[p->n++] = ts;
+  return 0;
+}
+
+/* One pass over the packets: decode + assemble; returns points decoded. */
+static uint64_t run_pass(const rs_sensor_t *s, const pkts_t *p, rs_asm_t *a, int *cur, uint64_t *frames,
+                         bool timed) {
+  uint64_t points = 0;
+  int64_t frame_ns = 0;
+  for (size_t i = 0; i < p->n; i++) {
+    int64_t t0 = rs_now_ns();
+    if (rs_packet_decode(s, p->data + i * RS_PAYLOAD_SIZE, RS_PAYLOAD_SIZE, a->rate, &pkt) != RS_OK) continue;
+    int64_t t1 = rs_now_ns();
+    for (int k = 0; k <= RS_BLOCKS; k++) {
+      if (rs_asm_feed(a, &slots[*cur], &pkt, (uint32_t)i, p->ts[i]) == RS_ASM_CONSUMED) break;
+      (*frames)++;
+      if (timed) rs_timing_add(&t_frame, frame_ns);
+      frame_ns = 0;
+      *cur ^= 1;
+    }
+    int64_t t2 = rs_now_ns();
+    points += pkt.n_points;
+    frame_ns += t2 - t0;
+    if (timed) {
+      rs_timing_add(&t_decode, t1 - t0);
+      rs_timing_add(&t_assemble, t2 - t1);
+    }
+  }
+  return points;
+}
+
+static double packet_rate(const rs_model_info_t *mi, bool dual, double hz) {
+  (void)hz;
+  int groups = mi->blocks_per_cycle > 1 ? (dual ? 1 : 3) : (dual ? 6 : 12);
+  return 1e6 / (groups * rs_model_group_us(mi));
+}
+
+static int synthetic(double seconds) {
+  printf("decode + frame assembly, flat out, one core, synthetic scene (10 Hz)\n");
+  printf("%-12s %-9s %10s %12s %12s %10s %9s\n", "model", "mode", "packets", "packets/s", "Mpoints/s", "us/packet",
+         "x realtime");
+  static const uint8_t modes[2] = {RS_MODE_STRONGEST, RS_MODE_DUAL};
+  for (int m = RS_MODEL_VLP16; m < RS_MODEL_COUNT; m++) {
+    for (int mi = 0; mi < 2; mi++) {
+      rs_synth_cfg_t cfg = {.model = (rs_model_t)m, .mode = modes[mi], .hz = 10.0, .seconds = 1.0, .t0 = 1e9};
+      rs_sensor_t s;
+      rs_sensor_init(&s, (rs_model_t)m);
+      pkts_t p = {0};
+      uint32_t n = rs_synth_count(&cfg);
+      static rs_encode_t enc;
+      static uint8_t buf[RS_PAYLOAD_SIZE];
+      for (uint32_t k = 0; k < n; k++) {
+        rs_synth_packet(&cfg, &s, k, &enc);
+        rs_packet_encode(s.info, &enc, buf);
+        if (push(&p, buf, rs_synth_time(&cfg, k)) != 0) return 1;
+      }
+      rs_asm_t a;
+      rs_asm_cfg_t acfg = {.default_hz = 10.0};
+      rs_asm_init(&a, &acfg, &s);
+      int cur = 0;
+      uint64_t frames = 0, points = 0, packets = 0;
+      int64_t t0 = rs_now_ns(), elapsed = 0;
+      while (elapsed < (int64_t)(seconds * 1e9)) {
+        points += run_pass(&s, &p, &a, &cur, &frames, false);
+        packets += p.n;
+        elapsed = rs_now_ns() - t0;
+      }
+      double pps = (double)packets / ((double)elapsed * 1e-9);
+      printf("%-12s %-9s %10llu %12.0f %12.2f %10.2f %9.1f\n", s.info->name, rs_return_mode_name(modes[mi]),
+             (unsigned long long)packets, pps, (double)points / ((double)elapsed * 1e-9) / 1e6, 1e6 / pps,
+             pps / packet_rate(s.info, modes[mi] == RS_MODE_DUAL, 10.0));
+      free(p.data);
+      free(p.ts);
+    }
+  }
+  return 0;
+}
+
+static int capture(const char *path, rs_model_t force, int repeat) {
+  rs_capture_cfg_t ccfg = {.data_port = RS_DEFAULT_DATA_PORT, .speed = 0.0};
+  rs_capture_t cap;
+  if (rs_capture_open_file(&cap, path, &ccfg) != RS_OK) {
+    fprintf(stderr, "roadscan-bench: %s\n", cap.err);
+    return 1;
+  }
+  pkts_t p = {0};
+  rs_detect_t det;
+  rs_detect_init(&det, force);
+  rs_frame_in_t f;
+  int rc;
+  while ((rc = rs_capture_next(&cap, &f, NULL)) == 1) {
+    rs_udp_t u;
+    if (rs_net_parse(cap.linktype, f.data, f.caplen, &u) != RS_OK) continue;
+    if (u.dst_port != RS_DEFAULT_DATA_PORT || u.len != RS_PAYLOAD_SIZE) continue;
+    if (rs_packet_check(u.payload, u.len) != RS_OK) continue;
+    rs_detect_feed(&det, u.payload, u.len);
+    if (push(&p, u.payload, f.ts) != 0) return 1;
+  }
+  rs_capture_close(&cap);
+  int m = rs_detect_finish(&det);
+  if (m <= 0 || p.n == 0) {
+    fprintf(stderr, "roadscan-bench: %s: no Velodyne data packets of a known model\n", path);
+    return 1;
+  }
+  rs_sensor_t s;
+  rs_sensor_init(&s, (rs_model_t)m);
+  rs_timing_init(&t_decode, "decode/packet");
+  rs_timing_init(&t_assemble, "assembly/packet");
+  rs_timing_init(&t_frame, "decode+assembly/frame");
+  uint64_t frames = 0, points = 0;
+  int64_t t0 = rs_now_ns();
+  for (int r = 0; r < repeat; r++) {
+    rs_asm_t a;
+    rs_asm_cfg_t acfg = {.default_hz = 10.0};
+    rs_asm_init(&a, &acfg, &s);
+    int cur = 0;
+    points += run_pass(&s, &p, &a, &cur, &frames, true);
+  }
+  double el = (double)(rs_now_ns() - t0) * 1e-9;
+  printf("%s: %s, %zu data packets x %d passes, %llu frames\n", path, s.info->name, p.n, repeat,
+         (unsigned long long)frames);
+  printf("  throughput: %.0f packets/s, %.2f Mpoints/s (flat out, one core)\n", (double)p.n * repeat / el,
+         (double)points / el / 1e6);
+  rs_timing_print(&t_decode, stdout);
+  rs_timing_print(&t_assemble, stdout);
+  rs_timing_print(&t_frame, stdout);
+  free(p.data);
+  free(p.ts);
+  return 0;
+}
+
+int main(int argc, char **argv) {
+  enum { O_SECONDS = 256, O_MODEL, O_REPEAT, O_HELP };
+  static const struct option opts[] = {{"seconds", required_argument, NULL, O_SECONDS},
+                                       {"model", required_argument, NULL, O_MODEL},
+                                       {"repeat", required_argument, NULL, O_REPEAT},
+                                       {"help", no_argument, NULL, O_HELP},
+                                       {NULL, 0, NULL, 0}};
+  double seconds = 1.0;
+  long repeat = 5;
+  rs_model_t force = RS_MODEL_UNKNOWN;
+  char err[RS_ERRMSG_SIZE];
+  int c;
+  while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
+    switch (c) {
+    case O_SECONDS:
+      if (rs_cfg_double("--seconds", optarg, 0.05, 60.0, &seconds, err, sizeof err)) goto bad;
+      break;
+    case O_REPEAT:
+      if (rs_cfg_long("--repeat", optarg, 1, 1000, &repeat, err, sizeof err)) goto bad;
+      break;
+    case O_MODEL:
+      force = rs_model_from_name(optarg);
+      if (force == RS_MODEL_UNKNOWN) {
+        snprintf(err, sizeof err, "--model: unknown sensor '%s' (known: %s)", optarg, rs_model_names());
+        goto bad;
+      }
+      break;
+    case O_HELP:
+      printf("usage: roadscan-bench [--seconds S]   (synthetic, every model)\n"
+             "       roadscan-bench CAPTURE [--model NAME] [--repeat N]\n");
+      return 0;
+    default: return 2;
+    }
+  }
+  if (optind < argc) return capture(argv[optind], force, (int)repeat);
+  return synthetic(seconds);
+bad:
+  fprintf(stderr, "roadscan-bench: %s\n", err);
+  return 2;
+}
