@@ -165,10 +165,10 @@ int rs_packet_decode(const rs_sensor_t *s, const uint8_t *p, size_t len, float r
       float az = az0 + s->azimuth_offset_deg[laser] + out->az_rate * t;
       az = fmodf(az, 360.0f);
       if (az < 0.0f) az += 360.0f;
-      double a = az * DEG2RAD;
-      float xy = dist * s->cos_el[laser];
-      pt->x = xy * (float)sin(a);
-      pt->y = xy * (float)cos(a);
+      const float a = az * (float)DEG2RAD;
+      const float xy = dist * s->cos_el[laser];
+      pt->x = xy * sinf(a);
+      pt->y = xy * cosf(a);
       pt->z = dist * s->sin_el[laser] + s->vert_offset_m[laser];
       pt->distance = dist;
       pt->azimuth = az;

@@ -9,6 +9,7 @@
 
 #include <inttypes.h>
 #include <string.h>
+#include <time.h>
 
 #define TAKE_TIMEOUT_MS 100
 
@@ -57,6 +58,11 @@ static void publish_cur(rs_pipeline_t *p) {
   s->meta.dropped_frames = rs_ring_dropped(&p->ring);
   rs_ring_publish(&p->ring, p->cur);
   p->cur = rs_ring_acquire(&p->ring, &p->stop);
+  if (p->cur < 0 && !atomic_load(&p->stop)) {
+    p->input_status = RS_E_NOMEM;
+    snprintf(p->input_err, sizeof p->input_err, "no free frame slot");
+    atomic_store(&p->stop, true);
+  }
 }
 
 static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double ts) {
@@ -108,6 +114,13 @@ static void *packet_main(void *arg) {
     rs_stream_finish(&p->stream, on_packet, p);
   }
   if (p->cur >= 0) {
+    /* end of input: let the consumer take what is queued first, or its
+     * skip-to-newest policy would drop the last full frame for the partial
+     * one (bounded: 200 x 5 ms) */
+    for (int i = 0; i < 200 && rs_ring_queued(&p->ring) > 0 && !p->cfg.lossless; i++) {
+      struct timespec d = {0, 5000000L};
+      nanosleep(&d, NULL);
+    }
     if (p->asm_ready && rs_asm_flush(&p->assembly, &p->slots[p->cur])) {
       p->slots[p->cur].meta.assembled_ns = rs_now_ns();
       p->slots[p->cur].meta.dropped_frames = rs_ring_dropped(&p->ring);

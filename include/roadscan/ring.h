@@ -27,7 +27,7 @@ typedef struct {
   bool lossless;                      /* producer waits instead of dropping */
   bool newest;                        /* consumer skips to the newest queued frame */
   _Atomic int state[RS_RING_MAX_SLOTS];
-  int queue[RS_RING_MAX_SLOTS];
+  _Atomic int queue[RS_RING_MAX_SLOTS]; /* a stale read loses its CAS on tail */
   _Atomic uint64_t head, tail;
   _Atomic uint64_t dropped;           /* frames dropped (queue full or skipped as stale) */
   _Atomic uint64_t published;
@@ -41,20 +41,23 @@ void rs_ring_deinit(rs_ring_t *r);
 
 /* Producer: a slot to fill (FILLING). Never blocks unless lossless; then it
  * waits until a slot is freed or *stop becomes true (-1). Drops the oldest
- * queued frame when nothing is free. */
+ * queued frame when nothing is free. -1 in real-time mode only if the ring
+ * is misused (the producer already holds every slot). */
 int rs_ring_acquire(rs_ring_t *r, const _Atomic bool *stop);
 /* Producer: queues a filled slot for the consumer. */
 void rs_ring_publish(rs_ring_t *r, int slot);
 /* Producer: gives back a slot it will not publish. */
 void rs_ring_discard(rs_ring_t *r, int slot);
 
-/* Consumer: takes a queued frame (PROCESSING); waits up to timeout_ms.
- * Returns the slot index, or -1 on time-out. In `newest` mode older queued
+/* Consumer: takes a queued frame (PROCESSING); waits up to timeout_ms once
+ * (a wake-up may come early). Returns the slot index, or -1 when none. In `newest` mode older queued
  * frames are freed and counted as dropped. */
 int rs_ring_take(rs_ring_t *r, int timeout_ms);
 /* Consumer: done with a slot. */
 void rs_ring_release(rs_ring_t *r, int slot);
 
 uint64_t rs_ring_dropped(const rs_ring_t *r);
+/* Frames queued and not yet taken. */
+int rs_ring_queued(const rs_ring_t *r);
 
 #endif

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Installs dependencies, builds, and runs the daemon on a sample capture with
+# its original timing: the real VLP-16 capture in ../shared/data when present,
+# otherwise a synthetic one. Results land in out/.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/install-deps.sh
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+cmake --build build -j "$(nproc)"
+mkdir -p out
+sample=../shared/data/vlp-16-test-90deg-1-50-frames.pcap
+if [ ! -f "$sample" ]; then
+  sample=out/synthetic-vlp32c.pcap
+  build/bin/roadscan-synth --model VLP-32C --seconds 3 -o "$sample"
+fi
+echo "== roadscand on $sample (original timing)"
+build/bin/roadscand --pcap "$sample" --frames-out out/frames.csv
+echo "== out/frames.csv (first lines)"
+head -4 out/frames.csv | cut -d, -f1-8
+build/bin/roadscan-export "$sample" --frame 5 -o out/frame-5.pcd
+echo "== decode + frame assembly throughput"
+build/bin/roadscan-bench --seconds 0.3
