@@ -152,12 +152,37 @@ static void pace(rs_capture_t *c, double ts, const _Atomic bool *stop) {
   }
 }
 
+static void deliver(rs_capture_t *c, const struct pcap_pkthdr *h, const u_char *data, rs_frame_in_t *out,
+                    const _Atomic bool *stop) {
+  double ts = ts_of(h) + c->loop_offset;
+  if (!c->live) pace(c, ts, stop);
+  c->last_ts = ts;
+  out->data = data;
+  out->caplen = h->caplen;
+  out->wirelen = h->len;
+  out->ts = ts;
+}
+
+/* Loop mode at the end of the file: reopen, and shift the capture times so
+ * the next pass starts one millisecond after the previous one ended. */
+static int restart(rs_capture_t *c, struct pcap_pkthdr **h, const u_char **data) {
+  double span_end = c->last_ts;
+  pcap_close(c->p);
+  c->p = NULL;
+  int rc = open_offline(c);
+  if (rc != RS_OK) return rc;
+  if (pcap_next_ex(c->p, h, data) != 1) return RS_CAPTURE_EOF;
+  c->loop_offset = span_end + 1e-3 - ts_of(*h);
+  c->loops++;
+  return 1;
+}
+
 int rs_capture_next(rs_capture_t *c, rs_frame_in_t *out, const _Atomic bool *stop) {
   struct pcap_pkthdr *h;
   const u_char *data;
+  int rc = pcap_next_ex(c->p, &h, &data);
   if (c->live) {
-    int rc = pcap_next_ex(c->p, &h, &data);
-    if (rc == 0) {
+    if (rc == 0) { /* non-blocking: wait for the descriptor, then try once more */
       struct pollfd pfd = {.fd = pcap_get_selectable_fd(c->p), .events = POLLIN};
       if (pfd.fd >= 0) poll(&pfd, 1, POLL_MS);
       rc = pcap_next_ex(c->p, &h, &data);
@@ -167,53 +192,22 @@ int rs_capture_next(rs_capture_t *c, rs_frame_in_t *out, const _Atomic bool *sto
       snprintf(c->err, sizeof c->err, "%s: %s", c->path, pcap_geterr(c->p));
       return RS_E_CAPTURE;
     }
-    out->data = data;
-    out->caplen = h->caplen;
-    out->wirelen = h->len;
-    out->ts = ts_of(h);
+    deliver(c, h, data, out, stop);
     return 1;
   }
-  for (int attempt = 0; attempt < 2; attempt++) {
-    int rc = pcap_next_ex(c->p, &h, &data);
-    if (rc == 1) {
-      double ts = ts_of(h) + c->loop_offset;
-      pace(c, ts, stop);
-      c->last_ts = ts;
-      out->data = data;
-      out->caplen = h->caplen;
-      out->wirelen = h->len;
-      out->ts = ts;
-      return 1;
-    }
-    if (rc == PCAP_ERROR_BREAK) {
-      if (!c->cfg.loop || (stop && atomic_load(stop))) return RS_CAPTURE_EOF;
-      pcap_close(c->p);
-      c->p = NULL;
-      double span_end = c->last_ts;
-      int orc = open_offline(c);
-      if (orc != RS_OK) return orc;
-      /* next pass starts one millisecond after the previous one ended */
-      struct pcap_pkthdr *h2;
-      const u_char *d2;
-      int prc = pcap_next_ex(c->p, &h2, &d2);
-      if (prc != 1) return RS_CAPTURE_EOF;
-      c->loop_offset = span_end + 1e-3 - ts_of(h2);
-      c->loops++;
-      double ts = ts_of(h2) + c->loop_offset;
-      pace(c, ts, stop);
-      c->last_ts = ts;
-      out->data = d2;
-      out->caplen = h2->caplen;
-      out->wirelen = h2->len;
-      out->ts = ts;
-      return 1;
-    }
-    /* error: libpcap says "truncated dump file" for a capture cut short */
-    const char *e = pcap_geterr(c->p);
-    bool trunc = strstr(e, "truncated") != NULL;
-    snprintf(c->err, sizeof c->err, "%s: %s%s", c->path, e,
-             trunc ? " (capture file cut short; everything before this point was read)" : "");
-    return trunc ? RS_E_TRUNCATED : RS_E_IO;
+  if (rc == PCAP_ERROR_BREAK) {
+    if (!c->cfg.loop || (stop && atomic_load(stop))) return RS_CAPTURE_EOF;
+    rc = restart(c, &h, &data);
+    if (rc != 1) return rc;
   }
-  return RS_CAPTURE_EOF;
+  if (rc == 1) {
+    deliver(c, h, data, out, stop);
+    return 1;
+  }
+  /* libpcap says "truncated dump file" for a capture cut short */
+  const char *e = pcap_geterr(c->p);
+  bool trunc = strstr(e, "truncated") != NULL;
+  snprintf(c->err, sizeof c->err, "%s: %s%s", c->path, e,
+           trunc ? " (capture file cut short; everything before this point was read)" : "");
+  return trunc ? RS_E_TRUNCATED : RS_E_IO;
 }
