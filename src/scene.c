@@ -1,0 +1,936 @@
+/* scene.c - the simulated intersection: world building, traffic, ray casting.
+ *
+ * Single-threaded, owned by the simulator. Start-up builds the static
+ * geometry and a static range table (first static surface and first canopy
+ * per laser and 0.01-degree azimuth step, found with 1-degree azimuth
+ * buckets of primitives); per packet, traffic advances and the objects
+ * whose azimuth span meets the packet's are collected, so a ray tests the
+ * table plus a handful of objects. */
+#include "roadscan/scene.h"
+
+#include "roadscan/error.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+#define D2R (PI / 180.0)
+#define AZ_STEPS 36000
+#define ROAD_HALF 7.0
+#define WALK_OUTER 12.0
+#define KERB 0.15
+#define STOP_DIST 12.0
+#define STEP_S 0.05
+#define MAX_AGENTS 2048
+#define MAX_CAND 512
+#define MAX_PRIMS 4096
+#define ROUTES 16
+#define AMBER_S 3.0
+#define ALLRED_S 2.0
+
+/* ---- random numbers (xoroshiro128+) ---- */
+
+static uint64_t splitmix(uint64_t *x) {
+  uint64_t z = (*x += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+void rs_rng_seed(rs_rng_t *r, uint64_t seed) {
+  r->s[0] = splitmix(&seed);
+  r->s[1] = splitmix(&seed);
+}
+static uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+uint64_t rs_rng_next(rs_rng_t *r) {
+  uint64_t s0 = r->s[0], s1 = r->s[1], res = s0 + s1;
+  s1 ^= s0;
+  r->s[0] = rotl(s0, 24) ^ s1 ^ (s1 << 16);
+  r->s[1] = rotl(s1, 37);
+  return res;
+}
+double rs_rng_uniform(rs_rng_t *r) { return (double)(rs_rng_next(r) >> 11) * (1.0 / 9007199254740992.0); }
+double rs_rng_normal(rs_rng_t *r) {
+  /* Irwin-Hall: four 16-bit uniforms from one draw, scaled to unit variance
+   * (tails end at 3.46 sigma, which suits range noise) */
+  uint64_t x = rs_rng_next(r);
+  double sum = (double)(x & 0xFFFF) + (double)((x >> 16) & 0xFFFF) + (double)((x >> 32) & 0xFFFF) +
+               (double)(x >> 48);
+  return (sum / 65536.0 - 2.0) * 1.7320508075688772;
+}
+
+/* ---- configuration ---- */
+
+static void defaults(rs_scene_cfg_t *c) {
+  memset(c, 0, sizeof *c);
+  c->pole_height = 5.0;
+  c->pole_x = -11.5;
+  c->pole_y = -11.5;
+  c->leg_length = 250.0;
+  c->trees_per_leg = 6;
+  c->foliage_hit = 0.55;
+  c->vehicles_per_min = 8.0;
+  c->pedestrians_per_min = 1.0;
+  c->cyclist_share = 0.05;
+  c->green_s = 25.0;
+  c->warmup_s = 60.0;
+  c->range_noise = 0.015;
+  c->dropout = 0.002;
+  c->spurious = 0.0002;
+}
+
+bool rs_scene_preset(const char *name, rs_scene_cfg_t *c) {
+  defaults(c);
+  if (strcmp(name, "light") == 0) {
+    c->vehicles_per_min = 4.0;
+    c->pedestrians_per_min = 0.6;
+  } else if (strcmp(name, "rush") == 0) {
+    /* saturated demand: queues fill the legs; the sensor on a 3 m pole (a
+     * signal-cabinet mount) as many peak-hour deployments are */
+    c->vehicles_per_min = 40.0;
+    c->pedestrians_per_min = 6.0;
+    c->cyclist_share = 0.08;
+    c->green_s = 30.0;
+    c->warmup_s = 180.0;
+    c->pole_height = 3.0;
+  } else if (strcmp(name, "far") == 0) {
+    c->vehicles_per_min = 14.0;
+    c->pedestrians_per_min = 0.0;
+    c->objects_min_range = 100.0;
+    c->objects_max_range = 200.0;
+  } else if (strcmp(name, "storm") == 0) {
+    c->vehicles_per_min = 10.0;
+    c->pedestrians_per_min = 1.0;
+    c->range_noise = 0.05;
+    c->dropout = 0.03;
+    c->spurious = 0.01;
+    c->packet_loss = 0.05;
+    c->foliage_hit = 0.45;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+typedef struct {
+  const char *key;
+  size_t off;
+  double lo, hi;
+  bool is_int;
+} knob_t;
+
+#define KNOB(f, lo, hi) {#f, offsetof(rs_scene_cfg_t, f), lo, hi, false}
+static const knob_t knobs[] = {
+    KNOB(pole_height, 1.0, 30.0),         KNOB(pole_x, -14.0, -8.0),
+    KNOB(pole_y, -14.0, -8.0),            KNOB(leg_length, 50.0, 400.0),
+    KNOB(foliage_hit, 0.0, 1.0),          KNOB(vehicles_per_min, 0.0, 120.0),
+    KNOB(pedestrians_per_min, 0.0, 60.0), KNOB(cyclist_share, 0.0, 1.0),
+    KNOB(green_s, 5.0, 120.0),            KNOB(objects_min_range, 0.0, 400.0),
+    KNOB(objects_max_range, 0.0, 400.0),  KNOB(warmup_s, 0.0, 600.0),
+    KNOB(range_noise, 0.0, 1.0),          KNOB(dropout, 0.0, 1.0),
+    KNOB(spurious, 0.0, 0.5),             KNOB(packet_loss, 0.0, 0.9),
+    KNOB(max_range, 0.0, 400.0),          {"trees_per_leg", offsetof(rs_scene_cfg_t, trees_per_leg), 0, 40, true},
+};
+
+const char *rs_scene_keys(void) {
+  return "pole_height pole_x pole_y leg_length trees_per_leg foliage_hit vehicles_per_min pedestrians_per_min "
+         "cyclist_share green_s objects_min_range objects_max_range warmup_s range_noise dropout spurious "
+         "packet_loss max_range";
+}
+
+int rs_scene_set(rs_scene_cfg_t *cfg, const char *key, const char *value, char *err, size_t n) {
+  for (size_t i = 0; i < sizeof knobs / sizeof knobs[0]; i++) {
+    if (strcmp(knobs[i].key, key) != 0) continue;
+    char *end;
+    double v = strtod(value, &end);
+    if (end == value || *end != '\0' || !isfinite(v)) {
+      snprintf(err, n, "%s: '%s' is not a number", key, value);
+      return RS_E_INVAL;
+    }
+    if (v < knobs[i].lo || v > knobs[i].hi || (knobs[i].is_int && v != floor(v))) {
+      snprintf(err, n, "%s: %s is out of range (%g to %g%s)", key, value, knobs[i].lo, knobs[i].hi,
+               knobs[i].is_int ? ", whole number" : "");
+      return RS_E_INVAL;
+    }
+    if (knobs[i].is_int)
+      *(int *)(void *)((char *)cfg + knobs[i].off) = (int)v;
+    else
+      *(double *)(void *)((char *)cfg + knobs[i].off) = v;
+    return RS_OK;
+  }
+  snprintf(err, n, "unknown scene key '%s' (known: %s)", key, rs_scene_keys());
+  return RS_E_INVAL;
+}
+
+/* ---- geometry ---- */
+
+enum { P_BOX, P_CYL, P_SPHERE };
+
+typedef struct {
+  uint8_t kind;
+  uint8_t intensity;
+  uint16_t label;
+  float a[6]; /* box: x0 y0 z0 x1 y1 z1; cyl: x y r z0 z1; sphere: x y z r */
+} prim_t;
+
+typedef struct {
+  double x0, y0, dx, dy; /* start and unit direction */
+  double length;         /* despawn after */
+  double stop_s;         /* front stops here on red */
+  int phase;             /* 0 east-west, 1 north-south */
+  bool pedestrian;
+  int agents[MAX_AGENTS / 8];
+  int n;                 /* agents on the route, front first */
+  double next_spawn;
+} route_t;
+
+enum { T_CAR, T_VAN, T_TRUCK, T_BUS, T_CYCLIST, T_PED };
+
+typedef struct {
+  bool active;
+  uint16_t id;
+  uint8_t type, intensity;
+  int route;
+  double s, v, v0, l, w, h;
+  double span0, spanw; /* azimuth span over the current traffic step, widened */
+} agent_t;
+
+typedef struct {
+  uint16_t id;
+  uint8_t intensity;
+  bool cyl;
+  double cx, cy, c, s; /* centre, cos/sin of heading */
+  double hl, hw, h;    /* half length, half width, height */
+  double az0, aw;      /* azimuth span from the sensor (deg) */
+  double dmin;         /* no part is nearer than this */
+} cand_t;
+
+typedef struct {
+  float range;      /* first static surface, 0 = none */
+  float fol;        /* first canopy entry when nearer, else 0 */
+  uint8_t intensity;
+  uint8_t fol_p;    /* leaf chance, 0..255 */
+} st_cell_t;
+
+struct rs_scene {
+  rs_scene_cfg_t cfg;
+  const rs_sensor_t *sensor;
+  double ox, oy, oz;
+  prim_t *prims;
+  int nprims;
+  int *bucket_start, *bucket_items; /* 360 buckets */
+  /* static table, [0.01-degree azimuth step][laser]: the lasers of one
+   * firing sit side by side in memory */
+  st_cell_t *st;
+  int slots;          /* record slots per row: 32, or 128 (VLS-128) */
+  double deg_per_us;  /* rotation rate the table was cast for */
+  /* traffic */
+  rs_rng_t rng;
+  route_t routes[ROUTES];
+  int nroutes;
+  agent_t agents[MAX_AGENTS];
+  uint16_t next_id;
+  double t; /* traffic time (s since capture start; negative during warm-up) */
+  cand_t cand[MAX_CAND];
+  int ncand;
+  int agent_hwm; /* agents[agent_hwm..] have never been used */
+  double wind;
+};
+
+static void add_prim(rs_scene_t *sc, int kind, uint16_t label, uint8_t intensity, const float *a, int na) {
+  if (sc->nprims >= MAX_PRIMS) return;
+  prim_t *p = &sc->prims[sc->nprims++];
+  p->kind = (uint8_t)kind;
+  p->label = label;
+  p->intensity = intensity;
+  memset(p->a, 0, sizeof p->a);
+  memcpy(p->a, a, sizeof(float) * (size_t)na);
+}
+
+static void box(rs_scene_t *sc, double x0, double y0, double z0, double x1, double y1, double z1, uint8_t inten) {
+  float a[6] = {(float)fmin(x0, x1), (float)fmin(y0, y1), (float)z0, (float)fmax(x0, x1), (float)fmax(y0, y1), (float)z1};
+  add_prim(sc, P_BOX, 1, inten, a, 6);
+}
+static void cyl(rs_scene_t *sc, double x, double y, double r, double z0, double z1, uint8_t inten) {
+  float a[5] = {(float)x, (float)y, (float)r, (float)z0, (float)z1};
+  add_prim(sc, P_CYL, 1, inten, a, 5);
+}
+static void sphere(rs_scene_t *sc, double x, double y, double z, double r, double leaf_p, uint8_t inten) {
+  float a[5] = {(float)x, (float)y, (float)z, (float)r, (float)leaf_p};
+  add_prim(sc, P_SPHERE, 2, inten, a, 5);
+}
+
+/* a leg's side: direction (ux, uy) from the centre, side normal (nx, ny) */
+static void build_leg(rs_scene_t *sc, double ux, double uy, double nx, double ny, rs_rng_t *r) {
+  const double L = sc->cfg.leg_length;
+  /* buildings on both sides, with gaps for side streets */
+  for (int side = -1; side <= 1; side += 2) {
+    double s = 16.0 + 6.0 * rs_rng_uniform(r);
+    while (s < L) {
+      double len = 18.0 + 40.0 * rs_rng_uniform(r);
+      double h = 6.0 + 18.0 * rs_rng_uniform(r);
+      double near = 15.0 + 3.0 * rs_rng_uniform(r), depth = 12.0 + 10.0 * rs_rng_uniform(r);
+      double e = fmin(s + len, L);
+      double ax = ux * s + side * nx * near, ay = uy * s + side * ny * near;
+      double bx = ux * e + side * nx * (near + depth), by = uy * e + side * ny * (near + depth);
+      box(sc, ax, ay, 0.0, bx, by, h, (uint8_t)(30 + rs_rng_uniform(r) * 50));
+      s = e + (rs_rng_uniform(r) < 0.25 ? 12.0 + 8.0 * rs_rng_uniform(r) : 1.0);
+    }
+    /* street lights */
+    for (double p = 20.0; p < fmin(L, 200.0); p += 35.0)
+      cyl(sc, ux * p + side * nx * 11.6, uy * p + side * ny * 11.6, 0.12, 0.0, 8.0, 70);
+    /* trees (canopy = foliage, trunk = static) and bushes */
+    for (int i = 0; i < sc->cfg.trees_per_leg; i++) {
+      double p = 25.0 + rs_rng_uniform(r) * fmin(L - 30.0, 150.0);
+      double cx = ux * p + side * nx * 13.0, cy = uy * p + side * ny * 13.0;
+      double rad = 2.0 + 1.2 * rs_rng_uniform(r), cz = 3.5 + rad;
+      cyl(sc, cx, cy, 0.18, 0.0, cz - rad * 0.6, 35);
+      sphere(sc, cx, cy, cz, rad, sc->cfg.foliage_hit, (uint8_t)(25 + 20 * rs_rng_uniform(r)));
+      if (rs_rng_uniform(r) < 0.5)
+        sphere(sc, cx + ux * 4.0, cy + uy * 4.0, 0.7, 0.9, fmin(1.0, sc->cfg.foliage_hit + 0.3), 30);
+    }
+    /* a sign */
+    double sp = 30.0 + 20.0 * rs_rng_uniform(r);
+    double sx = ux * sp + side * nx * 10.5, sy = uy * sp + side * ny * 10.5;
+    cyl(sc, sx, sy, 0.04, 0.0, 2.2, 60);
+    box(sc, sx - 0.4 * fabs(uy) - 0.03 * fabs(ux), sy - 0.4 * fabs(ux) - 0.03 * fabs(uy), 2.2,
+        sx + 0.4 * fabs(uy) + 0.03 * fabs(ux), sy + 0.4 * fabs(ux) + 0.03 * fabs(uy), 3.0, 200);
+  }
+  /* a low wall along part of the leg */
+  double w0 = 60.0 + 40.0 * rs_rng_uniform(r);
+  box(sc, ux * w0 + nx * 12.4, uy * w0 + ny * 12.4, 0.0, ux * (w0 + 25) + nx * 12.8, uy * (w0 + 25) + ny * 12.8, 1.2, 45);
+}
+
+static void add_route(rs_scene_t *sc, double x0, double y0, double dx, double dy, double length, double stop_s,
+                      int phase, bool ped) {
+  route_t *rt = &sc->routes[sc->nroutes++];
+  memset(rt, 0, sizeof *rt);
+  rt->x0 = x0;
+  rt->y0 = y0;
+  rt->dx = dx;
+  rt->dy = dy;
+  rt->length = length;
+  rt->stop_s = stop_s;
+  rt->phase = phase;
+  rt->pedestrian = ped;
+}
+
+static void build_routes(rs_scene_t *sc) {
+  const double L = sc->cfg.leg_length, Lp = fmin(L, 150.0);
+  static const double lanes[2] = {1.75, 5.25};
+  for (int i = 0; i < 2; i++) {
+    double o = lanes[i];
+    add_route(sc, -L, -o, 1, 0, 2 * L, L - STOP_DIST, 0, false); /* eastbound */
+    add_route(sc, L, o, -1, 0, 2 * L, L - STOP_DIST, 0, false);  /* westbound */
+    add_route(sc, o, -L, 0, 1, 2 * L, L - STOP_DIST, 1, false);  /* northbound */
+    add_route(sc, -o, L, 0, -1, 2 * L, L - STOP_DIST, 1, false); /* southbound */
+  }
+  /* pedestrians along the sidewalks, crossing with the parallel traffic */
+  add_route(sc, -Lp, -9.5, 1, 0, 2 * Lp, Lp - 8.0, 0, true);
+  add_route(sc, Lp, 9.5, -1, 0, 2 * Lp, Lp - 8.0, 0, true);
+  add_route(sc, 9.5, -Lp, 0, 1, 2 * Lp, Lp - 8.0, 1, true);
+  add_route(sc, -9.5, Lp, 0, -1, 2 * Lp, Lp - 8.0, 1, true);
+  add_route(sc, Lp, -10.5, -1, 0, 2 * Lp, Lp - 8.0, 0, true);
+  add_route(sc, -Lp, 10.5, 1, 0, 2 * Lp, Lp - 8.0, 0, true);
+  add_route(sc, 10.5, Lp, 0, -1, 2 * Lp, Lp - 8.0, 1, true);
+  add_route(sc, -10.5, -Lp, 0, 1, 2 * Lp, Lp - 8.0, 1, true);
+}
+
+/* ---- ray tests (origin o, direction d; return t > 0 or INFINITY) ---- */
+
+static double hit_box(const float *a, const double *o, const double *d) {
+  double tmin = 1e-6, tmax = INFINITY;
+  for (int k = 0; k < 3; k++) {
+    double lo = a[k], hi = a[k + 3];
+    if (fabs(d[k]) < 1e-12) {
+      if (o[k] < lo || o[k] > hi) return INFINITY;
+      continue;
+    }
+    double t1 = (lo - o[k]) / d[k], t2 = (hi - o[k]) / d[k];
+    if (t1 > t2) {
+      double t = t1;
+      t1 = t2;
+      t2 = t;
+    }
+    if (t1 > tmin) tmin = t1;
+    if (t2 < tmax) tmax = t2;
+    if (tmin > tmax) return INFINITY;
+  }
+  return tmin;
+}
+
+static double hit_cyl(double cx, double cy, double r, double z0, double z1, const double *o, const double *d) {
+  double px = o[0] - cx, py = o[1] - cy;
+  double A = d[0] * d[0] + d[1] * d[1];
+  if (A < 1e-12) return INFINITY;
+  double B = 2 * (px * d[0] + py * d[1]), C = px * px + py * py - r * r;
+  double disc = B * B - 4 * A * C;
+  if (disc < 0) return INFINITY;
+  double t = (-B - sqrt(disc)) / (2 * A);
+  if (t <= 1e-6) return INFINITY;
+  double z = o[2] + t * d[2];
+  if (z < z0 || z > z1) {
+    /* top cap */
+    if (d[2] < 0 && o[2] > z1) {
+      double tc = (z1 - o[2]) / d[2];
+      double qx = px + tc * d[0], qy = py + tc * d[1];
+      if (qx * qx + qy * qy <= r * r) return tc;
+    }
+    return INFINITY;
+  }
+  return t;
+}
+
+static double hit_sphere(const float *a, const double *o, const double *d, double *exit) {
+  double px = o[0] - a[0], py = o[1] - a[1], pz = o[2] - a[2];
+  double B = px * d[0] + py * d[1] + pz * d[2];
+  double C = px * px + py * py + pz * pz - (double)a[3] * a[3];
+  double disc = B * B - C;
+  if (disc < 0) return INFINITY;
+  double q = sqrt(disc), t = -B - q;
+  *exit = -B + q;
+  if (*exit <= 1e-6) return INFINITY;
+  return t > 1e-6 ? t : 1e-6;
+}
+
+/* azimuth (degrees, [0,360)) of a world point from the sensor */
+static double az_of(const rs_scene_t *sc, double x, double y) {
+  double a = atan2(x - sc->ox, y - sc->oy) / D2R;
+  return a < 0 ? a + 360.0 : a;
+}
+
+/* azimuth span of a set of xy points: start and width (deg); full circle
+ * when the sensor is inside the hull (approximated by the box) */
+static void az_span(const rs_scene_t *sc, const double *xs, const double *ys, int n, double *start, double *width) {
+  double ref = az_of(sc, xs[0], ys[0]), lo = 0, hi = 0;
+  for (int i = 1; i < n; i++) {
+    double d = az_of(sc, xs[i], ys[i]) - ref;
+    if (d > 180) d -= 360;
+    if (d < -180) d += 360;
+    if (d < lo) lo = d;
+    if (d > hi) hi = d;
+  }
+  *start = fmod(ref + lo + 360.0, 360.0);
+  *width = hi - lo;
+}
+
+static void prim_span(const rs_scene_t *sc, const prim_t *p, double *start, double *width) {
+  double x0, y0, x1, y1;
+  if (p->kind == P_BOX) {
+    x0 = p->a[0]; y0 = p->a[1]; x1 = p->a[3]; y1 = p->a[4];
+  } else {
+    double r = p->a[p->kind == P_CYL ? 2 : 3];
+    x0 = p->a[0] - r; y0 = p->a[1] - r; x1 = p->a[0] + r; y1 = p->a[1] + r;
+  }
+  if (sc->ox >= x0 - 0.5 && sc->ox <= x1 + 0.5 && sc->oy >= y0 - 0.5 && sc->oy <= y1 + 0.5) {
+    *start = 0;
+    *width = 360;
+    return;
+  }
+  double xs[4] = {x0, x1, x0, x1}, ys[4] = {y0, y0, y1, y1};
+  az_span(sc, xs, ys, 4, start, width);
+}
+
+static void build_buckets(rs_scene_t *sc) {
+  int counts[360] = {0};
+  double st[MAX_PRIMS], wd[MAX_PRIMS];
+  for (int i = 0; i < sc->nprims; i++) {
+    prim_span(sc, &sc->prims[i], &st[i], &wd[i]);
+    for (int b = 0; b <= (int)wd[i] + 1 && b < 360; b++) counts[((int)st[i] + b) % 360]++;
+  }
+  sc->bucket_start = calloc(361, sizeof(int));
+  int total = 0;
+  for (int b = 0; b < 360; b++) {
+    sc->bucket_start[b] = total;
+    total += counts[b];
+  }
+  sc->bucket_start[360] = total;
+  sc->bucket_items = calloc((size_t)total + 1, sizeof(int));
+  int fill[360] = {0};
+  for (int i = 0; i < sc->nprims; i++)
+    for (int b = 0; b <= (int)wd[i] + 1 && b < 360; b++) {
+      int k = ((int)st[i] + b) % 360;
+      sc->bucket_items[sc->bucket_start[k] + fill[k]++] = i;
+    }
+}
+
+static void dir_of(const rs_scene_t *sc, int laser, double az, double *d) {
+  double a = az * D2R, ce = sc->sensor->cos_el[laser];
+  d[0] = ce * sin(a);
+  d[1] = ce * cos(a);
+  d[2] = sc->sensor->sin_el[laser];
+}
+
+/* first static surface and first canopy on a ray */
+static void static_cast(const rs_scene_t *sc, int laser, double az, float *range, uint8_t *inten, float *fol,
+                        uint8_t *folp) {
+  double o[3] = {sc->ox, sc->oy, sc->oz}, d[3];
+  dir_of(sc, laser, az, d);
+  double best = INFINITY, fbest = INFINITY;
+  int bi = 0;
+  uint8_t bint = 0, fp = 0;
+  if (d[2] < 0) {
+    best = -o[2] / d[2];
+    bint = 12;
+  }
+  int b = (int)az % 360;
+  for (int k = sc->bucket_start[b]; k < sc->bucket_start[b + 1]; k++) {
+    const prim_t *p = &sc->prims[sc->bucket_items[k]];
+    double t, ex;
+    switch (p->kind) {
+    case P_BOX: t = hit_box(p->a, o, d); break;
+    case P_CYL: t = hit_cyl(p->a[0], p->a[1], p->a[2], p->a[3], p->a[4], o, d); break;
+    default:
+      t = hit_sphere(p->a, o, d, &ex);
+      if (t < fbest) {
+        fbest = t;
+        fp = (uint8_t)(p->a[4] * 255.0f);
+        bi = p->intensity;
+      }
+      continue;
+    }
+    if (t < best) {
+      best = t;
+      bint = p->intensity;
+    }
+  }
+  *range = isfinite(best) ? (float)best : 0.0f;
+  *inten = bint;
+  *fol = (isfinite(fbest) && fbest < best) ? (float)fbest : 0.0f;
+  *folp = *fol > 0 ? fp : 0;
+  (void)bi;
+}
+
+/* Row k: a block whose azimuth field reads k (0.01 degree); column: the
+ * record slot (bank * 32 + record), cast at that record's true azimuth at
+ * the scene's rotation rate. */
+static void build_table(rs_scene_t *sc) {
+  const rs_sensor_t *s = sc->sensor;
+  const int n = s->info->blocks_per_cycle > 1 ? 128 : RS_RECORDS;
+  sc->slots = n;
+  sc->st = malloc((size_t)n * AZ_STEPS * sizeof(st_cell_t));
+  if (sc->st == NULL) return;
+  for (int k = 0; k < AZ_STEPS; k++)
+    for (int slot = 0; slot < n; slot++) {
+      int laser;
+      float t;
+      rs_sensor_record(s, slot / RS_RECORDS, slot % RS_RECORDS, &laser, &t);
+      double az = fmod(k * 0.01 + s->azimuth_offset_deg[laser] + sc->deg_per_us * t + 720.0, 360.0);
+      st_cell_t *c = &sc->st[(size_t)k * (size_t)n + (size_t)slot];
+      static_cast(sc, laser, az, &c->range, &c->intensity, &c->fol, &c->fol_p);
+    }
+}
+
+static double default_max_range(rs_model_t m) {
+  switch (m) {
+  case RS_MODEL_VLP32C: return 200.0;
+  case RS_MODEL_VLS128: return 245.0;
+  default: return 100.0;
+  }
+}
+
+static rs_scene_t *alloc_scene(const rs_scene_cfg_t *cfg, const rs_sensor_t *s) {
+  rs_scene_t *sc = calloc(1, sizeof *sc);
+  if (sc == NULL) return NULL;
+  sc->cfg = *cfg;
+  if (sc->cfg.max_range <= 0) sc->cfg.max_range = default_max_range(s->info->model);
+  sc->sensor = s;
+  sc->ox = cfg->pole_x;
+  sc->oy = cfg->pole_y;
+  sc->oz = cfg->pole_height;
+  sc->prims = calloc(MAX_PRIMS, sizeof(prim_t));
+  sc->wind = 1.0;
+  return sc;
+}
+
+static void build_ground(rs_scene_t *sc) {
+  const double L = sc->cfg.leg_length;
+  /* sidewalks (kerb) in the four corners, L-shaped as two slabs each */
+  for (int sx = -1; sx <= 1; sx += 2)
+    for (int sy = -1; sy <= 1; sy += 2) {
+      box(sc, sx * ROAD_HALF, sy * ROAD_HALF, 0, sx * L, sy * WALK_OUTER, KERB, 25);
+      box(sc, sx * ROAD_HALF, sy * ROAD_HALF, 0, sx * WALK_OUTER, sy * L, KERB, 25);
+    }
+}
+
+rs_scene_t *rs_scene_create_empty(const rs_scene_cfg_t *cfg, const rs_sensor_t *s) {
+  rs_scene_t *sc = alloc_scene(cfg, s);
+  if (sc == NULL) return NULL;
+  rs_rng_seed(&sc->rng, 1);
+  return sc;
+}
+
+void rs_scene_add_box(rs_scene_t *sc, double cx, double cy, double z0, double l, double w, double h, double yaw,
+                      uint16_t label) {
+  /* as a traffic object that never moves: one route-less agent */
+  for (int i = 0; i < MAX_AGENTS; i++) {
+    agent_t *a = &sc->agents[i];
+    if (a->active) continue;
+    a->active = true;
+    a->id = label;
+    a->type = T_CAR;
+    a->route = -1;
+    a->l = l;
+    a->w = w;
+    a->h = h + z0;
+    a->intensity = 80;
+    if (i >= sc->agent_hwm) sc->agent_hwm = i + 1;
+    a->s = cx;
+    a->v = cy;   /* route-less: s, v hold the centre */
+    a->v0 = yaw; /* and v0 the heading (radians, from +x) */
+    return;
+  }
+}
+
+rs_scene_t *rs_scene_create(const rs_scene_cfg_t *cfg, const rs_sensor_t *s, double hz, uint64_t seed) {
+  rs_scene_t *sc = alloc_scene(cfg, s);
+  if (sc == NULL) return NULL;
+  sc->deg_per_us = hz * 360.0 / 1e6;
+  rs_rng_t world;
+  rs_rng_seed(&world, seed ^ 0x5EED5EEDull);
+  rs_rng_seed(&sc->rng, seed);
+  build_ground(sc);
+  /* legs: east, west, north, south (direction, side normal) */
+  build_leg(sc, 1, 0, 0, 1, &world);
+  build_leg(sc, -1, 0, 0, 1, &world);
+  build_leg(sc, 0, 1, 1, 0, &world);
+  build_leg(sc, 0, -1, 1, 0, &world);
+  /* signal poles with mast arms at the corners */
+  for (int sx = -1; sx <= 1; sx += 2)
+    for (int sy = -1; sy <= 1; sy += 2) {
+      double px = sx * 9.0, py = sy * 8.5;
+      if (sx < 0 && sy < 0) continue; /* the sensor pole stands here */
+      cyl(sc, px, py, 0.2, 0.0, 6.0, 80);
+      box(sc, px - (sx > 0 ? 6.0 : -0.0), py - 0.1, 5.6, px + (sx < 0 ? 6.0 : 0.0), py + 0.1, 5.8, 80);
+    }
+  build_buckets(sc);
+  build_table(sc);
+  build_routes(sc);
+  for (int i = 0; i < sc->nroutes; i++) sc->routes[i].next_spawn = -sc->cfg.warmup_s;
+  sc->t = -sc->cfg.warmup_s;
+  sc->next_id = 3;
+  return sc;
+}
+
+void rs_scene_destroy(rs_scene_t *sc) {
+  if (sc == NULL) return;
+  free(sc->prims);
+  free(sc->bucket_start);
+  free(sc->bucket_items);
+  free(sc->st);
+  free(sc);
+}
+
+void rs_scene_origin(const rs_scene_t *sc, double *x, double *y, double *z) {
+  *x = sc->ox;
+  *y = sc->oy;
+  *z = sc->oz;
+}
+
+/* ---- traffic ---- */
+
+static bool green(const rs_scene_t *sc, int phase, double t, bool amber_counts) {
+  double g = sc->cfg.green_s, half = g + AMBER_S + ALLRED_S;
+  double m = fmod(t, 2 * half);
+  if (m < 0) m += 2 * half;
+  double start = phase == 0 ? 0.0 : half;
+  double in = m - start;
+  return in >= 0 && (in < g || (amber_counts && in < g + AMBER_S));
+}
+
+static void spawn(rs_scene_t *sc, int ri) {
+  route_t *rt = &sc->routes[ri];
+  if (rt->n >= (int)(sizeof rt->agents / sizeof rt->agents[0])) return;
+  if (rt->n > 0) {
+    const agent_t *last = &sc->agents[rt->agents[rt->n - 1]];
+    if (last->s - last->l < 8.0) return; /* queue reaches the end of the leg */
+  }
+  int slot = -1;
+  for (int i = 0; i < MAX_AGENTS; i++)
+    if (!sc->agents[i].active) {
+      slot = i;
+      break;
+    }
+  if (slot < 0) return;
+  if (slot >= sc->agent_hwm) sc->agent_hwm = slot + 1;
+  agent_t *a = &sc->agents[slot];
+  memset(a, 0, sizeof *a);
+  a->active = true;
+  a->route = ri;
+  a->id = sc->next_id++;
+  if (sc->next_id == 0) sc->next_id = 3;
+  rs_rng_t *r = &sc->rng;
+  if (rt->pedestrian) {
+    a->type = T_PED;
+    a->l = a->w = 0.5;
+    a->h = 1.55 + 0.35 * rs_rng_uniform(r);
+    a->v0 = 1.1 + 0.5 * rs_rng_uniform(r);
+    a->intensity = (uint8_t)(10 + 30 * rs_rng_uniform(r));
+  } else {
+    double u = rs_rng_uniform(r);
+    static const double dims[5][4] = {{4.5, 1.8, 1.5, 13.9}, {5.2, 2.0, 2.2, 13.0}, {9.0, 2.5, 3.5, 11.0},
+                                      {12.0, 2.55, 3.2, 11.0}, {1.8, 0.6, 1.7, 5.5}};
+    int t = u < sc->cfg.cyclist_share ? T_CYCLIST : (u < 0.75 ? T_CAR : (u < 0.87 ? T_VAN : (u < 0.95 ? T_TRUCK : T_BUS)));
+    a->type = (uint8_t)t;
+    a->l = dims[t][0] * (0.92 + 0.16 * rs_rng_uniform(r));
+    a->w = dims[t][1];
+    a->h = dims[t][2] * (0.95 + 0.1 * rs_rng_uniform(r));
+    a->v0 = dims[t][3] * (0.85 + 0.3 * rs_rng_uniform(r));
+    a->intensity = (uint8_t)(20 + 100 * rs_rng_uniform(r));
+  }
+  a->v = a->v0 * 0.9;
+  if (rt->n > 0) {
+    const agent_t *last = &sc->agents[rt->agents[rt->n - 1]];
+    if (a->v > last->v) a->v = last->v;
+  }
+  rt->agents[rt->n++] = slot;
+}
+
+static void step(rs_scene_t *sc, double dt) {
+  const double amax = 1.5, bcomf = 2.5, s0 = 2.0, T = 1.2;
+  for (int ri = 0; ri < sc->nroutes; ri++) {
+    route_t *rt = &sc->routes[ri];
+    double rate = (rt->pedestrian ? sc->cfg.pedestrians_per_min : sc->cfg.vehicles_per_min / 2.0) / 60.0;
+    for (int guard = 0; guard < 4 && rate > 0 && sc->t >= rt->next_spawn; guard++) {
+      spawn(sc, ri);
+      rt->next_spawn += -log(1.0 - rs_rng_uniform(&sc->rng)) / rate;
+    }
+    if (rate <= 0) rt->next_spawn = INFINITY;
+    for (int k = 0; k < rt->n; k++) {
+      agent_t *a = &sc->agents[rt->agents[k]];
+      double gap = INFINITY, vlead = 0;
+      if (k > 0) {
+        const agent_t *lead = &sc->agents[rt->agents[k - 1]];
+        gap = lead->s - lead->l - a->s;
+        vlead = lead->v;
+      }
+      double to_stop = rt->stop_s - a->s;
+      if (to_stop > -0.5 && !green(sc, rt->phase, sc->t, !rt->pedestrian)) {
+        /* amber: go when it cannot stop comfortably */
+        bool committed = green(sc, rt->phase, sc->t, true) && to_stop < a->v * a->v / (2 * bcomf);
+        if (!committed && to_stop < gap) {
+          gap = fmax(to_stop, 0.01);
+          vlead = 0;
+        }
+      }
+      double acc;
+      if (rt->pedestrian) {
+        acc = gap < 1.0 ? -a->v / dt : (a->v0 - a->v) / 0.5;
+      } else {
+        double sstar = s0 + fmax(0.0, a->v * T + a->v * (a->v - vlead) / (2 * sqrt(amax * bcomf)));
+        double free = 1.0 - pow(a->v / a->v0, 4);
+        acc = amax * (free - (isfinite(gap) ? (sstar / fmax(gap, 0.01)) * (sstar / fmax(gap, 0.01)) : 0.0));
+        if (acc < -9.0) acc = -9.0;
+      }
+      a->v = fmax(0.0, a->v + acc * dt);
+      a->s += a->v * dt;
+    }
+    /* despawn at the end of the route (front first) */
+    while (rt->n > 0 && sc->agents[rt->agents[0]].s - sc->agents[rt->agents[0]].l > rt->length) {
+      sc->agents[rt->agents[0]].active = false;
+      memmove(rt->agents, rt->agents + 1, sizeof rt->agents[0] * (size_t)(rt->n - 1));
+      rt->n--;
+    }
+  }
+  sc->t += dt;
+}
+
+int rs_scene_object_count(const rs_scene_t *sc) {
+  int n = 0;
+  for (int i = 0; i < MAX_AGENTS; i++) n += sc->agents[i].active;
+  return n;
+}
+
+void rs_scene_new_turn(rs_scene_t *sc) { sc->wind = 0.8 + 0.4 * rs_rng_uniform(&sc->rng); }
+
+static bool az_overlap(double s1, double w1, double s2, double w2) {
+  if (w1 >= 360 || w2 >= 360) return true;
+  double d = fmod(s2 - s1 + 360.0, 360.0);
+  if (d <= w1) return true;
+  d = fmod(s1 - s2 + 360.0, 360.0);
+  return d <= w2;
+}
+
+/* centre and heading of an agent at time t */
+static void pose(const rs_scene_t *sc, const agent_t *a, double t, double *cx, double *cy, double *hd) {
+  if (a->route < 0) {
+    *cx = a->s;
+    *cy = a->v;
+    *hd = a->v0;
+    return;
+  }
+  const route_t *rt = &sc->routes[a->route];
+  double s = a->s + a->v * (t - sc->t) - a->l / 2;
+  *cx = rt->x0 + rt->dx * s;
+  *cy = rt->y0 + rt->dy * s;
+  *hd = atan2(rt->dy, rt->dx);
+}
+
+/* azimuth span of an agent over the next traffic step (cheap culling) */
+static void coarse_span(rs_scene_t *sc, agent_t *a) {
+  double cx, cy, hd;
+  pose(sc, a, sc->t, &cx, &cy, &hd);
+  double r = hypot(a->l, a->w) / 2 + a->v * STEP_S + 0.5;
+  double dist = hypot(cx - sc->ox, cy - sc->oy);
+  if (dist <= r + 0.1) {
+    a->span0 = 0;
+    a->spanw = 360;
+    return;
+  }
+  double half = asin(r / dist) / D2R;
+  a->span0 = fmod(az_of(sc, cx, cy) - half + 360.0, 360.0);
+  a->spanw = 2 * half;
+}
+
+void rs_scene_prepare(rs_scene_t *sc, double t, double az_from, double az_to) {
+  for (int i = 0; i < 100000 && sc->t + STEP_S <= t; i++) {
+    step(sc, STEP_S);
+    for (int k = 0; k < sc->agent_hwm; k++)
+      if (sc->agents[k].active) coarse_span(sc, &sc->agents[k]);
+  }
+  double span_w = fmod(az_to - az_from + 360.0, 360.0);
+  sc->ncand = 0;
+  for (int i = 0; i < sc->agent_hwm && sc->ncand < MAX_CAND; i++) {
+    agent_t *a = &sc->agents[i];
+    if (!a->active) continue;
+    if (a->spanw == 0) coarse_span(sc, a); /* new since the last step */
+    if (!az_overlap(a->span0, a->spanw, az_from, span_w)) continue;
+    double cx, cy, hd;
+    pose(sc, a, t, &cx, &cy, &hd);
+    if (sc->cfg.objects_max_range > 0) {
+      double dist = hypot(cx, cy);
+      if (dist < sc->cfg.objects_min_range || dist > sc->cfg.objects_max_range) continue;
+    }
+    cand_t *c = &sc->cand[sc->ncand];
+    c->id = a->id;
+    c->intensity = a->intensity;
+    c->cyl = a->type == T_PED;
+    c->cx = cx;
+    c->cy = cy;
+    c->c = cos(hd);
+    c->s = sin(hd);
+    c->hl = a->l / 2;
+    c->hw = a->w / 2;
+    c->h = a->h;
+    double xs[4], ys[4];
+    for (int k = 0; k < 4; k++) {
+      double lx = (k & 1 ? 1 : -1) * c->hl, ly = (k & 2 ? 1 : -1) * c->hw;
+      xs[k] = cx + lx * c->c - ly * c->s;
+      ys[k] = cy + lx * c->s + ly * c->c;
+    }
+    double st, wd;
+    az_span(sc, xs, ys, 4, &st, &wd);
+    c->az0 = fmod(st - 0.05 + 360.0, 360.0);
+    c->aw = wd + 0.1;
+    c->dmin = hypot(cx - sc->ox, cy - sc->oy) - hypot(c->hl, c->hw) - 0.1;
+    if (az_overlap(st - 0.5, wd + 1.0, az_from, span_w)) sc->ncand++;
+  }
+}
+
+static double hit_cand(const cand_t *c, const double *o, const double *d) {
+  if (c->cyl) return hit_cyl(c->cx, c->cy, c->hw, 0.0, c->h, o, d);
+  /* into the box frame */
+  double px = o[0] - c->cx, py = o[1] - c->cy;
+  double lo[3] = {px * c->c + py * c->s, -px * c->s + py * c->c, o[2]};
+  double ld[3] = {d[0] * c->c + d[1] * c->s, -d[0] * c->s + d[1] * c->c, d[2]};
+  float a[6] = {(float)-c->hl, (float)-c->hw, 0.0f, (float)c->hl, (float)c->hw, (float)c->h};
+  return hit_box(a, lo, ld);
+}
+
+void rs_scene_cast(rs_scene_t *sc, int slot, int block_az, int laser, double az, rs_rng_t *rng, rs_ray_t *out) {
+  while (az >= 360.0) az -= 360.0;
+  while (az < 0.0) az += 360.0;
+  double o[3] = {sc->ox, sc->oy, sc->oz}, d[3] = {0, 0, 0};
+  bool have_dir = false;
+  const bool table = sc->st != NULL && block_az >= 0 && block_az < AZ_STEPS && slot >= 0 && slot < sc->slots;
+  if (!table) {
+    dir_of(sc, laser, az, d);
+    have_dir = true;
+  }
+  rs_hit_t first = {0, 0, 0}, second = {0, 0, 0};
+  if (table) {
+    const st_cell_t *cell = &sc->st[(size_t)block_az * (size_t)sc->slots + (size_t)slot];
+    first.range = cell->range;
+    first.intensity = cell->intensity;
+    first.label = first.range > 0 ? 1 : 0;
+    float fr = cell->fol;
+    if (fr > 0 && rs_rng_uniform(rng) * 255.0 < cell->fol_p * sc->wind) {
+      /* a leaf somewhere in the first metre of the canopy; the surface behind
+       * is the second return */
+      float lr = fr + (float)(rs_rng_uniform(rng) * 1.0);
+      if (first.range == 0 || lr < first.range - 0.3f) {
+        second = first;
+        first.range = lr;
+        first.intensity = 30;
+        first.label = 2;
+      }
+    }
+  } else if (d[2] < 0) {
+    first.range = (float)(-o[2] / d[2]);
+    first.intensity = 12;
+    first.label = 1;
+  }
+  /* objects occlude what is behind them */
+  double best = INFINITY;
+  const cand_t *bc = NULL;
+  for (int k = 0; k < sc->ncand; k++) {
+    const cand_t *ck = &sc->cand[k];
+    double da = az - ck->az0;
+    if (da < 0) da += 360.0;
+    if (da > ck->aw || ck->dmin > best || (first.range > 0 && first.label != 2 && ck->dmin > first.range)) continue;
+    if (!have_dir) {
+      dir_of(sc, laser, az, d);
+      have_dir = true;
+    }
+    double t = hit_cand(ck, o, d);
+    if (t < best) {
+      best = t;
+      bc = &sc->cand[k];
+    }
+  }
+  if (bc) {
+    rs_hit_t obj = {(float)best, bc->intensity, bc->id};
+    if (first.range == 0 || best < first.range) {
+      first = obj;
+      second.range = 0;
+    } else if (first.label == 2 && (second.range == 0 || best < second.range)) {
+      second = obj;
+    }
+  }
+  /* sensor effects */
+  rs_hit_t *hs[2] = {&first, &second};
+  for (int k = 0; k < 2; k++) {
+    rs_hit_t *h = hs[k];
+    if (h->range == 0) continue;
+    double r = h->range, mr = sc->cfg.max_range;
+    bool lost = r > mr || rs_rng_uniform(rng) < sc->cfg.dropout;
+    if (!lost && r > 0.6 * mr) lost = rs_rng_uniform(rng) > 1.0 - 0.6 * (r - 0.6 * mr) / (0.4 * mr);
+    if (lost) {
+      h->range = 0;
+      continue;
+    }
+    r += sc->cfg.range_noise * rs_rng_normal(rng);
+    if (r < 0.5) r = 0.5;
+    h->range = (float)r;
+    int in = (int)h->intensity + (int)(rs_rng_normal(rng) * 3.0) - (int)(r * 0.1);
+    h->intensity = (uint8_t)(in < 1 ? 1 : (in > 255 ? 255 : in));
+  }
+  if (first.range == 0 && second.range != 0) {
+    first = second;
+    second.range = 0;
+  }
+  if (sc->cfg.spurious > 0 && rs_rng_uniform(rng) < sc->cfg.spurious) {
+    /* rain or dust in front of whatever the beam would have hit */
+    double far = first.range > 0 ? fmin(30.0, first.range - 0.5) : 30.0;
+    if (far > 1.0) {
+      second = first;
+      first.range = (float)(1.0 + (far - 1.0) * rs_rng_uniform(rng));
+      first.intensity = (uint8_t)(2 + 10 * rs_rng_uniform(rng));
+      first.label = 2;
+    }
+  }
+  if (second.range == 0) second.label = 0;
+  out->first = first;
+  out->second = second;
+}
