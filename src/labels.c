@@ -73,7 +73,8 @@ int rs_labels_next(rs_labels_reader_t *r, rs_label_t *out) {
   if (*p != '\0') return bad(r, "trailing characters after the label");
   if (v[1] > 11) return bad(r, "block out of range (0..11)");
   if (v[2] > 31) return bad(r, "channel out of range (0..31)");
-  if (v[0] >= r->max_packets || v[0] > UINT32_MAX) return bad(r, "packet index beyond the capture's data packets");
+  if (v[0] > UINT32_MAX || (r->max_packets != UINT32_MAX && v[0] >= r->max_packets))
+    return bad(r, "packet index beyond the capture's data packets");
   if (v[3] < 2 || v[3] > UINT32_MAX) return bad(r, "label must be 2 or more (1 and 0 are implied)");
   uint64_t key = rs_label_key((uint32_t)v[0], (int)v[1], (int)v[2]);
   if (r->any && key <= r->last_key)

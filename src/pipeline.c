@@ -8,6 +8,7 @@
 #include "roadscan/error.h"
 
 #include <inttypes.h>
+#include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
@@ -40,6 +41,14 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
     snprintf(p->input_err, sizeof p->input_err, "ring: %s", rs_strerror(rc));
     return rc;
   }
+  if (cfg->labels_out) {
+    if (rs_labels_create(&p->labels, cfg->labels_out, "roadscand point labels (1 = background, 2 = noise, 3+ = cluster)") != RS_OK) {
+      snprintf(p->input_err, sizeof p->input_err, "--labels-out %s: cannot write", cfg->labels_out);
+      rs_ring_deinit(&p->ring);
+      return RS_E_IO;
+    }
+    p->labels_open = true;
+  }
   if (cfg->iface)
     rc = rs_capture_open_live(&p->cap, cfg->iface, &cfg->capture);
   else
@@ -47,6 +56,8 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
   if (rc != RS_OK) {
     snprintf(p->input_err, sizeof p->input_err, "%s", p->cap.err);
     rs_ring_deinit(&p->ring);
+    if (p->labels_open) rs_labels_finish(&p->labels);
+    p->labels_open = false;
     return rc;
   }
   return RS_OK;
@@ -135,6 +146,35 @@ static void *packet_main(void *arg) {
   return NULL;
 }
 
+/* labels >= 2 of a frame, sorted by address (processing thread only) */
+typedef struct {
+  uint64_t key;
+  uint32_t label;
+} label_entry_t;
+static label_entry_t label_buf[RS_LAYERS * RS_MAX_CELLS];
+
+static int cmp_entry(const void *a, const void *b) {
+  uint64_t x = ((const label_entry_t *)a)->key, y = ((const label_entry_t *)b)->key;
+  return (x > y) - (x < y);
+}
+
+static void write_labels(rs_pipeline_t *p, const rs_slot_t *s) {
+  const uint32_t cells = (uint32_t)s->meta.rows * s->meta.cols;
+  size_t n = 0;
+  for (int l = 0; l < RS_LAYERS; l++)
+    for (uint32_t i = 0; i < cells; i++) {
+      uint32_t c = (uint32_t)l * RS_MAX_CELLS + i;
+      if (s->range[c] == 0.0f || s->label[c] < RS_LABEL_NOISE) continue;
+      label_buf[n].key = rs_label_key(s->addr[c].packet, s->addr[c].block, s->addr[c].channel);
+      label_buf[n].label = s->label[c];
+      n++;
+    }
+  qsort(label_buf, n, sizeof label_buf[0], cmp_entry);
+  for (size_t i = 0; i < n; i++)
+    rs_labels_write(&p->labels, (uint32_t)(label_buf[i].key / 384u), (int)(label_buf[i].key / 32u % 12u),
+                    (int)(label_buf[i].key % 32u), label_buf[i].label);
+}
+
 static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
   int64_t t0 = rs_now_ns();
   const rs_frame_meta_t *m = &s->meta;
@@ -160,6 +200,7 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
     if (lo < p->proc.min_range) p->proc.min_range = lo;
     if (hi > p->proc.max_range) p->proc.max_range = hi;
   }
+  if (p->labels_open) write_labels(p, s);
   int64_t dt = rs_now_ns() - t0;
   rs_timing_add(&p->t_frame, dt);
   if (p->cfg.frames_out) {
@@ -188,6 +229,11 @@ static void *proc_main(void *arg) {
     rs_ring_release(&p->ring, idx);
   }
   if (p->cfg.frames_out) fflush(p->cfg.frames_out);
+  if (p->labels_open && rs_labels_finish(&p->labels) != RS_OK) {
+    p->input_status = RS_E_IO;
+    snprintf(p->input_err, sizeof p->input_err, "--labels-out %s: write failed", p->cfg.labels_out);
+  }
+  p->labels_open = false;
   return NULL;
 }
 
@@ -213,6 +259,8 @@ void rs_pipeline_join(rs_pipeline_t *p) {
 }
 
 void rs_pipeline_deinit(rs_pipeline_t *p) {
+  if (p->labels_open) rs_labels_finish(&p->labels);
+  p->labels_open = false;
   rs_capture_close(&p->cap);
   rs_ring_deinit(&p->ring);
 }

@@ -41,6 +41,7 @@ static void usage(FILE *out) {
           "  --cut-azimuth DEG    azimuth where frames start (default 0)\n"
           "Output\n"
           "  --frames-out FILE    one CSV line per frame\n"
+          "  --labels-out FILE    the pipeline's label of every return (specs/point-labels.md)\n"
           "  --quiet              no summary\n"
           "  --help, --version\n"
           "\n"
@@ -61,7 +62,7 @@ static int bad(const char *msg) {
 
 int main(int argc, char **argv) {
   enum { O_PCAP = 256, O_SPEED, O_FAST, O_LOOP, O_IFACE, O_PORT, O_SOURCE, O_MODEL, O_CALIB, O_RPM, O_COLS,
-         O_CUT, O_FRAMES, O_QUIET, O_HELP, O_VERSION };
+         O_CUT, O_FRAMES, O_LABELS, O_QUIET, O_HELP, O_VERSION };
   static const struct option opts[] = {
       {"pcap", required_argument, NULL, O_PCAP},       {"speed", required_argument, NULL, O_SPEED},
       {"fast", no_argument, NULL, O_FAST},             {"loop", no_argument, NULL, O_LOOP},
@@ -69,7 +70,8 @@ int main(int argc, char **argv) {
       {"source", required_argument, NULL, O_SOURCE},   {"model", required_argument, NULL, O_MODEL},
       {"calibration", required_argument, NULL, O_CALIB}, {"rpm", required_argument, NULL, O_RPM},
       {"columns", required_argument, NULL, O_COLS},    {"cut-azimuth", required_argument, NULL, O_CUT},
-      {"frames-out", required_argument, NULL, O_FRAMES}, {"quiet", no_argument, NULL, O_QUIET},
+      {"frames-out", required_argument, NULL, O_FRAMES}, {"labels-out", required_argument, NULL, O_LABELS},
+      {"quiet", no_argument, NULL, O_QUIET},
       {"help", no_argument, NULL, O_HELP},             {"version", no_argument, NULL, O_VERSION},
       {NULL, 0, NULL, 0}};
   rs_pipeline_cfg_t cfg;
@@ -119,6 +121,7 @@ int main(int argc, char **argv) {
       if (rs_cfg_double("--cut-azimuth", optarg, 0.0, 359.99, &cfg.assembly.cut_deg, err, sizeof err)) return bad(err);
       break;
     case O_FRAMES: frames_path = optarg; break;
+    case O_LABELS: cfg.labels_out = optarg; break;
     case O_QUIET: quiet = true; break;
     case O_HELP: usage(stdout); return 0;
     case O_VERSION: printf("roadscand 0.1.0\n"); return 0;

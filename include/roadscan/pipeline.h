@@ -12,6 +12,7 @@
 
 #include "roadscan/capture.h"
 #include "roadscan/frame.h"
+#include "roadscan/labels.h"
 #include "roadscan/ring.h"
 #include "roadscan/stream.h"
 #include "roadscan/timing.h"
@@ -28,6 +29,7 @@ typedef struct {
   rs_stream_cfg_t stream;
   rs_asm_cfg_t assembly;
   FILE *frames_out;            /* optional CSV, one line per frame */
+  const char *labels_out;      /* optional point-label file of the pipeline's decisions */
 } rs_pipeline_cfg_t;
 
 typedef struct {
@@ -56,6 +58,8 @@ typedef struct {
   rs_timing_t t_packet;        /* decode + assembly per data packet (packet thread) */
   rs_timing_t t_frame;         /* processing per frame (processing thread) */
   rs_proc_counters_t proc;
+  rs_labels_writer_t labels;   /* processing thread */
+  bool labels_open;
 } rs_pipeline_t;
 
 /* Opens the source; slots: nslots (3..RS_RING_MAX_SLOTS) caller-owned slots.

@@ -1,0 +1,56 @@
+/* eval.h - point-label metrics of ../shared/specs/point-labels.md (the FSPC
+ * paper's Table 3): target / non-target precision, recall, IoU; matched
+ * instances (IoU > 0.5, true instances of at least 10 points); background
+ * subtraction shares; target recall by range band.
+ *
+ * Feed every return of a frame with rs_eval_point, then rs_eval_end_frame.
+ * Tool code: rs_eval_init allocates its per-frame tables once. */
+#ifndef ROADSCAN_EVAL_H
+#define ROADSCAN_EVAL_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#define RS_EVAL_BANDS 4
+#define RS_EVAL_MIN_INSTANCE 10
+
+typedef struct {
+  uint64_t frames, points;
+  uint64_t t_tp, t_fp, t_fn;                /* target class (label >= 3) */
+  uint64_t n_tp, n_fp, n_fn;                /* non-target class (labels 1 and 2) */
+  uint64_t static_true, static_kept;        /* true 1, predicted 1 */
+  uint64_t target_true, target_kept;        /* true >= 3, predicted other than 1 */
+  uint64_t foliage_true, foliage_background;/* true 2, predicted 1 */
+  uint64_t band_true[RS_EVAL_BANDS], band_hit[RS_EVAL_BANDS];
+  uint64_t instances, matched;
+} rs_eval_result_t;
+
+typedef struct {
+  uint64_t key;   /* (truth << 32) | pred, 0 = empty */
+  uint32_t count;
+} rs_eval_pair_t;
+
+typedef struct {
+  rs_eval_result_t r;
+  rs_eval_pair_t *pairs;  /* open addressing */
+  uint32_t cap;           /* power of two */
+  uint32_t *used;         /* slots used this frame */
+  uint32_t nused;
+  bool overflow;
+} rs_eval_t;
+
+extern const double rs_eval_band_edges[RS_EVAL_BANDS + 1]; /* 0 20 50 100 200 */
+
+int rs_eval_init(rs_eval_t *e);
+void rs_eval_deinit(rs_eval_t *e);
+/* One return of the current frame; `counted` false for frame 0. */
+void rs_eval_point(rs_eval_t *e, uint32_t truth, uint32_t pred, float range, bool counted);
+void rs_eval_end_frame(rs_eval_t *e, bool counted);
+
+/* ratio or NaN when the denominator is 0 */
+double rs_eval_ratio(uint64_t num, uint64_t den);
+void rs_eval_print(const rs_eval_result_t *r, FILE *out);
+void rs_eval_print_json(const rs_eval_result_t *r, FILE *out);
+
+#endif

@@ -1,0 +1,90 @@
+/* check_eval - metrics on hand-made label sequences with answers worked
+ * out here. */
+#include "roadscan/error.h"
+#include "roadscan/eval.h"
+#include "testutil.h"
+
+#include <math.h>
+#include <string.h>
+
+static rs_eval_t e;
+
+static void feed(int n, uint32_t truth, uint32_t pred, float range) {
+  for (int i = 0; i < n; i++) rs_eval_point(&e, truth, pred, range, true);
+}
+
+START_TEST(t_one_frame) {
+  ck_assert_int_eq(rs_eval_init(&e), RS_OK);
+  /* frame 0: ignored */
+  rs_eval_point(&e, 5, 1, 10, false);
+  rs_eval_end_frame(&e, false);
+  /* frame 1: object 3 (20 points at 10 m): 18 found as cluster 7, 2 called background;
+   * 3 background points wrongly in cluster 7; object 4 (30 points at 60 m) split
+   * into clusters 8 (14) and 9 (16); object 5 (5 points) is too small to count as an
+   * instance; 100 static points right, 10 foliage points called background */
+  feed(18, 3, 7, 10);
+  feed(2, 3, 1, 10);
+  feed(3, 1, 7, 10);
+  feed(14, 4, 8, 60);
+  feed(16, 4, 9, 60);
+  feed(5, 5, 10, 150);
+  feed(100, 1, 1, 30);
+  feed(10, 2, 1, 30);
+  rs_eval_end_frame(&e, true);
+  const rs_eval_result_t *r = &e.r;
+  ck_assert_uint_eq(r->frames, 1);
+  ck_assert_uint_eq(r->points, 168);
+  ck_assert_uint_eq(r->t_tp, 18 + 30 + 5);
+  ck_assert_uint_eq(r->t_fp, 3);
+  ck_assert_uint_eq(r->t_fn, 2);
+  ck_assert_double_eq_tol(rs_eval_ratio(r->t_tp, r->t_tp + r->t_fp), 53.0 / 56.0, 1e-12);
+  ck_assert_double_eq_tol(rs_eval_ratio(r->t_tp, r->t_tp + r->t_fn), 53.0 / 55.0, 1e-12);
+  ck_assert_double_eq_tol(rs_eval_ratio(r->t_tp, r->t_tp + r->t_fp + r->t_fn), 53.0 / 58.0, 1e-12);
+  ck_assert_uint_eq(r->n_tp, 110);
+  ck_assert_uint_eq(r->n_fp, 2);
+  ck_assert_uint_eq(r->n_fn, 3);
+  /* instances: 3 (IoU 18/(20+21-18) = 0.78, matched) and 4 (best 16/30, 0.53, matched);
+   * 5 has 5 points: not an instance */
+  ck_assert_uint_eq(r->instances, 2);
+  ck_assert_uint_eq(r->matched, 2);
+  ck_assert_uint_eq(r->static_true, 103);
+  ck_assert_uint_eq(r->static_kept, 100);
+  ck_assert_uint_eq(r->target_true, 55);
+  ck_assert_uint_eq(r->target_kept, 53);
+  ck_assert_uint_eq(r->foliage_true, 10);
+  ck_assert_uint_eq(r->foliage_background, 10);
+  ck_assert_uint_eq(r->band_true[0], 20);
+  ck_assert_uint_eq(r->band_hit[0], 18);
+  ck_assert_uint_eq(r->band_true[2], 30);
+  ck_assert_uint_eq(r->band_true[3], 5);
+  ck_assert(isnan(rs_eval_ratio(0, 0)));
+
+  /* frame 2: object 4 split 15/15: IoU 0.5 is not above 0.5 */
+  feed(15, 4, 8, 60);
+  feed(15, 4, 9, 60);
+  rs_eval_end_frame(&e, true);
+  ck_assert_uint_eq(e.r.instances, 3);
+  ck_assert_uint_eq(e.r.matched, 2);
+  /* frame 3: one cluster swallowing two objects of 10 points: IoU 0.5 each: none matched */
+  feed(10, 3, 7, 10);
+  feed(10, 4, 7, 10);
+  rs_eval_end_frame(&e, true);
+  ck_assert_uint_eq(e.r.instances, 5);
+  ck_assert_uint_eq(e.r.matched, 2);
+  char buf[2048];
+  FILE *m = fmemopen(buf, sizeof buf, "w");
+  rs_eval_print_json(&e.r, m);
+  fclose(m);
+  ck_assert_ptr_nonnull(strstr(buf, "\"target\": {\"precision\": "));
+  ck_assert_ptr_nonnull(strstr(buf, "\"matched\": 2, \"instances\": 5"));
+  rs_eval_deinit(&e);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("eval");
+  TCase *tc = tcase_create("core");
+  tcase_add_test(tc, t_one_frame);
+  suite_add_tcase(s, tc);
+  return tu_run(s);
+}

@@ -1,0 +1,184 @@
+/* check_scene - ray casting against hand-computed ranges (ground, a box
+ * at a known place, occlusion), scene knobs, presets, determinism. */
+#include "roadscan/error.h"
+#include "roadscan/scene.h"
+#include "testutil.h"
+
+#include <math.h>
+#include <string.h>
+
+#define D2R (3.14159265358979323846 / 180.0)
+
+static rs_scene_cfg_t quiet_cfg(void) {
+  rs_scene_cfg_t c;
+  rs_scene_preset("light", &c);
+  c.range_noise = 0;
+  c.dropout = 0;
+  c.spurious = 0;
+  c.pole_x = -11.5;
+  c.pole_y = -11.5;
+  c.pole_height = 5.0;
+  return c;
+}
+
+START_TEST(t_ground_and_box) {
+  static rs_sensor_t s;
+  rs_sensor_init(&s, RS_MODEL_VLP32C);
+  rs_scene_cfg_t c = quiet_cfg();
+  rs_scene_t *sc = rs_scene_create_empty(&c, &s);
+  rs_rng_t rng;
+  rs_rng_seed(&rng, 3);
+  rs_ray_t r;
+  /* laser 0 points 25 degrees down: the ground is 5 / sin 25 away */
+  rs_scene_prepare(sc, 0.0, 0.0, 359.9);
+  rs_scene_cast(sc, -1, -1, 0, 45.0, &rng, &r);
+  ck_assert_float_eq_tol(r.first.range, 5.0 / sin(25 * D2R), 1e-4);
+  ck_assert_int_eq(r.first.label, 1);
+  /* laser 5 is level: nothing to hit */
+  rs_scene_cast(sc, -1, -1, 5, 45.0, &rng, &r);
+  ck_assert_float_eq_tol(r.first.range, 0.0, 1e-9);
+  /* a 4 x 2 x 6 m box 20 m north of the sensor, long side east-west: its
+   * south face is at y = 8.5 - 1 = 7.5, 19 m from the pole at y = -11.5 */
+  rs_scene_add_box(sc, -11.5, 8.5, 0.0, 4.0, 2.0, 6.0, 0.0, 42);
+  rs_scene_prepare(sc, 0.0, 355.0, 5.0);
+  rs_scene_cast(sc, -1, -1, 5, 0.0, &rng, &r);
+  ck_assert_float_eq_tol(r.first.range, 19.0, 1e-4);
+  ck_assert_int_eq(r.first.label, 42);
+  /* 5 degrees to the side: x offset 19 tan 5 = 1.66 m, within the 2 m half length */
+  rs_scene_cast(sc, -1, -1, 5, 5.0, &rng, &r);
+  ck_assert_float_eq_tol(r.first.range, 19.0 / cos(5 * D2R), 1e-3);
+  /* 7 degrees: 2.33 m, past the corner: misses */
+  rs_scene_prepare(sc, 0.0, 350.0, 10.0);
+  rs_scene_cast(sc, -1, -1, 5, 7.0, &rng, &r);
+  ck_assert_float_eq_tol(r.first.range, 0.0, 1e-9);
+  /* the box hides the ground behind it: laser 15 (-4 deg) meets the ground
+   * at 5 / tan 4 = 71.5 m horizontally, but the box is at 19 m */
+  rs_scene_cast(sc, -1, -1, 15, 0.0, &rng, &r);
+  ck_assert_float_eq_tol(r.first.range, 19.0 / cos(4 * D2R), 1e-3);
+  ck_assert_int_eq(r.first.label, 42);
+  /* a box turned 90 degrees: now 2 m along x, its south face at 8.5 - 2 = 6.5 */
+  rs_scene_t *sc2 = rs_scene_create_empty(&c, &s);
+  rs_scene_add_box(sc2, -11.5, 8.5, 0.0, 4.0, 2.0, 6.0, 3.14159265358979 / 2, 43);
+  rs_scene_prepare(sc2, 0.0, 350.0, 10.0);
+  rs_scene_cast(sc2, -1, -1, 5, 0.0, &rng, &r);
+  ck_assert_float_eq_tol(r.first.range, 18.0, 1e-4);
+  rs_scene_destroy(sc2);
+  rs_scene_destroy(sc);
+}
+END_TEST
+
+START_TEST(t_effects) {
+  static rs_sensor_t s;
+  rs_sensor_init(&s, RS_MODEL_VLP32C);
+  rs_scene_cfg_t c = quiet_cfg();
+  c.range_noise = 0.05;
+  rs_scene_t *sc = rs_scene_create_empty(&c, &s);
+  rs_rng_t rng;
+  rs_rng_seed(&rng, 9);
+  rs_scene_prepare(sc, 0.0, 0.0, 359.9);
+  double sum = 0, sum2 = 0, truth = 5.0 / sin(25 * D2R);
+  const int N = 20000;
+  for (int i = 0; i < N; i++) {
+    rs_ray_t r;
+    rs_scene_cast(sc, -1, -1, 0, 100.0, &rng, &r);
+    double d = r.first.range - truth;
+    sum += d;
+    sum2 += d * d;
+  }
+  ck_assert_double_eq_tol(sum / N, 0.0, 0.002);
+  ck_assert_double_eq_tol(sqrt(sum2 / N), 0.05, 0.003);
+  rs_scene_destroy(sc);
+  /* dropouts and spurious returns at their rates */
+  c = quiet_cfg();
+  c.dropout = 0.1;
+  c.spurious = 0.05;
+  sc = rs_scene_create_empty(&c, &s);
+  rs_scene_prepare(sc, 0.0, 0.0, 359.9);
+  int lost = 0, spur = 0;
+  for (int i = 0; i < N; i++) {
+    rs_ray_t r;
+    rs_scene_cast(sc, -1, -1, 0, 100.0, &rng, &r);
+    if (r.first.label == 2) spur++;
+    else if (r.first.range == 0) lost++;
+  }
+  ck_assert_int_ge(lost, N * 0.1 * 0.9);
+  ck_assert_int_le(lost, N * 0.1 * 1.1);
+  ck_assert_int_ge(spur, N * 0.05 * 0.8);
+  ck_assert_int_le(spur, N * 0.05 * 1.2);
+  rs_scene_destroy(sc);
+}
+END_TEST
+
+START_TEST(t_knobs) {
+  rs_scene_cfg_t c;
+  ck_assert(rs_scene_preset("rush", &c));
+  ck_assert(rs_scene_preset("far", &c));
+  ck_assert_double_eq(c.objects_min_range, 100.0);
+  ck_assert(rs_scene_preset("storm", &c));
+  ck_assert_double_eq(c.packet_loss, 0.05);
+  ck_assert(!rs_scene_preset("blizzard", &c));
+  char err[256];
+  ck_assert_int_eq(rs_scene_set(&c, "pole_height", "6.5", err, sizeof err), RS_OK);
+  ck_assert_double_eq(c.pole_height, 6.5);
+  ck_assert_int_eq(rs_scene_set(&c, "trees_per_leg", "3", err, sizeof err), RS_OK);
+  ck_assert_int_eq(c.trees_per_leg, 3);
+  ck_assert_int_eq(rs_scene_set(&c, "trees_per_leg", "2.5", err, sizeof err), RS_E_INVAL);
+  ck_assert_int_eq(rs_scene_set(&c, "pole_height", "high", err, sizeof err), RS_E_INVAL);
+  ck_assert_ptr_nonnull(strstr(err, "pole_height: 'high' is not a number"));
+  ck_assert_int_eq(rs_scene_set(&c, "pole_height", "100", err, sizeof err), RS_E_INVAL);
+  ck_assert_ptr_nonnull(strstr(err, "out of range"));
+  ck_assert_int_eq(rs_scene_set(&c, "colour", "red", err, sizeof err), RS_E_INVAL);
+  ck_assert_ptr_nonnull(strstr(err, "unknown scene key 'colour'"));
+}
+END_TEST
+
+START_TEST(t_traffic_queues) {
+  /* vehicles stop at the line on red and stand there for tens of seconds */
+  static rs_sensor_t s;
+  rs_sensor_init(&s, RS_MODEL_VLP16);
+  rs_scene_cfg_t c = quiet_cfg();
+  c.vehicles_per_min = 20;
+  c.warmup_s = 0;
+  rs_scene_t *sc = rs_scene_create(&c, &s, 10.0, 5);
+  rs_rng_t rng;
+  rs_rng_seed(&rng, 1);
+  /* a level ray along the eastbound lanes just before the stop line, seen
+   * from the sensor: count how long something stands there during one cycle */
+  int seen = 0, runs = 0, longest = 0;
+  for (double t = 0; t < 120.0; t += 0.5) {
+    rs_scene_prepare(sc, t, 0, 359.99);
+    rs_ray_t r;
+    /* toward (-16, -1.75) from (-11.5, -11.5): azimuth of the first queued car */
+    double az = atan2(-16.0 + 11.5, -1.75 + 11.5) / D2R + 360.0;
+    rs_scene_cast(sc, -1, -1, 0, az, &rng, &r);
+    int lvl = 0;
+    for (int l = 0; l < s.lasers; l++) {
+      rs_scene_cast(sc, -1, -1, l, az, &rng, &r);
+      if (r.first.label >= 3) lvl = 1;
+    }
+    if (lvl) {
+      seen++;
+      runs++;
+      if (runs > longest) longest = runs;
+    } else {
+      runs = 0;
+    }
+  }
+  ck_assert_int_gt(seen, 0);
+  ck_assert_int_ge(longest, 20); /* at least 10 s standing at the line */
+  ck_assert_int_gt(rs_scene_object_count(sc), 5);
+  rs_scene_destroy(sc);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("scene");
+  TCase *tc = tcase_create("core");
+  tcase_set_timeout(tc, 120);
+  tcase_add_test(tc, t_ground_and_box);
+  tcase_add_test(tc, t_effects);
+  tcase_add_test(tc, t_knobs);
+  tcase_add_test(tc, t_traffic_queues);
+  suite_add_tcase(s, tc);
+  return tu_run(s);
+}

@@ -1,0 +1,193 @@
+/* check_sim - roadscan-sim and roadscan-eval as programs: every model and
+ * return mode reads back through the decoder with ground truth on real
+ * returns; determinism; presets; storm packet loss; bad options. */
+#include "roadscan/error.h"
+#include "roadscan/stream.h"
+#include "testutil.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static rs_stream_t st;
+static uint64_t frames_seen;
+static int prev_az;
+
+static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double ts) {
+  (void)user;
+  (void)index;
+  (void)ts;
+  for (int b = 0; b < pkt->blocks; b++) {
+    if (prev_az >= 0 && pkt->block_azimuth[b] < prev_az) frames_seen++;
+    prev_az = pkt->block_azimuth[b];
+  }
+}
+
+static void decode_file(const char *path) {
+  rs_capture_cfg_t cc = {.data_port = 2368};
+  rs_capture_t c;
+  ck_assert_int_eq(rs_capture_open_file(&c, path, &cc), RS_OK);
+  rs_stream_cfg_t sc = {0};
+  rs_stream_init(&st, &sc);
+  frames_seen = 0;
+  prev_az = -1;
+  rs_frame_in_t f;
+  while (rs_capture_next(&c, &f, NULL) == 1) rs_stream_frame(&st, c.linktype, &f, on_packet, NULL);
+  rs_stream_finish(&st, on_packet, NULL);
+  rs_capture_close(&c);
+}
+
+static unsigned long long field_after(const char *out, const char *label) {
+  const char *p = strstr(out, label);
+  ck_assert_msg(p != NULL, "no '%s' in: %s", label, out);
+  p += strlen(label);
+  return strtoull(p, NULL, 10);
+}
+
+START_TEST(t_models_and_modes) {
+  static const char *models[] = {"VLP-16", "HDL-32E", "VLP-32C", "VLS-128"};
+  static const rs_model_t ids[] = {RS_MODEL_VLP16, RS_MODEL_HDL32E, RS_MODEL_VLP32C, RS_MODEL_VLS128};
+  static const char *modes[] = {"strongest", "last", "dual"};
+  static const uint8_t bytes[] = {RS_MODE_STRONGEST, RS_MODE_LAST, RS_MODE_DUAL};
+  char cmd[1024];
+  const char *out;
+  for (int m = 0; m < 4; m++)
+    for (int k = 0; k < 3; k++) {
+      const char *pcap = tu_tmp("sim.pcap"), *truth = tu_tmp("sim.csv");
+      snprintf(cmd, sizeof cmd,
+               "./roadscan-sim --sensor %s --return-mode %s --scenario light --set warmup_s=60 --seconds 0.35 "
+               "--seed 3 -o %s --labels %s",
+               models[m], modes[k], pcap, truth);
+      ck_assert_int_eq(tu_exec(cmd, &out), 0);
+      unsigned long long packets = field_after(out, "(");
+      (void)packets;
+      unsigned long long written = field_after(out, "): ");
+      decode_file(pcap);
+      ck_assert_int_eq(st.sensor.info->model, ids[m]);
+      ck_assert_uint_eq(st.n.decoded, written);
+      ck_assert_uint_eq(rs_stream_error_total(&st.n), 0);
+      ck_assert_int_eq(st.pkt.mode_byte, bytes[k]);
+      ck_assert_uint_eq(frames_seen, 3); /* 0.35 s at 10 Hz from azimuth 0 */
+      /* every listed address is a return of the capture: the evaluator checks */
+      snprintf(cmd, sizeof cmd, "./roadscan-eval %s %s %s --json", pcap, truth, truth);
+      ck_assert_int_eq(tu_exec(cmd, &out), 0);
+      ck_assert_ptr_nonnull(strstr(out, "\"target\": {\"precision\": 1.000000, \"recall\": 1.000000"));
+    }
+}
+END_TEST
+
+START_TEST(t_rates) {
+  static const char *hz[] = {"5", "10", "20"};
+  static const unsigned long long frames[] = {2, 5, 10};
+  char cmd[1024];
+  const char *out;
+  for (int i = 0; i < 3; i++) {
+    snprintf(cmd, sizeof cmd, "./roadscan-sim --sensor VLP-16 --hz %s --seconds 0.55 --set warmup_s=0 -o %s --labels %s",
+             hz[i], tu_tmp("hz.pcap"), tu_tmp("hz.csv"));
+    ck_assert_int_eq(tu_exec(cmd, &out), 0);
+    decode_file(tu_tmp("hz.pcap"));
+    ck_assert_uint_eq(frames_seen, frames[i]);
+  }
+  ck_assert_int_eq(tu_exec("./roadscan-sim --hz 7 -o x --labels y", &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "--hz: 7 is not 5, 10 or 20"));
+}
+END_TEST
+
+static long file_size(const char *p) {
+  FILE *f = fopen(p, "rb");
+  if (f == NULL) return -1;
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  fclose(f);
+  return n;
+}
+
+START_TEST(t_deterministic) {
+  char cmd[2048];
+  const char *out;
+  for (int i = 0; i < 3; i++) {
+    char p[32], l[32];
+    snprintf(p, sizeof p, "det%d.pcap", i);
+    snprintf(l, sizeof l, "det%d.csv", i);
+    snprintf(cmd, sizeof cmd, "./roadscan-sim --sensor VLP-32C --scenario storm --seconds 0.5 --seed %d -o %s --labels %s",
+             i == 2 ? 8 : 7, tu_tmp(p), tu_tmp(l));
+    ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  }
+  snprintf(cmd, sizeof cmd, "cmp -s %s %s && cmp -s %s %s", tu_tmp("det0.pcap"), tu_tmp("det1.pcap"), tu_tmp("det0.csv"),
+           tu_tmp("det1.csv"));
+  ck_assert_int_eq(system(cmd), 0);
+  snprintf(cmd, sizeof cmd, "cmp -s %s %s", tu_tmp("det0.csv"), tu_tmp("det2.csv"));
+  ck_assert_int_ne(system(cmd), 0);
+  ck_assert_int_gt(file_size(tu_tmp("det0.pcap")), 100000);
+}
+END_TEST
+
+START_TEST(t_presets) {
+  char cmd[1024];
+  const char *out;
+  /* rush: 10,000 to 25,000 object returns per VLP-32C turn */
+  snprintf(cmd, sizeof cmd, "./roadscan-sim --sensor VLP-32C --scenario rush --seconds 1.05 -o %s --labels %s",
+           tu_tmp("rush.pcap"), tu_tmp("rush.csv"));
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  unsigned long long med = field_after(out, "per turn: median ");
+  ck_assert_uint_ge(med, 10000);
+  ck_assert_uint_le(med, 25000);
+  /* storm: about 5 % of the packets lost */
+  snprintf(cmd, sizeof cmd, "./roadscan-sim --sensor VLP-32C --scenario storm --seconds 2 -o %s --labels %s",
+           tu_tmp("storm.pcap"), tu_tmp("storm.csv"));
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  unsigned long long written = field_after(out, "): "), lost = field_after(out, "written, ");
+  double share = (double)lost / (double)(written + lost);
+  ck_assert_double_ge(share, 0.035);
+  ck_assert_double_le(share, 0.065);
+  /* far: object returns only between 100 and 200 m */
+  snprintf(cmd, sizeof cmd, "./roadscan-sim --sensor VLP-32C --scenario far --seconds 1.05 -o %s --labels %s",
+           tu_tmp("far.pcap"), tu_tmp("far.csv"));
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  snprintf(cmd, sizeof cmd, "./roadscan-eval %s %s %s --json", tu_tmp("far.pcap"), tu_tmp("far.csv"), tu_tmp("far.csv"));
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "\"0-20\": null, \"20-50\": null"));
+  ck_assert_ptr_nonnull(strstr(out, "\"100-200\": 1.000000"));
+}
+END_TEST
+
+START_TEST(t_bad_options) {
+  const char *out;
+  char cmd[1024];
+  ck_assert_int_eq(tu_exec("./roadscan-sim --sensor HDL-64E -o x --labels y", &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "unknown sensor 'HDL-64E'"));
+  ck_assert_int_eq(tu_exec("./roadscan-sim --scenario blizzard -o x --labels y", &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "unknown scenario 'blizzard'"));
+  ck_assert_int_eq(tu_exec("./roadscan-sim --set pole_height=99 -o x --labels y", &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "pole_height: 99 is out of range"));
+  ck_assert_int_eq(tu_exec("./roadscan-sim -o x", &out), 2);
+  const char *sf = tu_tmp("bad.ini");
+  FILE *f = fopen(sf, "w");
+  fputs("# site\npole_height = 6\nvehicles_per_min = lots\n", f);
+  fclose(f);
+  snprintf(cmd, sizeof cmd, "./roadscan-sim --scenario-file %s -o %s --labels %s", sf, tu_tmp("x.pcap"), tu_tmp("x.csv"));
+  ck_assert_int_eq(tu_exec(cmd, &out), 1);
+  ck_assert_ptr_nonnull(strstr(out, "bad.ini:3: vehicles_per_min: 'lots' is not a number"));
+  /* the evaluator names a bad line */
+  const char *bad = tu_tmp("badlabels.csv");
+  f = fopen(bad, "w");
+  fputs("packet,block,channel,label\n0,0,1,5\n0,0,0,5\n", f);
+  fclose(f);
+  snprintf(cmd, sizeof cmd, "./roadscan-eval %s %s %s", tu_tmp("far.pcap"), tu_tmp("far.csv"), bad);
+  ck_assert_int_eq(tu_exec(cmd, &out), 1);
+  ck_assert_ptr_nonnull(strstr(out, "badlabels.csv:3: address out of order"));
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("sim");
+  TCase *tc = tcase_create("programs");
+  tcase_set_timeout(tc, 240);
+  tcase_add_test(tc, t_models_and_modes);
+  tcase_add_test(tc, t_rates);
+  tcase_add_test(tc, t_deterministic);
+  tcase_add_test(tc, t_presets);
+  tcase_add_test(tc, t_bad_options);
+  suite_add_tcase(s, tc);
+  return tu_run(s);
+}
