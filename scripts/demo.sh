@@ -18,5 +18,9 @@ build/bin/roadscand --pcap "$sample" --frames-out out/frames.csv
 echo "== out/frames.csv (first lines)"
 head -4 out/frames.csv | cut -d, -f1-8
 build/bin/roadscan-export "$sample" --frame 5 -o out/frame-5.pcd
+echo "== simulated rush hour at an intersection, scored"
+build/bin/roadscan-sim --sensor VLP-32C --scenario rush --seconds 5 --seed 7 -o out/rush.pcap --labels out/rush-truth.csv
+build/bin/roadscand --pcap out/rush.pcap --fast --labels-out out/rush-pred.csv --quiet
+build/bin/roadscan-eval out/rush.pcap out/rush-truth.csv out/rush-pred.csv
 echo "== decode + frame assembly throughput"
 build/bin/roadscan-bench --seconds 0.3

@@ -97,6 +97,7 @@ int rs_labels_create(rs_labels_writer_t *w, const char *path, const char *commen
   memset(w, 0, sizeof *w);
   w->f = fopen(path, "w");
   if (w->f == NULL) return RS_E_IO;
+  setvbuf(w->f, NULL, _IOFBF, 1 << 20);
   if (comment && comment[0]) {
     const char *p = comment;
     while (*p) {

@@ -25,6 +25,8 @@
 #define STEP_S 0.05
 #define MAX_AGENTS 2048
 #define MAX_CAND 512
+#define CAND_BUCKETS 64
+#define CAND_BUCKET_ITEMS 8192
 #define MAX_PRIMS 4096
 #define ROUTES 16
 #define AMBER_S 3.0
@@ -234,6 +236,11 @@ struct rs_scene {
   double t; /* traffic time (s since capture start; negative during warm-up) */
   cand_t cand[MAX_CAND];
   int ncand;
+  /* candidates by whole degree of azimuth inside the packet window */
+  double win0;
+  int nwin;
+  uint16_t bstart[CAND_BUCKETS + 1];
+  uint16_t bitems[CAND_BUCKET_ITEMS];
   int agent_hwm; /* agents[agent_hwm..] have never been used */
   double wind;
 };
@@ -744,12 +751,16 @@ int rs_scene_object_count(const rs_scene_t *sc) {
 
 void rs_scene_new_turn(rs_scene_t *sc) { sc->wind = 0.8 + 0.4 * rs_rng_uniform(&sc->rng); }
 
+static double wrap360(double a) {
+  while (a >= 360.0) a -= 360.0;
+  while (a < 0.0) a += 360.0;
+  return a;
+}
+
 static bool az_overlap(double s1, double w1, double s2, double w2) {
   if (w1 >= 360 || w2 >= 360) return true;
-  double d = fmod(s2 - s1 + 360.0, 360.0);
-  if (d <= w1) return true;
-  d = fmod(s1 - s2 + 360.0, 360.0);
-  return d <= w2;
+  if (wrap360(s2 - s1) <= w1) return true;
+  return wrap360(s1 - s2) <= w2;
 }
 
 /* centre and heading of an agent at time t */
@@ -826,6 +837,39 @@ void rs_scene_prepare(rs_scene_t *sc, double t, double az_from, double az_to) {
     c->dmin = hypot(cx - sc->ox, cy - sc->oy) - hypot(c->hl, c->hw) - 0.1;
     if (az_overlap(st - 0.5, wd + 1.0, az_from, span_w)) sc->ncand++;
   }
+  /* bucket them by degree from az_from (a ray looks only at its bucket) */
+  sc->win0 = floor(az_from);
+  sc->nwin = (int)ceil(span_w + (az_from - sc->win0)) + 1;
+  if (sc->nwin > CAND_BUCKETS) sc->nwin = 0; /* window too wide: every ray scans all */
+  if (sc->nwin > 0) {
+    uint16_t counts[CAND_BUCKETS] = {0};
+    for (int pass = 0; pass < 2; pass++) {
+      if (pass == 1) {
+        int total = 0;
+        for (int b = 0; b < sc->nwin; b++) {
+          sc->bstart[b] = (uint16_t)total;
+          total += counts[b];
+          counts[b] = 0;
+        }
+        sc->bstart[sc->nwin] = (uint16_t)total;
+        if (total > CAND_BUCKET_ITEMS) {
+          sc->nwin = 0;
+          return;
+        }
+      }
+      for (int k = 0; k < sc->ncand; k++) {
+        const cand_t *c = &sc->cand[k];
+        double lo = wrap360(c->az0 - sc->win0), hi = lo + c->aw;
+        for (int b = 0; b < sc->nwin; b++) {
+          /* bucket b covers [b, b+1) degrees after win0 */
+          bool in = (hi >= b && lo < b + 1) || (c->aw >= 360) || (hi >= 360.0 + b && lo < 360.0 + b + 1);
+          if (!in) continue;
+          if (pass == 0) counts[b]++;
+          else sc->bitems[sc->bstart[b] + counts[b]++] = (uint16_t)k;
+        }
+      }
+    }
+  }
 }
 
 static double hit_cand(const cand_t *c, const double *o, const double *d) {
@@ -874,8 +918,18 @@ void rs_scene_cast(rs_scene_t *sc, int slot, int block_az, int laser, double az,
   /* objects occlude what is behind them */
   double best = INFINITY;
   const cand_t *bc = NULL;
-  for (int k = 0; k < sc->ncand; k++) {
-    const cand_t *ck = &sc->cand[k];
+  int k0 = 0, k1 = sc->ncand;
+  bool bucketed = false;
+  if (sc->nwin > 0) {
+    int b = (int)wrap360(az - sc->win0);
+    if (b < sc->nwin) {
+      k0 = sc->bstart[b];
+      k1 = sc->bstart[b + 1];
+      bucketed = true;
+    }
+  }
+  for (int kk = k0; kk < k1; kk++) {
+    const cand_t *ck = &sc->cand[bucketed ? sc->bitems[kk] : kk];
     double da = az - ck->az0;
     if (da < 0) da += 360.0;
     if (da > ck->aw || ck->dmin > best || (first.range > 0 && first.label != 2 && ck->dmin > first.range)) continue;
@@ -886,7 +940,7 @@ void rs_scene_cast(rs_scene_t *sc, int slot, int block_az, int laser, double az,
     double t = hit_cand(ck, o, d);
     if (t < best) {
       best = t;
-      bc = &sc->cand[k];
+      bc = ck;
     }
   }
   if (bc) {
