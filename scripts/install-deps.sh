@@ -3,7 +3,7 @@
 # Used by the README commands and by .ci/run; safe to run again.
 set -euo pipefail
 pkgs=(build-essential cmake ninja-build pkg-config
-      libpcap-dev check libyaml-dev libinih-dev
+      libpcap-dev check libyaml-dev libinih-dev libpng-dev
       liblcm-dev liblcm-bin libglib2.0-dev
       tcpdump iproute2 util-linux)
 missing=()

@@ -8,6 +8,7 @@
 #include "roadscan/error.h"
 
 #include <inttypes.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -29,6 +30,11 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
   atomic_init(&p->input_done, false);
   rs_timing_init(&p->t_packet, "decode+assembly/pkt");
   rs_timing_init(&p->t_frame, "processing/frame");
+  rs_timing_init(&p->t_background, "background/frame");
+  if (cfg->background) {
+    /* the map must have the model's geometry */
+    p->cfg.assembly.columns = cfg->background->cols;
+  }
   p->proc.min_range = 1e30;
   int rc = rs_stream_init(&p->stream, &cfg->stream);
   if (rc != RS_OK) {
@@ -87,6 +93,14 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
       return;
     }
     p->asm_ready = true;
+    const rs_bg_model_t *bg = p->cfg.background;
+    if (bg && (bg->model != p->stream.sensor.info->model || bg->rows != p->stream.sensor.lasers)) {
+      p->input_status = RS_E_INVAL;
+      snprintf(p->input_err, sizeof p->input_err, "the background model is for a %s (%u rows), the sensor is a %s",
+               rs_model_name(bg->model), bg->rows, p->stream.sensor.info->name);
+      atomic_store(&p->stop, true);
+      return;
+    }
   }
   /* bounded: every FRAME_DONE resumes at least one block further */
   for (int i = 0; i <= RS_BLOCKS && p->cur >= 0; i++) {
@@ -175,8 +189,56 @@ static void write_labels(rs_pipeline_t *p, const rs_slot_t *s) {
                     (int)(label_buf[i].key % 32u), label_buf[i].label);
 }
 
-static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
+/* Online learning: the first learn_seconds of complete frames (start-up:
+ * the sample buffer is allocated at the first frame), then the model is
+ * learned here, saved, and used from the next frame on. While it learns the
+ * processing thread is busy: real-time replay drops frames meanwhile. */
+static void learn_frame(rs_pipeline_t *p, const rs_slot_t *s) {
+  if (s->meta.partial) return;
+  if (!p->learning) {
+    double hz = s->meta.rate_hz > 0 ? s->meta.rate_hz : 10.0;
+    int frames = (int)ceil(p->cfg.learn_seconds * hz) + 2;
+    if (rs_bg_learner_init(&p->learner, s->meta.model, s->meta.rows, s->meta.cols, frames, 1) != RS_OK) {
+      fprintf(stderr, "roadscan: cannot allocate %d frames for learning the background; going on without\n", frames);
+      p->cfg.learn_seconds = 0;
+      return;
+    }
+    p->learning = true;
+    p->learn_t0 = s->meta.t_first;
+    fprintf(stderr, "roadscan: learning the background from the first %.0f s\n", p->cfg.learn_seconds);
+  }
+  if (s->meta.t_first - p->learn_t0 < p->cfg.learn_seconds && p->learner.nframes < p->learner.max_frames) {
+    rs_bg_learner_add(&p->learner, s);
+    return;
+  }
   int64_t t0 = rs_now_ns();
+  rs_bg_params_t params;
+  rs_bg_params_default(&params);
+  int rc = rs_bg_learn(&p->learner, &params, s->meta.rate_hz, &p->learned);
+  p->learn_s = (double)(rs_now_ns() - t0) * 1e-9;
+  rs_bg_learner_free(&p->learner);
+  p->learning = false;
+  p->cfg.learn_seconds = 0;
+  if (rc != RS_OK) {
+    fprintf(stderr, "roadscan: learning the background failed: %s\n", rs_strerror(rc));
+    return;
+  }
+  p->have_learned = true;
+  p->cfg.background = &p->learned;
+  char err[RS_ERRMSG_SIZE];
+  if (p->cfg.learn_out && rs_bg_save(&p->learned, p->cfg.learn_out, err, sizeof err) != RS_OK)
+    fprintf(stderr, "roadscan: %s\n", err);
+  fprintf(stderr, "roadscan: background learned from %u frames in %.1f s%s%s\n", p->learned.frames, p->learn_s,
+          p->cfg.learn_out ? ", saved to " : "", p->cfg.learn_out ? p->cfg.learn_out : "");
+}
+
+static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
+  if (p->cfg.learn_seconds > 0 && p->cfg.background == NULL) learn_frame(p, s);
+  int64_t t0 = rs_now_ns();
+  if (p->cfg.background && s->meta.cols == p->cfg.background->cols && s->meta.rows == p->cfg.background->rows) {
+    rs_bg_subtract(p->cfg.background, s, &p->bg);
+    rs_timing_add(&p->t_background, rs_now_ns() - t0);
+  }
   const rs_frame_meta_t *m = &s->meta;
   uint32_t filled[RS_LAYERS] = {0, 0};
   float lo = 0.0f, hi = 0.0f;
@@ -259,6 +321,10 @@ void rs_pipeline_join(rs_pipeline_t *p) {
 }
 
 void rs_pipeline_deinit(rs_pipeline_t *p) {
+  if (p->learning) rs_bg_learner_free(&p->learner);
+  p->learning = false;
+  if (p->have_learned) rs_bg_model_free(&p->learned);
+  p->have_learned = false;
   if (p->labels_open) rs_labels_finish(&p->labels);
   p->labels_open = false;
   rs_capture_close(&p->cap);
@@ -284,9 +350,21 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
           (unsigned long long)a->missing_packets, (unsigned long long)a->out_of_order,
           (unsigned long long)a->duplicates, (unsigned long long)a->late_points, (unsigned long long)a->collisions);
   fprintf(out, "  points: %llu\n", (unsigned long long)p->proc.points);
+  if (p->cfg.background) {
+    const rs_bg_model_t *m = p->cfg.background;
+    size_t cells = (size_t)m->rows * m->cols, changed = 0;
+    for (size_t c = 0; c < cells; c++) changed += m->beyond[c] > p->proc.frames / 2;
+    fprintf(out, "  background: %llu returns background, %llu foreground, %llu beyond the farthest surface",
+            (unsigned long long)p->bg.background, (unsigned long long)p->bg.foreground,
+            (unsigned long long)p->bg.beyond);
+    if (changed > cells / 100)
+      fprintf(out, "; in %zu cells more than every other frame: the scene changed, relearn the model", changed);
+    fprintf(out, "\n");
+  }
   fprintf(out, "  errors: ");
   rs_stream_print_errors(n, out);
   fprintf(out, "\n  timings (CLOCK_MONOTONIC):\n");
   rs_timing_print(&p->t_packet, out);
+  if (p->cfg.background) rs_timing_print(&p->t_background, out);
   rs_timing_print(&p->t_frame, out);
 }

@@ -125,8 +125,9 @@ END_TEST
 START_TEST(t_presets) {
   char cmd[1024];
   const char *out;
-  /* rush: 10,000 to 25,000 object returns per VLP-32C turn */
-  snprintf(cmd, sizeof cmd, "./roadscan-sim --sensor VLP-32C --scenario rush --seconds 1.05 -o %s --labels %s",
+  /* rush: 10,000 to 25,000 object returns per VLP-32C turn (median over 10 s;
+   * the count follows the signal cycle) */
+  snprintf(cmd, sizeof cmd, "./roadscan-sim --sensor VLP-32C --scenario rush --seconds 10 --seed 7 -o %s --labels %s",
            tu_tmp("rush.pcap"), tu_tmp("rush.csv"));
   ck_assert_int_eq(tu_exec(cmd, &out), 0);
   unsigned long long med = field_after(out, "per turn: median ");
@@ -179,6 +180,72 @@ START_TEST(t_bad_options) {
 }
 END_TEST
 
+static double json_num(const char *out, const char *key) {
+  const char *p = strstr(out, key);
+  ck_assert_msg(p != NULL, "no %s in %s", key, out);
+  return strtod(p + strlen(key), NULL);
+}
+
+START_TEST(t_background_tools) {
+  char cmd[2048];
+  const char *out;
+  const char *lp = tu_tmp("bgl.pcap"), *lc = tu_tmp("bgl.csv"), *tp = tu_tmp("bgt.pcap"), *tc = tu_tmp("bgt.csv");
+  const char *model = tu_tmp("bg.model"), *png = tu_tmp("bg.png"), *pred = tu_tmp("bgp.csv");
+  snprintf(cmd, sizeof cmd, "./roadscan-sim --sensor VLP-32C --scenario light --seconds 40 --seed 21 -o %s --labels %s", lp, lc);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  snprintf(cmd, sizeof cmd, "./roadscan-sim --sensor VLP-32C --scenario light --seconds 6 --seed 22 -o %s --labels %s", tp, tc);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  snprintf(cmd, sizeof cmd, "./roadscan-learn %s -o %s --frames 300 --image %s", lp, model, png);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "300 sampled"));
+  FILE *f = fopen(png, "rb");
+  ck_assert_ptr_nonnull(f);
+  unsigned char sig[8] = {0};
+  ck_assert_int_eq(fread(sig, 1, 8, f), 8);
+  fclose(f);
+  ck_assert_int_eq(sig[1], 'P');
+  ck_assert_int_eq(sig[2], 'N');
+  ck_assert_int_eq(sig[3], 'G');
+  snprintf(cmd, sizeof cmd, "./roadscan-learn --info %s", model);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "VLP-32C, 32 rows x 1820 columns"));
+  ck_assert_ptr_nonnull(strstr(out, "from 300 frames"));
+  /* the learned scene separates static returns from objects on another capture */
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s --labels-out %s", tp, model, pred);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "returns background"));
+  snprintf(cmd, sizeof cmd, "./roadscan-eval %s %s %s --json", tp, tc, pred);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_double_ge(json_num(out, "\"static_kept\": "), 0.99);
+  ck_assert_double_ge(json_num(out, "\"targets_kept\": "), 0.99);
+  /* the percentile baseline, for contrast, loses far more static returns */
+  snprintf(cmd, sizeof cmd, "./roadscan-learn %s -o %s.p --frames 300 --method percentile && ./roadscand --pcap %s --fast "
+           "--background %s.p --labels-out %s --quiet && ./roadscan-eval %s %s %s --json", lp, model, tp, model, pred, tp, tc, pred);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_double_lt(json_num(out, "\"static_kept\": "), 0.99);
+  /* online: learn from the first 20 s, save, then subtract */
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --learn-seconds 20 --learn-out %s.online", lp, model);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "background learned from 200 frames"));
+  ck_assert_ptr_nonnull(strstr(out, "returns background"));
+  snprintf(cmd, sizeof cmd, "./roadscan-learn --info %s.online", model);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  /* a corrupted model is refused with the reason */
+  snprintf(cmd, sizeof cmd, "cp %s %s.bad && printf 'X' | dd of=%s.bad bs=1 seek=5000 conv=notrunc 2>/dev/null && "
+           "./roadscand --pcap %s --background %s.bad", model, model, model, tp, model);
+  ck_assert_int_eq(tu_exec(cmd, &out), 1);
+  ck_assert_ptr_nonnull(strstr(out, "checksum mismatch"));
+  /* a model of another sensor is refused once the sensor is known */
+  const char *vp = tu_tmp("bg16.pcap"), *vm = tu_tmp("bg16.model");
+  snprintf(cmd, sizeof cmd, "./roadscan-sim --sensor VLP-16 --seconds 2 --set warmup_s=0 -o %s --labels %s.csv && "
+           "./roadscan-learn %s -o %s && ./roadscand --pcap %s --fast --background %s", vp, vp, vp, vm, tp, vm);
+  ck_assert_int_eq(tu_exec(cmd, &out), 1);
+  ck_assert_ptr_nonnull(strstr(out, "the background model is for a VLP-16"));
+  ck_assert_int_eq(tu_exec("./roadscand --pcap x --background a --learn-seconds 5", &out), 2);
+  ck_assert_int_eq(tu_exec("./roadscan-learn --info /nonexistent.bg", &out), 1);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("sim");
   TCase *tc = tcase_create("programs");
@@ -188,6 +255,7 @@ int main(void) {
   tcase_add_test(tc, t_deterministic);
   tcase_add_test(tc, t_presets);
   tcase_add_test(tc, t_bad_options);
+  tcase_add_test(tc, t_background_tools);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

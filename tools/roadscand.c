@@ -18,6 +18,7 @@
 static rs_slot_t slots[RING_SLOTS];
 static rs_pipeline_t pipeline;
 static rs_calib_t calib;
+static rs_bg_model_t bgmodel;
 
 static void usage(FILE *out) {
   fprintf(out,
@@ -36,6 +37,13 @@ static void usage(FILE *out) {
           "                       (default: detected from the packets)\n"
           "  --calibration FILE   per-unit calibration (ROS velodyne YAML)\n"
           "  --rpm N              rotation rate assumed until one is measured (default 600)\n"
+          "Background\n"
+          "  --background MODEL   static-scene model (roadscan-learn): its returns are labelled 1,\n"
+          "                       the rest 2 until clustering\n"
+          "  --learn-seconds N    with no --background: learn the model from the first N seconds\n"
+          "                       of frames, then subtract it (real-time replay drops frames while\n"
+          "                       it learns; --fast does not)\n"
+          "  --learn-out MODEL    save the model learned online\n"
           "Frames\n"
           "  --columns N          azimuth bins of the map (default: from the measured rate)\n"
           "  --cut-azimuth DEG    azimuth where frames start (default 0)\n"
@@ -62,7 +70,7 @@ static int bad(const char *msg) {
 
 int main(int argc, char **argv) {
   enum { O_PCAP = 256, O_SPEED, O_FAST, O_LOOP, O_IFACE, O_PORT, O_SOURCE, O_MODEL, O_CALIB, O_RPM, O_COLS,
-         O_CUT, O_FRAMES, O_LABELS, O_QUIET, O_HELP, O_VERSION };
+         O_CUT, O_FRAMES, O_LABELS, O_BG, O_LEARN, O_LEARN_OUT, O_QUIET, O_HELP, O_VERSION };
   static const struct option opts[] = {
       {"pcap", required_argument, NULL, O_PCAP},       {"speed", required_argument, NULL, O_SPEED},
       {"fast", no_argument, NULL, O_FAST},             {"loop", no_argument, NULL, O_LOOP},
@@ -71,7 +79,8 @@ int main(int argc, char **argv) {
       {"calibration", required_argument, NULL, O_CALIB}, {"rpm", required_argument, NULL, O_RPM},
       {"columns", required_argument, NULL, O_COLS},    {"cut-azimuth", required_argument, NULL, O_CUT},
       {"frames-out", required_argument, NULL, O_FRAMES}, {"labels-out", required_argument, NULL, O_LABELS},
-      {"quiet", no_argument, NULL, O_QUIET},
+      {"background", required_argument, NULL, O_BG},  {"quiet", no_argument, NULL, O_QUIET},
+      {"learn-seconds", required_argument, NULL, O_LEARN}, {"learn-out", required_argument, NULL, O_LEARN_OUT},
       {"help", no_argument, NULL, O_HELP},             {"version", no_argument, NULL, O_VERSION},
       {NULL, 0, NULL, 0}};
   rs_pipeline_cfg_t cfg;
@@ -80,7 +89,7 @@ int main(int argc, char **argv) {
   cfg.capture.data_port = RS_DEFAULT_DATA_PORT;
   cfg.stream.log = stderr;
   cfg.assembly.default_hz = 10.0;
-  const char *frames_path = NULL, *calib_path = NULL;
+  const char *frames_path = NULL, *calib_path = NULL, *bg_path = NULL;
   bool quiet = false, fast = false, speed_set = false;
   char err[RS_ERRMSG_SIZE];
   double d;
@@ -122,6 +131,11 @@ int main(int argc, char **argv) {
       break;
     case O_FRAMES: frames_path = optarg; break;
     case O_LABELS: cfg.labels_out = optarg; break;
+    case O_BG: bg_path = optarg; break;
+    case O_LEARN:
+      if (rs_cfg_double("--learn-seconds", optarg, 1.0, 3600.0, &cfg.learn_seconds, err, sizeof err)) return bad(err);
+      break;
+    case O_LEARN_OUT: cfg.learn_out = optarg; break;
     case O_QUIET: quiet = true; break;
     case O_HELP: usage(stdout); return 0;
     case O_VERSION: printf("roadscand 0.1.0\n"); return 0;
@@ -148,6 +162,25 @@ int main(int argc, char **argv) {
       return 1;
     }
     cfg.stream.calib = &calib;
+  }
+  if (bg_path && cfg.learn_seconds > 0) return bad("--background and --learn-seconds exclude each other");
+  if (cfg.learn_out && cfg.learn_seconds <= 0) return bad("--learn-out needs --learn-seconds");
+  if (bg_path) {
+    if (rs_bg_load(&bgmodel, bg_path, err, sizeof err) != RS_OK) {
+      fprintf(stderr, "roadscand: %s\n", err);
+      return 1;
+    }
+    if (cfg.stream.force_model != RS_MODEL_UNKNOWN && cfg.stream.force_model != bgmodel.model) {
+      fprintf(stderr, "roadscand: %s: the model is for a %s, --model says %s\n", bg_path, rs_model_name(bgmodel.model),
+              rs_model_name(cfg.stream.force_model));
+      return 1;
+    }
+    if (cfg.assembly.columns && cfg.assembly.columns != bgmodel.cols) {
+      fprintf(stderr, "roadscand: %s: the model has %u columns, --columns says %d\n", bg_path, bgmodel.cols,
+              cfg.assembly.columns);
+      return 1;
+    }
+    cfg.background = &bgmodel;
   }
   FILE *frames = NULL;
   if (frames_path) {
@@ -186,6 +219,7 @@ int main(int argc, char **argv) {
   }
   if (!quiet) rs_pipeline_summary(&pipeline, stderr);
   rs_pipeline_deinit(&pipeline);
+  if (bg_path) rs_bg_model_free(&bgmodel);
   if (frames && fclose(frames) != 0) {
     fprintf(stderr, "roadscand: --frames-out %s: write failed\n", frames_path);
     status = 1;

@@ -10,6 +10,7 @@
 #ifndef ROADSCAN_PIPELINE_H
 #define ROADSCAN_PIPELINE_H
 
+#include "roadscan/background.h"
 #include "roadscan/capture.h"
 #include "roadscan/frame.h"
 #include "roadscan/labels.h"
@@ -30,6 +31,9 @@ typedef struct {
   rs_asm_cfg_t assembly;
   FILE *frames_out;            /* optional CSV, one line per frame */
   const char *labels_out;      /* optional point-label file of the pipeline's decisions */
+  rs_bg_model_t *background;   /* optional static-scene model (processing thread) */
+  double learn_seconds;        /* > 0 and no model: learn from the first seconds, then subtract */
+  const char *learn_out;       /* where the learned model is saved */
 } rs_pipeline_cfg_t;
 
 typedef struct {
@@ -57,6 +61,14 @@ typedef struct {
   char input_err[RS_ERRMSG_SIZE];
   rs_timing_t t_packet;        /* decode + assembly per data packet (packet thread) */
   rs_timing_t t_frame;         /* processing per frame (processing thread) */
+  rs_timing_t t_background;    /* background subtraction per frame */
+  rs_bg_counts_t bg;           /* background / foreground returns (processing thread) */
+  rs_bg_learner_t learner;     /* online learning (processing thread) */
+  bool learning;
+  double learn_t0;
+  rs_bg_model_t learned;       /* the model learned online, owned here */
+  bool have_learned;
+  double learn_s;              /* time the learning took */
   rs_proc_counters_t proc;
   rs_labels_writer_t labels;   /* processing thread */
   bool labels_open;

@@ -31,6 +31,7 @@ typedef struct {
   double pole_x, pole_y;     /* default (-11.5, -11.5) */
   double leg_length;         /* m from the centre, default 250 */
   int trees_per_leg;         /* default 6 */
+  int site_seed;             /* the site's buildings, trees, signs (default 1); --seed varies traffic and noise */
   double foliage_hit;        /* chance a ray through a canopy returns a leaf, default 0.55 */
   /* traffic */
   double vehicles_per_min;   /* per approach (two lanes), default 8 */

@@ -1,0 +1,256 @@
+/* check_background - 1-D DBSCAN and silhouette on known values; learning on
+ * hand-built frames for each hard case (a wall, leaves in front of a wall,
+ * a vehicle queued half of every cycle, passing traffic, a truck against
+ * the sky, a grazing surface); the model file and its corruptions; the
+ * subtraction with its beyond count. */
+#include "roadscan/background.h"
+#include "testutil.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+START_TEST(t_dbscan1d) {
+  /* two dense groups and a stray value */
+  const int32_t v[] = {100, 101, 102, 103, 150, 300, 301, 302};
+  const uint32_t c[] = {5, 5, 5, 5, 1, 4, 4, 4};
+  int16_t lab[8];
+  int k = rs_bg_dbscan1d(v, c, 8, 2, 10, lab);
+  ck_assert_int_eq(k, 2);
+  for (int i = 0; i < 4; i++) ck_assert_int_eq(lab[i], 0);
+  ck_assert_int_eq(lab[4], -1);
+  for (int i = 5; i < 8; i++) ck_assert_int_eq(lab[i], 1);
+  /* a border value: 104 has only 5 within 1 but is within 1 of the core 103 */
+  const int32_t w[] = {100, 101, 102, 103, 104};
+  const uint32_t d[] = {10, 10, 10, 10, 1};
+  k = rs_bg_dbscan1d(w, d, 5, 1, 15, lab);
+  ck_assert_int_eq(k, 1);
+  ck_assert_int_eq(lab[4], 0);
+  /* minPts too high: nothing */
+  ck_assert_int_eq(rs_bg_dbscan1d(v, c, 8, 2, 100, lab), 0);
+  ck_assert_int_eq(lab[0], -1);
+  /* silhouette of two tight, far apart groups is close to 1; of two touching ones lower */
+  k = rs_bg_dbscan1d(v, c, 8, 2, 10, lab);
+  double s = rs_bg_silhouette1d(v, c, 8, lab, k);
+  ck_assert_double_gt(s, 0.98);
+  const int32_t x[] = {100, 110, 120, 130};
+  const uint32_t e[] = {10, 10, 10, 10};
+  const int16_t two[] = {0, 0, 1, 1};
+  /* hand computed: points 100 and 130: a = 10, b = 25 -> 0.6; 110 and 120: a = 10, b = 15 -> 1/3,
+   * with ties at distance 0 inside a value: a over 19 others = 10*10/19 */
+  double a_out = 100.0 / 19.0, a_in = 100.0 / 19.0;
+  double s_out = (25.0 - a_out) / 25.0, s_in = (15.0 - a_in) / 15.0;
+  ck_assert_double_eq_tol(rs_bg_silhouette1d(x, e, 4, two, 2), (s_out + s_in) / 2.0, 1e-9);
+  ck_assert(isnan(rs_bg_silhouette1d(x, e, 4, two, 1)));
+}
+END_TEST
+
+static rs_slot_t slot;
+
+/* frames of a 4-row map: row 0 wall at 20 m; row 1 leaves at 8-9 m with
+ * probability 0.5 independently per frame, else the wall at 20 m; row 2
+ * ground at 12 m with a car at 9 m for 30 s out of every 60 s; row 3 sky
+ * with a truck at 15 m for 30 s out of every 60 s; row 4 ground at 14 m
+ * with cars passing at 10 m for 3 frames every 2 s; row 5 a grazing wall
+ * whose range depends on the firing's position in the cell (40-42 m) */
+#define ROWS 6
+#define COLS 100
+static float truth_range(int row, int frame, uint64_t *rng) {
+  double t = frame * 0.1;
+  *rng ^= *rng << 13;
+  *rng ^= *rng >> 7;
+  *rng ^= *rng << 17;
+  double u = (double)(*rng % 10000) / 10000.0;
+  double noise = ((double)((*rng >> 20) % 100) / 100.0 - 0.5) * 0.03;
+  switch (row) {
+  case 0: return (float)(20.0 + noise);
+  case 1: return (float)(u < 0.5 ? 8.0 + u + noise : 20.0 + noise);
+  case 2: return (float)(fmod(t, 60.0) < 30.0 ? 9.0 + noise : 12.0 + noise);
+  case 3: return fmod(t, 60.0) < 30.0 ? (float)(15.0 + noise) : 0.0f;
+  case 4: return (float)(fmod(t, 2.0) < 0.3 ? 10.0 + noise : 14.0 + noise);
+  default: return (float)(40.0 + 2.0 * fmod(frame * 0.843, 1.0) + noise);
+  }
+}
+
+static void make_frame(int f, uint64_t *rng) {
+  memset(&slot.meta, 0, sizeof slot.meta);
+  slot.meta.rows = ROWS;
+  slot.meta.cols = COLS;
+  slot.meta.model = RS_MODEL_VLP16;
+  slot.meta.t_first = 1000.0 + f * 0.1;
+  for (int r = 0; r < ROWS; r++)
+    for (int c = 0; c < COLS; c++) slot.range[r * COLS + c] = truth_range(r, f, rng);
+}
+
+static rs_bg_model_t model;
+
+static void learn_model(void) {
+  rs_bg_learner_t l;
+  ck_assert_int_eq(rs_bg_learner_init(&l, RS_MODEL_VLP16, ROWS, COLS, 1200, 5), RS_OK);
+  uint64_t rng = 88172645463325252ull;
+  for (int f = 0; f < 1800; f++) { /* three minutes at 10 Hz, three signal cycles */
+    make_frame(f, &rng);
+    rs_bg_learner_add(&l, &slot);
+  }
+  ck_assert_int_eq(l.nframes, 1200);
+  ck_assert_uint_eq(l.seen, 1800);
+  rs_bg_params_t p;
+  rs_bg_params_default(&p);
+  ck_assert_int_eq(rs_bg_learn(&l, &p, 10.0f, &model), RS_OK);
+  rs_bg_learner_free(&l);
+}
+
+START_TEST(t_learn_hard_cases) {
+  learn_model();
+  /* wall */
+  ck_assert(rs_bg_is_static(&model, 0, 5, 20.0f));
+  ck_assert(!rs_bg_is_static(&model, 0, 5, 19.0f));
+  /* leaves and the wall behind them are both background */
+  ck_assert(rs_bg_is_static(&model, 1, 5, 20.0f));
+  ck_assert(rs_bg_is_static(&model, 1, 5, 8.5f));
+  ck_assert(!rs_bg_is_static(&model, 1, 5, 14.0f));
+  /* the queued car is foreground, the ground it stands on background */
+  ck_assert(rs_bg_is_static(&model, 2, 5, 12.0f));
+  ck_assert(!rs_bg_is_static(&model, 2, 5, 9.0f));
+  /* a truck against the sky is never background */
+  ck_assert(!rs_bg_is_static(&model, 3, 5, 15.0f));
+  ck_assert_int_eq(model.n[3 * COLS + 5], 0);
+  /* passing traffic is foreground */
+  ck_assert(rs_bg_is_static(&model, 4, 5, 14.0f));
+  ck_assert(!rs_bg_is_static(&model, 4, 5, 10.0f));
+  /* a grazing surface spreads over 2 m but stays one surface */
+  ck_assert(rs_bg_is_static(&model, 5, 5, 40.3f));
+  ck_assert(rs_bg_is_static(&model, 5, 5, 41.9f));
+  ck_assert(!rs_bg_is_static(&model, 5, 5, 38.0f));
+  ck_assert_int_eq(model.n[5 * COLS + 5], 1);
+  rs_bg_model_free(&model);
+}
+END_TEST
+
+START_TEST(t_subtract) {
+  learn_model();
+  memset(&slot, 0, sizeof slot);
+  slot.meta.rows = ROWS;
+  slot.meta.cols = COLS;
+  slot.range[0 * COLS + 3] = 20.0f;          /* wall: background */
+  slot.range[2 * COLS + 3] = 9.0f;           /* queued car: foreground */
+  slot.range[0 * COLS + 4] = 35.0f;          /* beyond the wall: foreground, counted */
+  slot.range[RS_MAX_CELLS + 1 * COLS + 3] = 20.0f; /* layer 1 (dual): the wall */
+  rs_bg_counts_t c = {0, 0, 0};
+  rs_bg_subtract(&model, &slot, &c);
+  ck_assert_uint_eq(c.background, 2);
+  ck_assert_uint_eq(c.foreground, 2);
+  ck_assert_uint_eq(c.beyond, 1);
+  ck_assert_int_eq(slot.label[0 * COLS + 3], 1);
+  ck_assert_int_eq(slot.label[2 * COLS + 3], 2);
+  ck_assert_int_eq(slot.label[RS_MAX_CELLS + 1 * COLS + 3], 1);
+  ck_assert_int_eq(slot.label[0 * COLS + 5], 0); /* no return: untouched */
+  ck_assert_uint_eq(model.beyond[4], 1);
+  rs_bg_model_free(&model);
+}
+END_TEST
+
+static long fsize(const char *p) {
+  FILE *f = fopen(p, "rb");
+  fseek(f, 0, SEEK_END);
+  long n = ftell(f);
+  fclose(f);
+  return n;
+}
+
+static void flip_byte(const char *p, long off) {
+  FILE *f = fopen(p, "r+b");
+  fseek(f, off, SEEK_SET);
+  int c = fgetc(f);
+  fseek(f, off, SEEK_SET);
+  fputc(c ^ 0x40, f);
+  fclose(f);
+}
+
+START_TEST(t_model_file) {
+  learn_model();
+  char err[RS_ERRMSG_SIZE];
+  const char *p = tu_tmp("m.bg");
+  ck_assert_int_eq(rs_bg_save(&model, p, err, sizeof err), RS_OK);
+  rs_bg_model_t back;
+  ck_assert_int_eq(rs_bg_load(&back, p, err, sizeof err), RS_OK);
+  ck_assert_int_eq(back.rows, ROWS);
+  ck_assert_int_eq(back.cols, COLS);
+  ck_assert_int_eq(back.model, RS_MODEL_VLP16);
+  ck_assert_uint_eq(back.frames, 1200);
+  ck_assert_double_eq_tol(back.params.eps_max, 0.40, 1e-9);
+  ck_assert_mem_eq(back.n, model.n, ROWS * COLS);
+  ck_assert_mem_eq(back.lo, model.lo, ROWS * COLS * RS_BG_SURFACES * 2);
+  ck_assert_mem_eq(back.hi, model.hi, ROWS * COLS * RS_BG_SURFACES * 2);
+  rs_bg_model_free(&back);
+  long size = fsize(p);
+  char cmd[1200];
+  /* truncated */
+  const char *t = tu_tmp("t.bg");
+  snprintf(cmd, sizeof cmd, "head -c %ld %s > %s", size - 10, p, t);
+  ck_assert_int_eq(system(cmd), 0);
+  ck_assert_int_eq(rs_bg_load(&back, t, err, sizeof err), RS_E_FORMAT);
+  ck_assert_ptr_nonnull(strstr(err, "truncated"));
+  /* a flipped bit in the surfaces */
+  snprintf(cmd, sizeof cmd, "cp %s %s", p, t);
+  ck_assert_int_eq(system(cmd), 0);
+  flip_byte(t, size / 2);
+  ck_assert_int_eq(rs_bg_load(&back, t, err, sizeof err), RS_E_FORMAT);
+  ck_assert_ptr_nonnull(strstr(err, "checksum"));
+  /* another version */
+  ck_assert_int_eq(system(cmd), 0);
+  flip_byte(t, 8);
+  ck_assert_int_eq(rs_bg_load(&back, t, err, sizeof err), RS_E_FORMAT);
+  ck_assert_ptr_nonnull(strstr(err, "version"));
+  /* not a model */
+  ck_assert_int_eq(system(cmd), 0);
+  flip_byte(t, 0);
+  ck_assert_int_eq(rs_bg_load(&back, t, err, sizeof err), RS_E_FORMAT);
+  ck_assert_ptr_nonnull(strstr(err, "bad magic"));
+  ck_assert_int_eq(rs_bg_load(&back, tu_tmp("absent.bg"), err, sizeof err), RS_E_NOENT);
+  rs_bg_model_free(&model);
+}
+END_TEST
+
+START_TEST(t_percentile_and_reservoir) {
+  rs_bg_learner_t l;
+  ck_assert_int_eq(rs_bg_learner_init(&l, RS_MODEL_VLP16, ROWS, COLS, 100, 9), RS_OK);
+  uint64_t rng = 1;
+  int kept_late = 0;
+  for (int f = 0; f < 1000; f++) {
+    make_frame(f, &rng);
+    rs_bg_learner_add(&l, &slot);
+  }
+  /* reservoir sampling: frames from the whole capture, not only the first 100 */
+  for (int i = 0; i < l.nframes; i++) kept_late += l.t[i] > 1000.0 + 50.0;
+  ck_assert_int_gt(kept_late, 30);
+  rs_bg_params_t p;
+  rs_bg_params_default(&p);
+  p.method = RS_BG_PERCENTILE;
+  p.percentile = 50;
+  p.percentile_tol = 0.3;
+  ck_assert_int_eq(rs_bg_learn(&l, &p, 10.0f, &model), RS_OK);
+  /* the median of row 2 is the car half the time, the ground the other half:
+   * a percentile model takes either; the wall row is background from 19.7 m on */
+  ck_assert(rs_bg_is_static(&model, 0, 1, 19.8f));
+  ck_assert(rs_bg_is_static(&model, 0, 1, 300.0f));
+  ck_assert(!rs_bg_is_static(&model, 0, 1, 19.0f));
+  rs_bg_model_free(&model);
+  rs_bg_learner_free(&l);
+  ck_assert_int_eq(rs_bg_learner_init(&l, RS_MODEL_VLP16, 0, COLS, 10, 1), RS_E_INVAL);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("background");
+  TCase *tc = tcase_create("core");
+  tcase_set_timeout(tc, 120);
+  tcase_add_test(tc, t_dbscan1d);
+  tcase_add_test(tc, t_learn_hard_cases);
+  tcase_add_test(tc, t_subtract);
+  tcase_add_test(tc, t_model_file);
+  tcase_add_test(tc, t_percentile_and_reservoir);
+  suite_add_tcase(s, tc);
+  return tu_run(s);
+}
