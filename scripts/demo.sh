@@ -18,9 +18,11 @@ build/bin/roadscand --pcap "$sample" --frames-out out/frames.csv
 echo "== out/frames.csv (first lines)"
 head -4 out/frames.csv | cut -d, -f1-8
 build/bin/roadscan-export "$sample" --frame 5 -o out/frame-5.pcd
-echo "== simulated rush hour at an intersection, scored"
-build/bin/roadscan-sim --sensor VLP-32C --scenario rush --seconds 5 --seed 7 -o out/rush.pcap --labels out/rush-truth.csv
-build/bin/roadscand --pcap out/rush.pcap --fast --labels-out out/rush-pred.csv --quiet
+echo "== a simulated intersection at rush hour: learn its static scene, subtract it, score it"
+build/bin/roadscan-sim --sensor VLP-32C --scenario rush --seconds 90 --seed 11 -o out/site.pcap --labels out/site.csv
+build/bin/roadscan-learn out/site.pcap -o out/site.bg --image out/site-background.png
+build/bin/roadscan-sim --sensor VLP-32C --scenario rush --seconds 10 --seed 7 -o out/rush.pcap --labels out/rush-truth.csv
+build/bin/roadscand --pcap out/rush.pcap --fast --background out/site.bg --labels-out out/rush-pred.csv --quiet
 build/bin/roadscan-eval out/rush.pcap out/rush-truth.csv out/rush-pred.csv
 echo "== decode + frame assembly throughput"
 build/bin/roadscan-bench --seconds 0.3

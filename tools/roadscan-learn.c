@@ -82,10 +82,11 @@ static void print_info(const rs_bg_model_t *m, FILE *out) {
   if (m->params.method == RS_BG_PERCENTILE)
     fprintf(out, "method: per-cell percentile %.0f, tolerance %.2f m\n", m->params.percentile, m->params.percentile_tol);
   else
-    fprintf(out, "method: per-cell DBSCAN, eps %.2f..%.2f m by %.2f, minPts max(%d, %.0f%%), flicker below %.2f, "
-                 "coverage %.2f of %.0f s windows\n",
+    fprintf(out, "method: per-cell DBSCAN, eps %.2f..%.2f m by %.2f, minPts max(%d, %.0f%%); nearer clusters kept "
+                 "when they flicker (lift < %.2f) in %.0f%% of %.0f s windows; sky persists >= %.2f\n",
             m->params.eps_min, m->params.eps_max, m->params.eps_step, m->params.min_pts_floor,
-            m->params.min_pts_share * 100, m->params.persist_max, m->params.coverage_min, m->params.window_s);
+            m->params.min_pts_share * 100, m->params.flicker_lift, m->params.coverage_min * 100, m->params.window_s,
+            m->params.persist_max);
   fprintf(out, "cells by static surfaces:");
   for (int k = 0; k <= RS_BG_SURFACES; k++)
     fprintf(out, " %d: %zu (%.1f%%)", k, hist[k], 100.0 * (double)hist[k] / (double)cells);
