@@ -235,6 +235,13 @@ static void learn_frame(rs_pipeline_t *p, const rs_slot_t *s) {
 static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
   if (p->cfg.learn_seconds > 0 && p->cfg.background == NULL) learn_frame(p, s);
   int64_t t0 = rs_now_ns();
+  if (p->cfg.background && !p->rate_checked && !s->meta.partial && p->cfg.background->rate_hz > 0) {
+    p->rate_checked = true;
+    double want = p->cfg.background->rate_hz, got = s->meta.rate_hz;
+    if (fabs(got - want) > 0.05 * want)
+      fprintf(stderr, "roadscan: the sensor turns at %.2f Hz, the background model was learned at %.2f Hz: relearn it\n",
+              got, want);
+  }
   if (p->cfg.background && s->meta.cols == p->cfg.background->cols && s->meta.rows == p->cfg.background->rows) {
     rs_bg_subtract(p->cfg.background, s, &p->bg);
     rs_timing_add(&p->t_background, rs_now_ns() - t0);

@@ -260,7 +260,7 @@ int main(int argc, char **argv) {
   }
   int64_t t0 = rs_now_ns();
   rs_frame_in_t f;
-  int rc;
+  int rc = RS_CAPTURE_EOF;
   while (L.rc == RS_OK && (rc = rs_capture_next(&cap, &f, NULL)) == 1) rs_stream_frame(&stream, cap.linktype, &f, on_packet, &L);
   if (rc < 0) fprintf(stderr, "roadscan-learn: %s\n", cap.err);
   rs_stream_finish(&stream, on_packet, &L);

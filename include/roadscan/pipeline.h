@@ -69,6 +69,7 @@ typedef struct {
   rs_bg_model_t learned;       /* the model learned online, owned here */
   bool have_learned;
   double learn_s;              /* time the learning took */
+  bool rate_checked;           /* the model's rotation rate compared with the sensor's */
   rs_proc_counters_t proc;
   rs_labels_writer_t labels;   /* processing thread */
   bool labels_open;
