@@ -31,6 +31,7 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
   rs_timing_init(&p->t_packet, "decode+assembly/pkt");
   rs_timing_init(&p->t_frame, "processing/frame");
   rs_timing_init(&p->t_background, "background/frame");
+  rs_timing_init(&p->t_cluster, "cluster/frame");
   if (cfg->background) {
     /* the map must have the model's geometry */
     p->cfg.assembly.columns = cfg->background->cols;
@@ -93,6 +94,7 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
       return;
     }
     p->asm_ready = true;
+    if (p->cfg.cluster) p->cfg.cluster->sensor = &p->stream.sensor;
     const rs_bg_model_t *bg = p->cfg.background;
     if (bg && (bg->model != p->stream.sensor.info->model || bg->rows != p->stream.sensor.lasers)) {
       p->input_status = RS_E_INVAL;
@@ -246,6 +248,15 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
     rs_bg_subtract(p->cfg.background, s, &p->bg);
     rs_timing_add(&p->t_background, rs_now_ns() - t0);
   }
+  if (p->cfg.cluster && p->cfg.cluster->cfg.method != RS_CLUSTER_NONE && (p->cfg.background || p->cfg.learn_seconds <= 0)) {
+    int64_t tc = rs_now_ns();
+    rs_cluster_stats_t cs;
+    rs_cluster_run(p->cfg.cluster, s, &cs);
+    rs_timing_add(&p->t_cluster, rs_now_ns() - tc);
+    p->clusters += cs.clusters;
+    p->clustered += cs.clustered;
+    p->noise += cs.noise;
+  }
   const rs_frame_meta_t *m = &s->meta;
   uint32_t filled[RS_LAYERS] = {0, 0};
   float lo = 0.0f, hi = 0.0f;
@@ -368,10 +379,16 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
       fprintf(out, "; in %zu cells more than every other frame: the scene changed, relearn the model", changed);
     fprintf(out, "\n");
   }
+  if (p->cfg.cluster && p->cfg.cluster->cfg.method != RS_CLUSTER_NONE)
+    fprintf(out, "  clusters: %s, %llu clusters (%.1f per frame), %llu returns clustered, %llu noise, %llu beyond the cluster cap\n",
+            rs_cluster_method_name(p->cfg.cluster->cfg.method), (unsigned long long)p->clusters,
+            p->proc.frames ? (double)p->clusters / (double)p->proc.frames : 0.0, (unsigned long long)p->clustered,
+            (unsigned long long)p->noise, (unsigned long long)p->cfg.cluster->overflow_total);
   fprintf(out, "  errors: ");
   rs_stream_print_errors(n, out);
   fprintf(out, "\n  timings (CLOCK_MONOTONIC):\n");
   rs_timing_print(&p->t_packet, out);
   if (p->cfg.background) rs_timing_print(&p->t_background, out);
+  if (p->cfg.cluster && p->cfg.cluster->cfg.method != RS_CLUSTER_NONE) rs_timing_print(&p->t_cluster, out);
   rs_timing_print(&p->t_frame, out);
 }

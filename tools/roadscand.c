@@ -19,6 +19,7 @@ static rs_slot_t slots[RING_SLOTS];
 static rs_pipeline_t pipeline;
 static rs_calib_t calib;
 static rs_bg_model_t bgmodel;
+static rs_cluster_t cluster;
 
 static void usage(FILE *out) {
   fprintf(out,
@@ -44,6 +45,11 @@ static void usage(FILE *out) {
           "                       of frames, then subtract it (real-time replay drops frames while\n"
           "                       it learns; --fast does not)\n"
           "  --learn-out MODEL    save the model learned online\n"
+          "Clustering (of the foreground)\n"
+          "  --cluster METHOD     fspc (default with a background), fspc-adaptive, dbscan, ccl, none\n"
+          "  --window HxW         FSPC window, odd numbers (default 5x11)\n"
+          "  --eps M              FSPC range difference (default 1.8); DBSCAN radius with --cluster dbscan (1.2)\n"
+          "  --min-pts N          core threshold, the centre counted (default 15)\n"
           "Frames\n"
           "  --columns N          azimuth bins of the map (default: from the measured rate)\n"
           "  --cut-azimuth DEG    azimuth where frames start (default 0)\n"
@@ -70,7 +76,7 @@ static int bad(const char *msg) {
 
 int main(int argc, char **argv) {
   enum { O_PCAP = 256, O_SPEED, O_FAST, O_LOOP, O_IFACE, O_PORT, O_SOURCE, O_MODEL, O_CALIB, O_RPM, O_COLS,
-         O_CUT, O_FRAMES, O_LABELS, O_BG, O_LEARN, O_LEARN_OUT, O_QUIET, O_HELP, O_VERSION };
+         O_CUT, O_FRAMES, O_LABELS, O_BG, O_LEARN, O_LEARN_OUT, O_CLUSTER, O_WINDOW, O_EPS, O_MINPTS, O_QUIET, O_HELP, O_VERSION };
   static const struct option opts[] = {
       {"pcap", required_argument, NULL, O_PCAP},       {"speed", required_argument, NULL, O_SPEED},
       {"fast", no_argument, NULL, O_FAST},             {"loop", no_argument, NULL, O_LOOP},
@@ -81,6 +87,8 @@ int main(int argc, char **argv) {
       {"frames-out", required_argument, NULL, O_FRAMES}, {"labels-out", required_argument, NULL, O_LABELS},
       {"background", required_argument, NULL, O_BG},  {"quiet", no_argument, NULL, O_QUIET},
       {"learn-seconds", required_argument, NULL, O_LEARN}, {"learn-out", required_argument, NULL, O_LEARN_OUT},
+      {"cluster", required_argument, NULL, O_CLUSTER}, {"window", required_argument, NULL, O_WINDOW},
+      {"eps", required_argument, NULL, O_EPS},          {"min-pts", required_argument, NULL, O_MINPTS},
       {"help", no_argument, NULL, O_HELP},             {"version", no_argument, NULL, O_VERSION},
       {NULL, 0, NULL, 0}};
   rs_pipeline_cfg_t cfg;
@@ -90,7 +98,10 @@ int main(int argc, char **argv) {
   cfg.stream.log = stderr;
   cfg.assembly.default_hz = 10.0;
   const char *frames_path = NULL, *calib_path = NULL, *bg_path = NULL;
-  bool quiet = false, fast = false, speed_set = false;
+  bool quiet = false, fast = false, speed_set = false, cluster_set = false;
+  double eps_set = 0;
+  rs_cluster_cfg_t ccfg;
+  rs_cluster_cfg_default(&ccfg);
   char err[RS_ERRMSG_SIZE];
   double d;
   long l;
@@ -136,6 +147,37 @@ int main(int argc, char **argv) {
       if (rs_cfg_double("--learn-seconds", optarg, 1.0, 3600.0, &cfg.learn_seconds, err, sizeof err)) return bad(err);
       break;
     case O_LEARN_OUT: cfg.learn_out = optarg; break;
+    case O_CLUSTER: {
+      int m = rs_cluster_method_from_name(optarg);
+      if (m < 0) {
+        snprintf(err, sizeof err, "--cluster: '%s' is not fspc, fspc-adaptive, dbscan, ccl or none", optarg);
+        return bad(err);
+      }
+      ccfg.method = (rs_cluster_method_t)m;
+      cluster_set = true;
+      break;
+    }
+    case O_WINDOW: {
+      int h, w;
+      char tail;
+      if (sscanf(optarg, "%dx%d%c", &h, &w, &tail) != 2 || h < 1 || w < 1 || h % 2 == 0 || w % 2 == 0 ||
+          h > RS_MAX_WIN_H || w > RS_MAX_WIN_W) {
+        snprintf(err, sizeof err, "--window: '%s' is not HxW with odd H <= %d and odd W <= %d", optarg, RS_MAX_WIN_H,
+                 RS_MAX_WIN_W);
+        return bad(err);
+      }
+      ccfg.win_h = h;
+      ccfg.win_w = w;
+      break;
+    }
+    case O_EPS:
+      if (rs_cfg_double("--eps", optarg, 0.01, 50.0, &d, err, sizeof err)) return bad(err);
+      eps_set = d;
+      break;
+    case O_MINPTS:
+      if (rs_cfg_long("--min-pts", optarg, 1, 255, &l, err, sizeof err)) return bad(err);
+      ccfg.min_pts = ccfg.dbscan_min_pts = (int)l;
+      break;
     case O_QUIET: quiet = true; break;
     case O_HELP: usage(stdout); return 0;
     case O_VERSION: printf("roadscand 0.1.0\n"); return 0;
@@ -181,6 +223,16 @@ int main(int argc, char **argv) {
       return 1;
     }
     cfg.background = &bgmodel;
+  }
+  if (!cluster_set) ccfg.method = (bg_path || cfg.learn_seconds > 0) ? RS_CLUSTER_FSPC : RS_CLUSTER_NONE;
+  if (eps_set > 0) {
+    if (ccfg.method == RS_CLUSTER_DBSCAN) ccfg.dbscan_eps = (float)eps_set;
+    else if (ccfg.method == RS_CLUSTER_CCL) ccfg.ccl_eps = (float)eps_set;
+    else ccfg.eps = (float)eps_set;
+  }
+  if (ccfg.method != RS_CLUSTER_NONE) {
+    if (rs_cluster_init(&cluster, &ccfg, NULL) != RS_OK) return bad("bad clustering parameters");
+    cfg.cluster = &cluster;
   }
   FILE *frames = NULL;
   if (frames_path) {

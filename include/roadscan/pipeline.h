@@ -12,6 +12,7 @@
 
 #include "roadscan/background.h"
 #include "roadscan/capture.h"
+#include "roadscan/cluster.h"
 #include "roadscan/frame.h"
 #include "roadscan/labels.h"
 #include "roadscan/ring.h"
@@ -34,6 +35,7 @@ typedef struct {
   rs_bg_model_t *background;   /* optional static-scene model (processing thread) */
   double learn_seconds;        /* > 0 and no model: learn from the first seconds, then subtract */
   const char *learn_out;       /* where the learned model is saved */
+  rs_cluster_t *cluster;       /* optional: clustering work area, configured (processing thread) */
 } rs_pipeline_cfg_t;
 
 typedef struct {
@@ -70,6 +72,8 @@ typedef struct {
   bool have_learned;
   double learn_s;              /* time the learning took */
   bool rate_checked;           /* the model's rotation rate compared with the sensor's */
+  rs_timing_t t_cluster;       /* clustering per frame */
+  uint64_t clusters, clustered, noise;
   rs_proc_counters_t proc;
   rs_labels_writer_t labels;   /* processing thread */
   bool labels_open;

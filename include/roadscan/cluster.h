@@ -1,0 +1,83 @@
+/* cluster.h - clustering the foreground of a frame: FSPC (fast spherical-
+ * projection clustering), its density-adaptive variant, and two baselines
+ * (3-D Euclidean DBSCAN on a voxel hash grid; connected components on the
+ * range image).
+ *
+ * Input: layer 0 of a frame slot, returns labelled 1 are background, every
+ * other return is foreground. Output: labels 3 + cluster number, 2 for
+ * noise; layer-1 (dual) returns take the label of the layer-0 return of the
+ * same cell when their ranges agree within eps, else 2.
+ *
+ * FSPC (Chen et al. 2022): the neighbours of a cell are the foreground cells
+ * of an h x w window centred on it (columns wrap, rows are clipped) whose
+ * range differs from the centre's by less than eps; the centre counts. Core
+ * cells have at least minPts neighbours; clusters are the connected
+ * components of core cells plus the border cells within a core cell's
+ * window; the rest is noise. Work per frame: at most 2 x cells x h x w
+ * window reads, whatever the scene. No allocation: the caller owns rs_cluster_t
+ * (about 16 MB; static in the programs). Processing thread only. */
+#ifndef ROADSCAN_CLUSTER_H
+#define ROADSCAN_CLUSTER_H
+
+#include "roadscan/frame.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#define RS_MAX_CLUSTERS 4000
+#define RS_MAX_WIN_H 15
+#define RS_MAX_WIN_W 31
+#define RS_ADAPT_BINS 256 /* 1 m range bins */
+#define RS_GRID_BUCKETS (1 << 16)
+
+_Static_assert(RS_MAX_CLUSTERS + 3 < UINT16_MAX, "cluster labels fit in uint16_t");
+
+typedef enum { RS_CLUSTER_NONE = 0, RS_CLUSTER_FSPC, RS_CLUSTER_FSPC_ADAPTIVE, RS_CLUSTER_DBSCAN, RS_CLUSTER_CCL } rs_cluster_method_t;
+
+typedef struct {
+  rs_cluster_method_t method;
+  int win_h, win_w;      /* odd; defaults 5 x 11 */
+  float eps;             /* m, range difference; default 1.8 */
+  int min_pts;           /* default 15 (the centre counts) */
+  float obj_w, obj_h;    /* adaptive: the smallest object to find (m), default 0.5 x 0.8 */
+  float adapt_share;     /* adaptive: minPts = share x expected cells, default 0.5 */
+  int adapt_min_pts;     /* adaptive: lowest minPts, default 3 */
+  float dbscan_eps;      /* m, default 1.2 */
+  int dbscan_min_pts;    /* default 15 */
+  float ccl_eps;         /* m, range difference joining 8-neighbours, default 1.0 */
+} rs_cluster_cfg_t;
+
+typedef struct {
+  uint32_t foreground;   /* layer-0 foreground returns */
+  uint32_t clustered, noise;
+  uint32_t clusters;
+  uint32_t overflow;     /* clusters beyond RS_MAX_CLUSTERS (left as noise) */
+} rs_cluster_stats_t;
+
+typedef struct {
+  rs_cluster_cfg_t cfg;
+  const rs_sensor_t *sensor;
+  int cols;              /* geometry the tables were built for */
+  uint64_t overflow_total;
+  float rr[RS_MAX_CELLS];            /* foreground range, or a large negative */
+  uint8_t core[RS_MAX_CELLS];
+  uint32_t fg[RS_MAX_CELLS];
+  uint32_t queue[RS_MAX_CELLS];
+  uint8_t half_w[RS_MAX_ROWS][RS_ADAPT_BINS];   /* adaptive window half-width */
+  uint8_t half_h[RS_MAX_ROWS][RS_ADAPT_BINS];   /* adaptive window half-height */
+  uint8_t min_pts[RS_MAX_ROWS][RS_ADAPT_BINS];  /* adaptive minPts */
+  float px[RS_MAX_CELLS], py[RS_MAX_CELLS], pz[RS_MAX_CELLS];
+  int32_t next[RS_MAX_CELLS];
+  int32_t heads[RS_GRID_BUCKETS];
+} rs_cluster_t;
+
+void rs_cluster_cfg_default(rs_cluster_cfg_t *c);
+const char *rs_cluster_method_name(rs_cluster_method_t m);
+/* "fspc", "fspc-adaptive", "dbscan", "ccl", "none"; -1 if unknown */
+int rs_cluster_method_from_name(const char *s);
+
+/* RS_E_INVAL for a bad window (even, too large) or parameter. */
+int rs_cluster_init(rs_cluster_t *c, const rs_cluster_cfg_t *cfg, const rs_sensor_t *s);
+void rs_cluster_run(rs_cluster_t *c, rs_slot_t *slot, rs_cluster_stats_t *st);
+
+#endif

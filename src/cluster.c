@@ -1,0 +1,323 @@
+/* cluster.c - FSPC, adaptive FSPC, DBSCAN and CCL on a frame slot
+ * (processing thread; no allocation, bounded loops). */
+#include "roadscan/cluster.h"
+
+#include "roadscan/error.h"
+
+#include <math.h>
+#include <string.h>
+
+#define NEG (-1.0e9f)
+#define D2R (3.14159265358979323846 / 180.0)
+
+void rs_cluster_cfg_default(rs_cluster_cfg_t *c) {
+  memset(c, 0, sizeof *c);
+  c->method = RS_CLUSTER_FSPC;
+  c->win_h = 5;
+  c->win_w = 11;
+  c->eps = 1.8f;
+  c->min_pts = 15;
+  c->obj_w = 0.5f;
+  c->obj_h = 0.8f;
+  c->adapt_share = 0.5f;
+  c->adapt_min_pts = 3;
+  c->dbscan_eps = 1.2f;
+  c->dbscan_min_pts = 15;
+  c->ccl_eps = 1.0f;
+}
+
+const char *rs_cluster_method_name(rs_cluster_method_t m) {
+  switch (m) {
+  case RS_CLUSTER_FSPC: return "fspc";
+  case RS_CLUSTER_FSPC_ADAPTIVE: return "fspc-adaptive";
+  case RS_CLUSTER_DBSCAN: return "dbscan";
+  case RS_CLUSTER_CCL: return "ccl";
+  default: return "none";
+  }
+}
+
+int rs_cluster_method_from_name(const char *s) {
+  for (int m = RS_CLUSTER_NONE; m <= RS_CLUSTER_CCL; m++)
+    if (strcmp(s, rs_cluster_method_name((rs_cluster_method_t)m)) == 0) return m;
+  return -1;
+}
+
+int rs_cluster_init(rs_cluster_t *c, const rs_cluster_cfg_t *cfg, const rs_sensor_t *s) {
+  if (cfg->win_h < 1 || cfg->win_h > RS_MAX_WIN_H || cfg->win_h % 2 == 0 || cfg->win_w < 1 ||
+      cfg->win_w > RS_MAX_WIN_W || cfg->win_w % 2 == 0)
+    return RS_E_INVAL;
+  if (!(cfg->eps > 0) || cfg->min_pts < 1 || !(cfg->dbscan_eps > 0) || cfg->dbscan_min_pts < 1 || !(cfg->ccl_eps > 0))
+    return RS_E_INVAL;
+  c->cfg = *cfg;
+  c->sensor = s;
+  c->cols = 0;
+  c->overflow_total = 0;
+  return RS_OK;
+}
+
+/* adaptive tables for a column count: per row and 1 m range bin, the window
+ * and minPts an object of obj_w x obj_h would fill */
+static void build_adaptive(rs_cluster_t *c, int cols) {
+  const rs_sensor_t *s = c->sensor;
+  const double daz = 2.0 * 3.14159265358979323846 / cols;
+  for (int r = 0; r < s->lasers; r++) {
+    double el = s->elevation_deg[s->laser_of_row[r]];
+    double lo = r > 0 ? el - s->elevation_deg[s->laser_of_row[r - 1]] : 1e9;
+    double hi = r + 1 < s->lasers ? s->elevation_deg[s->laser_of_row[r + 1]] - el : 1e9;
+    double del = fmin(lo, hi) < 1e8 ? fmin(lo, hi) * D2R : 2.0 * D2R;
+    if (del < 0.05 * D2R) del = 0.05 * D2R;
+    for (int b = 0; b < RS_ADAPT_BINS; b++) {
+      double range = b + 0.5;
+      double ncol = c->cfg.obj_w / (range * daz), nrow = c->cfg.obj_h / (range * del);
+      int hw = (int)fmin(c->cfg.win_w / 2, fmax(1.0, ceil(ncol / 2.0)));
+      int hh = (int)fmin(c->cfg.win_h / 2, fmax(1.0, ceil(nrow / 2.0)));
+      double cells = fmin(2 * hw + 1, fmax(1.0, ncol)) * fmin(2 * hh + 1, fmax(1.0, nrow));
+      int mp = (int)lround(c->cfg.adapt_share * cells);
+      if (mp > c->cfg.min_pts) mp = c->cfg.min_pts;
+      if (mp < c->cfg.adapt_min_pts) mp = c->cfg.adapt_min_pts;
+      c->half_w[r][b] = (uint8_t)hw;
+      c->half_h[r][b] = (uint8_t)hh;
+      c->min_pts[r][b] = (uint8_t)mp;
+    }
+  }
+  c->cols = cols;
+}
+
+static inline int bin_of(float r) {
+  int b = (int)r;
+  return b < 0 ? 0 : (b >= RS_ADAPT_BINS ? RS_ADAPT_BINS - 1 : b);
+}
+
+/* neighbours of cell (r, col) in a (2hh+1) x (2hw+1) window */
+static uint32_t count_window(const float *rr, int rows, int cols, int r, int col, int hh, int hw, float eps) {
+  const float x = rr[r * cols + col];
+  uint32_t n = 0;
+  int r0 = r - hh < 0 ? 0 : r - hh, r1 = r + hh >= rows ? rows - 1 : r + hh;
+  for (int y = r0; y <= r1; y++) {
+    const float *row = rr + (size_t)y * (size_t)cols;
+    if (col - hw >= 0 && col + hw < cols) {
+      for (int k = col - hw; k <= col + hw; k++) n += fabsf(row[k] - x) < eps;
+    } else {
+      for (int d = -hw; d <= hw; d++) {
+        int k = col + d;
+        if (k < 0) k += cols;
+        else if (k >= cols) k -= cols;
+        n += fabsf(row[k] - x) < eps;
+      }
+    }
+  }
+  return n;
+}
+
+static void prepare(rs_cluster_t *c, rs_slot_t *s, uint32_t *nfg) {
+  const uint32_t cells = (uint32_t)s->meta.rows * s->meta.cols;
+  uint32_t n = 0;
+  for (uint32_t i = 0; i < cells; i++) {
+    const float r = s->range[i];
+    const bool fg = r > 0.0f && s->label[i] != 1;
+    c->rr[i] = fg ? r : NEG;
+    c->core[i] = 0;
+    if (fg) {
+      c->fg[n++] = i;
+      s->label[i] = 2;
+    }
+  }
+  *nfg = n;
+}
+
+static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, rs_cluster_stats_t *st) {
+  const int rows = s->meta.rows, cols = s->meta.cols;
+  const float eps = c->cfg.eps;
+  const int hh0 = c->cfg.win_h / 2, hw0 = c->cfg.win_w / 2;
+  if (adaptive && c->cols != cols) build_adaptive(c, cols);
+  /* core cells */
+  for (uint32_t k = 0; k < nfg; k++) {
+    uint32_t i = c->fg[k];
+    int r = (int)(i / (uint32_t)cols), col = (int)(i % (uint32_t)cols);
+    int hh = hh0, hw = hw0;
+    uint32_t mp = (uint32_t)c->cfg.min_pts;
+    if (adaptive) {
+      int b = bin_of(c->rr[i]);
+      hh = c->half_h[r][b];
+      hw = c->half_w[r][b];
+      mp = c->min_pts[r][b];
+    }
+    c->core[i] = count_window(c->rr, rows, cols, r, col, hh, hw, eps) >= mp;
+  }
+  /* clusters: breadth-first over core cells; every cell enters the queue once */
+  uint32_t ncl = 0;
+  for (uint32_t k = 0; k < nfg; k++) {
+    uint32_t seed = c->fg[k];
+    if (!c->core[seed] || s->label[seed] != 2) continue;
+    if (ncl >= RS_MAX_CLUSTERS) {
+      st->overflow++;
+      continue;
+    }
+    const uint16_t id = (uint16_t)(3 + ncl++);
+    uint32_t head = 0, tail = 0;
+    c->queue[tail++] = seed;
+    s->label[seed] = id;
+    while (head < tail) {
+      uint32_t i = c->queue[head++];
+      int r = (int)(i / (uint32_t)cols), col = (int)(i % (uint32_t)cols);
+      int hh = hh0, hw = hw0;
+      if (adaptive) {
+        int b = bin_of(c->rr[i]);
+        hh = c->half_h[r][b];
+        hw = c->half_w[r][b];
+      }
+      const float x = c->rr[i];
+      int r0 = r - hh < 0 ? 0 : r - hh, r1 = r + hh >= rows ? rows - 1 : r + hh;
+      for (int y = r0; y <= r1; y++)
+        for (int d = -hw; d <= hw; d++) {
+          int kk = col + d;
+          if (kk < 0) kk += cols;
+          else if (kk >= cols) kk -= cols;
+          uint32_t j = (uint32_t)y * (uint32_t)cols + (uint32_t)kk;
+          if (fabsf(c->rr[j] - x) >= eps || s->label[j] != 2) continue;
+          s->label[j] = id;
+          if (c->core[j]) c->queue[tail++] = j;
+        }
+    }
+  }
+  st->clusters = ncl;
+}
+
+/* ---- DBSCAN in 3-D on a voxel hash grid ---- */
+
+static inline uint32_t voxel_hash(int x, int y, int z) {
+  uint32_t h = (uint32_t)x * 73856093u ^ (uint32_t)y * 19349663u ^ (uint32_t)z * 83492791u;
+  return h & (RS_GRID_BUCKETS - 1);
+}
+
+static uint32_t region(const rs_cluster_t *c, uint32_t k, float eps, uint32_t *out, uint32_t cap) {
+  const float x = c->px[k], y = c->py[k], z = c->pz[k], e2 = eps * eps;
+  const int ix = (int)floorf(x / eps), iy = (int)floorf(y / eps), iz = (int)floorf(z / eps);
+  uint32_t n = 0;
+  for (int dx = -1; dx <= 1; dx++)
+    for (int dy = -1; dy <= 1; dy++)
+      for (int dz = -1; dz <= 1; dz++)
+        for (int32_t j = c->heads[voxel_hash(ix + dx, iy + dy, iz + dz)]; j >= 0; j = c->next[j]) {
+          float ax = c->px[j] - x, ay = c->py[j] - y, az = c->pz[j] - z;
+          if (ax * ax + ay * ay + az * az > e2) continue;
+          if (out && n < cap) out[n] = (uint32_t)j;
+          n++;
+        }
+  return n;
+}
+
+static void dbscan(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, rs_cluster_stats_t *st) {
+  const int cols = s->meta.cols;
+  const rs_sensor_t *sen = c->sensor;
+  const float eps = c->cfg.dbscan_eps;
+  for (int b = 0; b < RS_GRID_BUCKETS; b++) c->heads[b] = -1;
+  for (uint32_t k = 0; k < nfg; k++) {
+    uint32_t i = c->fg[k];
+    int r = (int)(i / (uint32_t)cols), col = (int)(i % (uint32_t)cols);
+    int laser = sen->laser_of_row[r];
+    float range = c->rr[i], az = (float)((col + 0.5) * 2.0 * 3.14159265358979323846 / cols);
+    float xy = range * sen->cos_el[laser];
+    c->px[k] = xy * sinf(az);
+    c->py[k] = xy * cosf(az);
+    c->pz[k] = range * sen->sin_el[laser];
+    uint32_t h = voxel_hash((int)floorf(c->px[k] / eps), (int)floorf(c->py[k] / eps), (int)floorf(c->pz[k] / eps));
+    c->next[k] = c->heads[h];
+    c->heads[h] = (int32_t)k;
+  }
+  for (uint32_t k = 0; k < nfg; k++) c->core[k] = region(c, k, eps, NULL, 0) >= (uint32_t)c->cfg.dbscan_min_pts;
+  /* labels by point index in queue order; cluster ids written to the slot */
+  uint32_t ncl = 0;
+  for (uint32_t k = 0; k < nfg; k++) {
+    if (!c->core[k] || s->label[c->fg[k]] != 2) continue;
+    if (ncl >= RS_MAX_CLUSTERS) {
+      st->overflow++;
+      continue;
+    }
+    const uint16_t id = (uint16_t)(3 + ncl++);
+    uint32_t head = 0, tail = 0;
+    c->queue[tail++] = k;
+    s->label[c->fg[k]] = id;
+    while (head < tail) {
+      uint32_t q = c->queue[head++];
+      const float x = c->px[q], y = c->py[q], z = c->pz[q], e2 = eps * eps;
+      const int ix = (int)floorf(x / eps), iy = (int)floorf(y / eps), iz = (int)floorf(z / eps);
+      for (int dx = -1; dx <= 1; dx++)
+        for (int dy = -1; dy <= 1; dy++)
+          for (int dz = -1; dz <= 1; dz++)
+            for (int32_t j = c->heads[voxel_hash(ix + dx, iy + dy, iz + dz)]; j >= 0; j = c->next[j]) {
+              float ax = c->px[j] - x, ay = c->py[j] - y, az = c->pz[j] - z;
+              if (ax * ax + ay * ay + az * az > e2 || s->label[c->fg[j]] != 2) continue;
+              s->label[c->fg[j]] = id;
+              if (c->core[j]) c->queue[tail++] = (uint32_t)j;
+            }
+    }
+  }
+  st->clusters = ncl;
+}
+
+/* ---- connected components on the range image ---- */
+
+static void ccl(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, rs_cluster_stats_t *st) {
+  const int rows = s->meta.rows, cols = s->meta.cols;
+  const float eps = c->cfg.ccl_eps;
+  uint32_t ncl = 0;
+  for (uint32_t k = 0; k < nfg; k++) {
+    uint32_t seed = c->fg[k];
+    if (s->label[seed] != 2) continue;
+    if (ncl >= RS_MAX_CLUSTERS) {
+      st->overflow++;
+      continue;
+    }
+    const uint16_t id = (uint16_t)(3 + ncl++);
+    uint32_t head = 0, tail = 0;
+    c->queue[tail++] = seed;
+    s->label[seed] = id;
+    while (head < tail) {
+      uint32_t i = c->queue[head++];
+      int r = (int)(i / (uint32_t)cols), col = (int)(i % (uint32_t)cols);
+      const float x = c->rr[i];
+      for (int y = r - 1; y <= r + 1; y++) {
+        if (y < 0 || y >= rows) continue;
+        for (int d = -1; d <= 1; d++) {
+          int kk = col + d;
+          if (kk < 0) kk += cols;
+          else if (kk >= cols) kk -= cols;
+          uint32_t j = (uint32_t)y * (uint32_t)cols + (uint32_t)kk;
+          if (fabsf(c->rr[j] - x) >= eps || s->label[j] != 2) continue;
+          s->label[j] = id;
+          c->queue[tail++] = j;
+        }
+      }
+    }
+  }
+  st->clusters = ncl;
+}
+
+void rs_cluster_run(rs_cluster_t *c, rs_slot_t *s, rs_cluster_stats_t *st) {
+  memset(st, 0, sizeof *st);
+  uint32_t nfg;
+  prepare(c, s, &nfg);
+  st->foreground = nfg;
+  switch (c->cfg.method) {
+  case RS_CLUSTER_FSPC: fspc(c, s, nfg, false, st); break;
+  case RS_CLUSTER_FSPC_ADAPTIVE: fspc(c, s, nfg, true, st); break;
+  case RS_CLUSTER_DBSCAN: dbscan(c, s, nfg, st); break;
+  case RS_CLUSTER_CCL: ccl(c, s, nfg, st); break;
+  default: break;
+  }
+  for (uint32_t k = 0; k < nfg; k++) {
+    if (s->label[c->fg[k]] >= 3) st->clustered++;
+    else st->noise++;
+  }
+  c->overflow_total += st->overflow;
+  /* dual return: the second layer follows the first where the ranges agree */
+  const uint32_t cells = (uint32_t)s->meta.rows * s->meta.cols;
+  const float eps = c->cfg.eps;
+  for (uint32_t i = 0; i < cells; i++) {
+    uint32_t j = RS_MAX_CELLS + i;
+    float r = s->range[j];
+    if (r <= 0.0f || s->label[j] == 1) continue;
+    uint16_t l0 = s->label[i];
+    s->label[j] = (uint16_t)((l0 >= 3 && fabsf(s->range[i] - r) < eps) ? l0 : 2);
+  }
+}

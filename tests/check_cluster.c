@@ -1,0 +1,236 @@
+/* check_cluster - FSPC, adaptive FSPC, DBSCAN and CCL on hand-built maps
+ * with known answers. */
+#include "roadscan/cluster.h"
+#include "roadscan/error.h"
+#include "testutil.h"
+
+#include <string.h>
+
+static rs_slot_t slot;
+static rs_cluster_t cl;
+static rs_sensor_t sensor;
+
+#define ROWS 16
+#define COLS 200
+
+static void clear_map(int cols) {
+  memset(&slot.meta, 0, sizeof slot.meta);
+  slot.meta.rows = ROWS;
+  slot.meta.cols = (uint16_t)cols;
+  memset(slot.range, 0, sizeof slot.range);
+  memset(slot.label, 0, sizeof slot.label);
+}
+
+static void put(int r, int c, float range) {
+  uint32_t i = (uint32_t)r * slot.meta.cols + (uint32_t)c;
+  slot.range[i] = range;
+  slot.label[i] = 2;
+}
+
+static void block(int r0, int r1, int c0, int c1, float range) {
+  for (int r = r0; r <= r1; r++)
+    for (int c = c0; c <= c1; c++) put(r, c, range);
+}
+
+static uint16_t lab(int r, int c) { return slot.label[(uint32_t)r * slot.meta.cols + (uint32_t)c]; }
+
+static void run(rs_cluster_method_t m, rs_cluster_stats_t *st) {
+  rs_cluster_cfg_t cfg;
+  rs_cluster_cfg_default(&cfg);
+  cfg.method = m;
+  ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &sensor), RS_OK);
+  rs_cluster_run(&cl, &slot, st);
+}
+
+static void two_objects(rs_cluster_method_t m) {
+  clear_map(COLS);
+  block(4, 8, 10, 20, 10.0f); /* 55 cells at 10 m */
+  block(4, 8, 21, 31, 20.0f); /* the next columns, 10 m behind */
+  put(12, 150, 30.0f);        /* alone */
+  rs_cluster_stats_t st;
+  run(m, &st);
+  ck_assert_uint_eq(st.foreground, 111);
+  ck_assert_uint_eq(st.clusters, 2 + (m == RS_CLUSTER_CCL)); /* CCL has no noise: the lone return is a cluster */
+  uint16_t a = lab(6, 15), b = lab(6, 26);
+  ck_assert_int_ge(a, 3);
+  ck_assert_int_ge(b, 3);
+  ck_assert_int_ne(a, b);
+  for (int r = 4; r <= 8; r++)
+    for (int c = 10; c <= 31; c++) ck_assert_int_eq(lab(r, c), c <= 20 ? a : b);
+  if (m == RS_CLUSTER_CCL) ck_assert_int_ge(lab(12, 150), 3);
+  else ck_assert_int_eq(lab(12, 150), 2);
+}
+
+START_TEST(t_two_objects) {
+  two_objects(RS_CLUSTER_FSPC);
+  two_objects(RS_CLUSTER_FSPC_ADAPTIVE);
+  two_objects(RS_CLUSTER_DBSCAN);
+  two_objects(RS_CLUSTER_CCL);
+}
+END_TEST
+
+START_TEST(t_seam) {
+  static const rs_cluster_method_t ms[] = {RS_CLUSTER_FSPC, RS_CLUSTER_DBSCAN, RS_CLUSTER_CCL};
+  for (int i = 0; i < 3; i++) {
+    clear_map(COLS);
+    block(6, 10, 194, 199, 8.0f);
+    block(6, 10, 0, 5, 8.0f);
+    rs_cluster_stats_t st;
+    run(ms[i], &st);
+    ck_assert_uint_eq(st.clusters, 1);
+    ck_assert_int_eq(lab(8, 197), lab(8, 2));
+    ck_assert_int_ge(lab(8, 2), 3);
+  }
+}
+END_TEST
+
+START_TEST(t_core_border_noise) {
+  clear_map(COLS);
+  block(5, 9, 50, 54, 10.0f); /* 25 cells: the middle ones see all 25 */
+  put(5, 59, 10.5f);          /* within the window of core (5..7, 54), sees only 4 */
+  put(5, 61, 10.5f);          /* beyond every core window: noise */
+  rs_cluster_stats_t st;
+  run(RS_CLUSTER_FSPC, &st);
+  ck_assert_uint_eq(st.clusters, 1);
+  uint16_t id = lab(7, 52);
+  ck_assert_int_ge(id, 3);
+  ck_assert_int_eq(lab(5, 59), id); /* border */
+  ck_assert_int_eq(lab(5, 61), 2);  /* noise */
+  ck_assert_uint_eq(st.clustered, 26);
+  ck_assert_uint_eq(st.noise, 1);
+  /* with the range gap over eps the border return is not a neighbour */
+  slot.range[5 * COLS + 59] = 12.0f;
+  slot.label[5 * COLS + 59] = 2;
+  run(RS_CLUSTER_FSPC, &st);
+  ck_assert_int_eq(lab(5, 59), 2);
+  /* background returns are left alone */
+  slot.label[7 * COLS + 52] = 1;
+  run(RS_CLUSTER_FSPC, &st);
+  ck_assert_int_eq(lab(7, 52), 1);
+  ck_assert_uint_eq(st.foreground, 26);
+}
+END_TEST
+
+START_TEST(t_window_clipping) {
+  clear_map(COLS);
+  block(0, 2, 10, 20, 15.0f);            /* top rows: the window is clipped */
+  block(ROWS - 3, ROWS - 1, 100, 110, 15.0f); /* bottom rows */
+  rs_cluster_stats_t st;
+  run(RS_CLUSTER_FSPC, &st);
+  ck_assert_uint_eq(st.clusters, 2);
+  ck_assert_uint_eq(st.noise, 0);
+  /* one row only: 11 neighbours at most, under minPts 15 */
+  clear_map(COLS);
+  block(0, 0, 10, 25, 15.0f);
+  run(RS_CLUSTER_FSPC, &st);
+  ck_assert_uint_eq(st.clusters, 0);
+  ck_assert_uint_eq(st.noise, 16);
+}
+END_TEST
+
+START_TEST(t_cap_overflow) {
+  clear_map(300);
+  /* every cell its own cluster: distinct ranges 2 m apart, minPts 1 */
+  for (int r = 0; r < ROWS; r++)
+    for (int c = 0; c < 300; c++) put(r, c, 5.0f + 2.0f * (float)((r * 300 + c) % 97));
+  rs_cluster_cfg_t cfg;
+  rs_cluster_cfg_default(&cfg);
+  cfg.min_pts = 1;
+  cfg.eps = 0.5f;
+  rs_cluster_init(&cl, &cfg, &sensor);
+  rs_cluster_stats_t st;
+  rs_cluster_run(&cl, &slot, &st);
+  ck_assert_uint_eq(st.foreground, ROWS * 300);
+  ck_assert_uint_eq(st.clusters + st.overflow, ROWS * 300 - (st.clustered - st.clusters));
+  ck_assert_uint_eq(st.clusters, RS_MAX_CLUSTERS);
+  ck_assert_uint_gt(st.overflow, 0);
+  ck_assert_uint_eq(cl.overflow_total, st.overflow);
+  ck_assert_uint_eq(st.noise, ROWS * 300 - st.clustered);
+}
+END_TEST
+
+START_TEST(t_fspc_equals_dbscan) {
+  /* one row, 21 neighbouring columns at 10 m (0.2 degree apart: 3.5 cm), and
+   * one return 40 m away: a window covering every column with eps = DBSCAN's
+   * radius gives the same neighbourhoods as the 3-D radius search */
+  clear_map(1800);
+  for (int c = 100; c <= 120; c++) put(8, c, 10.0f);
+  put(8, 110 + 300, 50.0f);
+  rs_cluster_cfg_t cfg;
+  rs_cluster_cfg_default(&cfg);
+  cfg.method = RS_CLUSTER_FSPC;
+  cfg.win_h = 1;
+  cfg.win_w = 31;
+  cfg.eps = 1.2f;
+  cfg.min_pts = 15;
+  rs_cluster_init(&cl, &cfg, &sensor);
+  rs_cluster_stats_t a, b;
+  rs_cluster_run(&cl, &slot, &a);
+  uint16_t fspc_labels[1800];
+  for (int c = 0; c < 1800; c++) fspc_labels[c] = lab(8, c);
+  for (int c = 100; c <= 120; c++) slot.label[8 * 1800 + c] = 2;
+  slot.label[8 * 1800 + 410] = 2;
+  cfg.method = RS_CLUSTER_DBSCAN;
+  rs_cluster_init(&cl, &cfg, &sensor);
+  rs_cluster_run(&cl, &slot, &b);
+  ck_assert_uint_eq(a.clusters, 1);
+  ck_assert_uint_eq(b.clusters, 1);
+  ck_assert_uint_eq(a.clustered, b.clustered);
+  for (int c = 0; c < 1800; c++) ck_assert_int_eq(fspc_labels[c], lab(8, c));
+}
+END_TEST
+
+START_TEST(t_adaptive_sparse) {
+  /* a car roof near the pole seen by one laser only, and a pedestrian at
+   * 150 m: 2 columns x 2 rows. Plain FSPC calls both noise, adaptive finds them */
+  clear_map(1820);
+  block(0, 0, 300, 330, 6.0f);
+  block(9, 10, 900, 901, 150.0f);
+  rs_cluster_stats_t st;
+  run(RS_CLUSTER_FSPC, &st);
+  ck_assert_uint_eq(st.clusters, 0);
+  run(RS_CLUSTER_FSPC_ADAPTIVE, &st);
+  ck_assert_uint_eq(st.clusters, 2);
+  ck_assert_int_ge(lab(0, 315), 3);
+  ck_assert_int_ge(lab(9, 900), 3);
+  ck_assert_int_ne(lab(0, 315), lab(9, 900));
+}
+END_TEST
+
+START_TEST(t_dual_layer_and_config) {
+  clear_map(COLS);
+  block(4, 8, 10, 20, 10.0f);
+  slot.range[RS_MAX_CELLS + 6 * COLS + 15] = 10.4f; /* second return of the same object */
+  slot.range[RS_MAX_CELLS + 6 * COLS + 16] = 30.0f; /* a wall behind it */
+  rs_cluster_stats_t st;
+  run(RS_CLUSTER_FSPC, &st);
+  ck_assert_int_eq(slot.label[RS_MAX_CELLS + 6 * COLS + 15], lab(6, 15));
+  ck_assert_int_eq(slot.label[RS_MAX_CELLS + 6 * COLS + 16], 2);
+  rs_cluster_cfg_t cfg;
+  rs_cluster_cfg_default(&cfg);
+  cfg.win_w = 10;
+  ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &sensor), RS_E_INVAL);
+  cfg.win_w = 11;
+  cfg.eps = 0;
+  ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &sensor), RS_E_INVAL);
+  ck_assert_int_eq(rs_cluster_method_from_name("fspc-adaptive"), RS_CLUSTER_FSPC_ADAPTIVE);
+  ck_assert_int_eq(rs_cluster_method_from_name("kmeans"), -1);
+}
+END_TEST
+
+int main(void) {
+  rs_sensor_init(&sensor, RS_MODEL_VLS128); /* 128 rows: any test row has a laser */
+  Suite *s = suite_create("cluster");
+  TCase *tc = tcase_create("core");
+  tcase_set_timeout(tc, 60);
+  tcase_add_test(tc, t_two_objects);
+  tcase_add_test(tc, t_seam);
+  tcase_add_test(tc, t_core_border_noise);
+  tcase_add_test(tc, t_window_clipping);
+  tcase_add_test(tc, t_cap_overflow);
+  tcase_add_test(tc, t_fspc_equals_dbscan);
+  tcase_add_test(tc, t_adaptive_sparse);
+  tcase_add_test(tc, t_dual_layer_and_config);
+  suite_add_tcase(s, tc);
+  return tu_run(s);
+}
