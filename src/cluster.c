@@ -21,6 +21,8 @@ void rs_cluster_cfg_default(rs_cluster_cfg_t *c) {
   c->obj_h = 0.8f;
   c->adapt_share = 0.5f;
   c->adapt_min_pts = 3;
+  c->adapt_eps_share = 0.04f;
+  c->adapt_eps_min = 0.5f;
   c->dbscan_eps = 1.2f;
   c->dbscan_min_pts = 15;
   c->ccl_eps = 1.0f;
@@ -78,6 +80,8 @@ static void build_adaptive(rs_cluster_t *c, int cols) {
       c->half_w[r][b] = (uint8_t)hw;
       c->half_h[r][b] = (uint8_t)hh;
       c->min_pts[r][b] = (uint8_t)mp;
+      double e = c->cfg.adapt_eps_share * range;
+      c->eps_tab[b] = (float)fmin(c->cfg.eps, fmax(c->cfg.adapt_eps_min, e));
     }
   }
   c->cols = cols;
@@ -88,12 +92,15 @@ static inline int bin_of(float r) {
   return b < 0 ? 0 : (b >= RS_ADAPT_BINS ? RS_ADAPT_BINS - 1 : b);
 }
 
-/* neighbours of cell (r, col) in a (2hh+1) x (2hw+1) window */
-static uint32_t count_window(const float *rr, int rows, int cols, int r, int col, int hh, int hw, float eps) {
+/* neighbours of cell (r, col) in a (2hh+1) x (2hw+1) window, counted until
+ * `enough` (a core needs no more): rows nearest the centre first */
+static uint32_t count_window(const float *rr, int rows, int cols, int r, int col, int hh, int hw, float eps,
+                             uint32_t enough) {
   const float x = rr[r * cols + col];
   uint32_t n = 0;
-  int r0 = r - hh < 0 ? 0 : r - hh, r1 = r + hh >= rows ? rows - 1 : r + hh;
-  for (int y = r0; y <= r1; y++) {
+  for (int step = 0; step <= 2 * hh; step++) {
+    int y = r + (step % 2 ? (step + 1) / 2 : -(step / 2)); /* r, r-1, r+1, r-2, r+2, ... */
+    if (y < 0 || y >= rows) continue;
     const float *row = rr + (size_t)y * (size_t)cols;
     if (col - hw >= 0 && col + hw < cols) {
       for (int k = col - hw; k <= col + hw; k++) n += fabsf(row[k] - x) < eps;
@@ -105,6 +112,7 @@ static uint32_t count_window(const float *rr, int rows, int cols, int r, int col
         n += fabsf(row[k] - x) < eps;
       }
     }
+    if (n >= enough) break;
   }
   return n;
 }
@@ -136,13 +144,15 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, rs_
     int r = (int)(i / (uint32_t)cols), col = (int)(i % (uint32_t)cols);
     int hh = hh0, hw = hw0;
     uint32_t mp = (uint32_t)c->cfg.min_pts;
+    float e = eps;
     if (adaptive) {
       int b = bin_of(c->rr[i]);
       hh = c->half_h[r][b];
       hw = c->half_w[r][b];
       mp = c->min_pts[r][b];
+      e = c->eps_tab[b];
     }
-    c->core[i] = count_window(c->rr, rows, cols, r, col, hh, hw, eps) >= mp;
+    c->core[i] = count_window(c->rr, rows, cols, r, col, hh, hw, e, mp) >= mp;
   }
   /* clusters: breadth-first over core cells; every cell enters the queue once */
   uint32_t ncl = 0;
@@ -161,23 +171,30 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, rs_
       uint32_t i = c->queue[head++];
       int r = (int)(i / (uint32_t)cols), col = (int)(i % (uint32_t)cols);
       int hh = hh0, hw = hw0;
+      float e = eps;
       if (adaptive) {
         int b = bin_of(c->rr[i]);
         hh = c->half_h[r][b];
         hw = c->half_w[r][b];
+        e = c->eps_tab[b];
       }
       const float x = c->rr[i];
+      const bool inside = col - hw >= 0 && col + hw < cols;
       int r0 = r - hh < 0 ? 0 : r - hh, r1 = r + hh >= rows ? rows - 1 : r + hh;
-      for (int y = r0; y <= r1; y++)
+      for (int y = r0; y <= r1; y++) {
+        const uint32_t base = (uint32_t)y * (uint32_t)cols;
         for (int d = -hw; d <= hw; d++) {
           int kk = col + d;
-          if (kk < 0) kk += cols;
-          else if (kk >= cols) kk -= cols;
-          uint32_t j = (uint32_t)y * (uint32_t)cols + (uint32_t)kk;
-          if (fabsf(c->rr[j] - x) >= eps || s->label[j] != 2) continue;
+          if (!inside) {
+            if (kk < 0) kk += cols;
+            else if (kk >= cols) kk -= cols;
+          }
+          uint32_t j = base + (uint32_t)kk;
+          if (fabsf(c->rr[j] - x) >= e || s->label[j] != 2) continue;
           s->label[j] = id;
           if (c->core[j]) c->queue[tail++] = j;
         }
+      }
     }
   }
   st->clusters = ncl;

@@ -242,6 +242,37 @@ START_TEST(t_background_tools) {
   ck_assert_int_eq(tu_exec(cmd, &out), 1);
   ck_assert_ptr_nonnull(strstr(out, "the background model is for a VLP-16"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --background a --learn-seconds 5", &out), 2);
+  /* clustering the foreground: objects come out as clusters. Floors under
+   * what each method measured on this capture (precision, recall, matched
+   * share): fspc 1.00/0.82/0.68, adaptive 1.00/0.91/1.00, dbscan 1.00/0.91/0.71,
+   * ccl 0.95/1.00/0.95 */
+  static const char *methods[] = {"fspc", "fspc-adaptive", "dbscan", "ccl"};
+  static const double floor_p[] = {0.98, 0.98, 0.98, 0.9}, floor_r[] = {0.75, 0.85, 0.85, 0.95},
+                      floor_m[] = {0.6, 0.95, 0.6, 0.9};
+  for (int i = 0; i < 4; i++) {
+    snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s --cluster %s --labels-out %s && "
+             "./roadscan-eval %s %s %s --json", tp, model, methods[i], pred, tp, tc, pred);
+    ck_assert_int_eq(tu_exec(cmd, &out), 0);
+    ck_assert_msg(json_num(out, "\"target\": {\"precision\": ") >= floor_p[i], "%s: %s", methods[i], out);
+    ck_assert_msg(json_num(out, "\"recall\": ") >= floor_r[i], "%s: %s", methods[i], out);
+    ck_assert_msg(json_num(out, "\"matched\": ") >= floor_m[i] * json_num(out, "\"instances\": "), "%s: %s", methods[i], out);
+  }
+  /* the benchmark times every stage of every frame */
+  const char *csv = tu_tmp("bench.csv");
+  snprintf(cmd, sizeof cmd, "./roadscan-bench %s --model %s --csv %s", tp, model, csv);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "ratios of medians: FSPC/DBSCAN"));
+  ck_assert_ptr_nonnull(strstr(out, "fspc-adaptive"));
+  ck_assert_int_ge(tu_count_lines(csv), 50);
+  f = fopen(csv, "r");
+  char line[256];
+  ck_assert_ptr_nonnull(fgets(line, sizeof line, f));
+  fclose(f);
+  ck_assert_str_eq(line, "frame,foreground,decode_us,assembly_us,background_us,fspc_us,fspc_adaptive_us,dbscan_us,ccl_us\n");
+  ck_assert_int_eq(tu_exec("./roadscand --pcap x --cluster kmeans", &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "'kmeans' is not fspc"));
+  ck_assert_int_eq(tu_exec("./roadscand --pcap x --window 4x11", &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "--window: '4x11'"));
   ck_assert_int_eq(tu_exec("./roadscan-learn --info /nonexistent.bg", &out), 1);
 }
 END_TEST

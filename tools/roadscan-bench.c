@@ -5,6 +5,8 @@
  *   roadscan-bench CAPTURE [--model NAME]   the data packets of a capture
  *
  * Packets are loaded into memory first, so file I/O is not timed. */
+#include "roadscan/background.h"
+#include "roadscan/cluster.h"
 #include "roadscan/config.h"
 #include "roadscan/error.h"
 #include "roadscan/frame.h"
@@ -19,6 +21,13 @@
 #include <string.h>
 
 static rs_slot_t slots[2];
+static rs_cluster_t cluster;
+static rs_bg_model_t bgm;
+
+/* per-frame stage timings of a capture run with a background model */
+enum { ST_DECODE, ST_ASSEMBLY, ST_BACKGROUND, ST_FSPC, ST_FSPC_ADAPTIVE, ST_DBSCAN, ST_CCL, ST_COUNT };
+static const char *stage_names[ST_COUNT] = {"decode", "assembly", "background", "fspc", "fspc-adaptive", "dbscan", "ccl"};
+static rs_timing_t stage_t[ST_COUNT];
 static rs_packet_t pkt;
 static rs_timing_t t_decode, t_assemble, t_frame;
 
@@ -44,6 +53,59 @@ static int push(pkts_t *p, const uint8_t *payload, double ts) {
   return 0;
 }
 
+typedef struct {
+  FILE *csv;
+  bool with_model;
+  int64_t dec_ns, asm_ns; /* of the frame being assembled */
+  uint64_t frames;
+  double fg_sum;
+  uint32_t fg_max;
+} stages_t;
+static stages_t sg;
+
+static void frame_stages(rs_slot_t *s) {
+  int64_t t[ST_COUNT] = {0};
+  t[ST_DECODE] = sg.dec_ns;
+  t[ST_ASSEMBLY] = sg.asm_ns;
+  sg.dec_ns = sg.asm_ns = 0;
+  if (s->meta.partial || s->meta.cols != bgm.cols) return;
+  rs_bg_counts_t bc = {0, 0, 0};
+  int64_t a = rs_now_ns();
+  rs_bg_subtract(&bgm, s, &bc);
+  t[ST_BACKGROUND] = rs_now_ns() - a;
+  static const rs_cluster_method_t ms[4] = {RS_CLUSTER_FSPC, RS_CLUSTER_FSPC_ADAPTIVE, RS_CLUSTER_DBSCAN, RS_CLUSTER_CCL};
+  rs_cluster_stats_t cs = {0, 0, 0, 0, 0};
+  for (int k = 0; k < 4; k++) {
+    cluster.cfg.method = ms[k];
+    a = rs_now_ns();
+    rs_cluster_run(&cluster, s, &cs);
+    t[ST_FSPC + k] = rs_now_ns() - a;
+  }
+  for (int k = 0; k < ST_COUNT; k++) rs_timing_add(&stage_t[k], t[k]);
+  sg.frames++;
+  sg.fg_sum += cs.foreground;
+  if (cs.foreground > sg.fg_max) sg.fg_max = cs.foreground;
+  if (sg.csv) {
+    fprintf(sg.csv, "%llu,%u", (unsigned long long)s->meta.seq, cs.foreground);
+    for (int k = 0; k < ST_COUNT; k++) fprintf(sg.csv, ",%.1f", (double)t[k] / 1000.0);
+    fprintf(sg.csv, "\n");
+  }
+}
+
+static double median_us(int k) { return rs_timing_pct_us(&stage_t[k], 50); }
+
+static void print_stages(void) {
+  printf("per frame (%llu frames, foreground returns mean %.0f, max %u), CLOCK_MONOTONIC, one core:\n",
+         (unsigned long long)sg.frames, sg.frames ? sg.fg_sum / (double)sg.frames : 0.0, sg.fg_max);
+  for (int k = 0; k < ST_COUNT; k++) {
+    stage_t[k].name = stage_names[k];
+    rs_timing_print(&stage_t[k], stdout);
+  }
+  printf("ratios of medians: FSPC/DBSCAN %.4f (DBSCAN %.0fx slower), FSPC/CCL %.2f, FSPC-adaptive/FSPC %.2f\n",
+         median_us(ST_FSPC) / median_us(ST_DBSCAN), median_us(ST_DBSCAN) / median_us(ST_FSPC),
+         median_us(ST_FSPC) / median_us(ST_CCL), median_us(ST_FSPC_ADAPTIVE) / median_us(ST_FSPC));
+}
+
 /* One pass over the packets: decode + assemble; returns points decoded. */
 static uint64_t run_pass(const rs_sensor_t *s, const pkts_t *p, rs_asm_t *a, int *cur, uint64_t *frames,
                          bool timed) {
@@ -53,14 +115,21 @@ static uint64_t run_pass(const rs_sensor_t *s, const pkts_t *p, rs_asm_t *a, int
     int64_t t0 = rs_now_ns();
     if (rs_packet_decode(s, p->data + i * RS_PAYLOAD_SIZE, RS_PAYLOAD_SIZE, a->rate, &pkt) != RS_OK) continue;
     int64_t t1 = rs_now_ns();
+    sg.dec_ns += t1 - t0;
     for (int k = 0; k <= RS_BLOCKS; k++) {
       if (rs_asm_feed(a, &slots[*cur], &pkt, (uint32_t)i, p->ts[i]) == RS_ASM_CONSUMED) break;
       (*frames)++;
       if (timed) rs_timing_add(&t_frame, frame_ns);
       frame_ns = 0;
+      if (sg.with_model) {
+        sg.asm_ns += rs_now_ns() - t1;
+        frame_stages(&slots[*cur]);
+        t1 = rs_now_ns();
+      }
       *cur ^= 1;
     }
     int64_t t2 = rs_now_ns();
+    sg.asm_ns += t2 - t1;
     points += pkt.n_points;
     frame_ns += t2 - t0;
     if (timed) {
@@ -144,8 +213,21 @@ static int capture(const char *path, rs_model_t force, int repeat) {
     fprintf(stderr, "roadscan-bench: %s: no Velodyne data packets of a known model\n", path);
     return 1;
   }
-  rs_sensor_t s;
+  static rs_sensor_t s;
   rs_sensor_init(&s, (rs_model_t)m);
+  if (sg.with_model) {
+    if (bgm.model != (rs_model_t)m) {
+      fprintf(stderr, "roadscan-bench: the model is for a %s, the capture is from a %s\n", rs_model_name(bgm.model),
+              s.info->name);
+      return 1;
+    }
+    rs_cluster_cfg_t cc;
+    rs_cluster_cfg_default(&cc);
+    rs_cluster_init(&cluster, &cc, &s);
+    for (int k = 0; k < ST_COUNT; k++) rs_timing_init(&stage_t[k], stage_names[k]);
+    if (sg.csv) fprintf(sg.csv, "frame,foreground,decode_us,assembly_us,background_us,fspc_us,fspc_adaptive_us,dbscan_us,ccl_us\n");
+    repeat = 1;
+  }
   rs_timing_init(&t_decode, "decode/packet");
   rs_timing_init(&t_assemble, "assembly/packet");
   rs_timing_init(&t_frame, "decode+assembly/frame");
@@ -153,10 +235,16 @@ static int capture(const char *path, rs_model_t force, int repeat) {
   int64_t t0 = rs_now_ns();
   for (int r = 0; r < repeat; r++) {
     rs_asm_t a;
-    rs_asm_cfg_t acfg = {.default_hz = 10.0};
+    rs_asm_cfg_t acfg = {.default_hz = 10.0, .columns = sg.with_model ? bgm.cols : 0};
     rs_asm_init(&a, &acfg, &s);
     int cur = 0;
     points += run_pass(&s, &p, &a, &cur, &frames, true);
+  }
+  if (sg.with_model) {
+    print_stages();
+    free(p.data);
+    free(p.ts);
+    return 0;
   }
   double el = (double)(rs_now_ns() - t0) * 1e-9;
   printf("%s: %s, %zu data packets x %d passes, %llu frames\n", path, s.info->name, p.n, repeat,
@@ -172,9 +260,11 @@ static int capture(const char *path, rs_model_t force, int repeat) {
 }
 
 int main(int argc, char **argv) {
-  enum { O_SECONDS = 256, O_MODEL, O_REPEAT, O_HELP };
+  enum { O_SECONDS = 256, O_MODEL, O_SENSOR, O_CSV, O_REPEAT, O_HELP };
   static const struct option opts[] = {{"seconds", required_argument, NULL, O_SECONDS},
                                        {"model", required_argument, NULL, O_MODEL},
+                                       {"sensor", required_argument, NULL, O_SENSOR},
+                                       {"csv", required_argument, NULL, O_CSV},
                                        {"repeat", required_argument, NULL, O_REPEAT},
                                        {"help", no_argument, NULL, O_HELP},
                                        {NULL, 0, NULL, 0}};
@@ -192,20 +282,42 @@ int main(int argc, char **argv) {
       if (rs_cfg_long("--repeat", optarg, 1, 1000, &repeat, err, sizeof err)) goto bad;
       break;
     case O_MODEL:
+      if (rs_bg_load(&bgm, optarg, err, sizeof err) != RS_OK) goto bad;
+      sg.with_model = true;
+      break;
+    case O_CSV:
+      sg.csv = fopen(optarg, "w");
+      if (sg.csv == NULL) {
+        snprintf(err, sizeof err, "--csv %s: cannot write", optarg);
+        goto bad;
+      }
+      break;
+    case O_SENSOR:
       force = rs_model_from_name(optarg);
       if (force == RS_MODEL_UNKNOWN) {
-        snprintf(err, sizeof err, "--model: unknown sensor '%s' (known: %s)", optarg, rs_model_names());
+        snprintf(err, sizeof err, "--sensor: unknown sensor '%s' (known: %s)", optarg, rs_model_names());
         goto bad;
       }
       break;
     case O_HELP:
-      printf("usage: roadscan-bench [--seconds S]   (synthetic, every model)\n"
-             "       roadscan-bench CAPTURE [--model NAME] [--repeat N]\n");
+      printf("usage: roadscan-bench [--seconds S]   (synthetic packets of every model: decode + assembly)\n"
+             "       roadscan-bench CAPTURE [--sensor NAME] [--repeat N]   (decode + assembly)\n"
+             "       roadscan-bench CAPTURE --model MODEL [--csv FILE]\n"
+             "         every frame: decode, assembly, background, FSPC, FSPC-adaptive, DBSCAN, CCL;\n"
+             "         median, p99, max per stage and the ratios; --csv writes the per-frame rows\n");
       return 0;
     default: return 2;
     }
   }
-  if (optind < argc) return capture(argv[optind], force, (int)repeat);
+  if (optind < argc) {
+    int rc = capture(argv[optind], force, (int)repeat);
+    if (sg.csv && fclose(sg.csv) != 0) rc = 1;
+    return rc;
+  }
+  if (sg.with_model) {
+    snprintf(err, sizeof err, "--model needs a CAPTURE");
+    goto bad;
+  }
   return synthetic(seconds);
 bad:
   fprintf(stderr, "roadscan-bench: %s\n", err);

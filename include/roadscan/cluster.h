@@ -14,7 +14,16 @@
  * cells have at least minPts neighbours; clusters are the connected
  * components of core cells plus the border cells within a core cell's
  * window; the rest is noise. Work per frame: at most 2 x cells x h x w
- * window reads, whatever the scene. No allocation: the caller owns rs_cluster_t
+ * window reads, whatever the scene.
+ *
+ * Adaptive FSPC: per laser row and 1 m range bin, the window shrinks to what
+ * an obj_w x obj_h object would cover, minPts to adapt_share of the cells it
+ * would fill (at least adapt_min_pts, at most min_pts), and eps to
+ * 0.04 x range (0.5 m to eps): a car roof seen by one laser near the pole
+ * and a pedestrian at 150 m are found; cars queued 2 m apart stay apart.
+ * The same bounded cost.
+ *
+ * No allocation: the caller owns rs_cluster_t
  * (about 16 MB; static in the programs). Processing thread only. */
 #ifndef ROADSCAN_CLUSTER_H
 #define ROADSCAN_CLUSTER_H
@@ -42,6 +51,8 @@ typedef struct {
   float obj_w, obj_h;    /* adaptive: the smallest object to find (m), default 0.5 x 0.8 */
   float adapt_share;     /* adaptive: minPts = share x expected cells, default 0.5 */
   int adapt_min_pts;     /* adaptive: lowest minPts, default 3 */
+  float adapt_eps_share; /* adaptive: eps = clamp(share x range, adapt_eps_min, eps): 0.04, 0.5 m */
+  float adapt_eps_min;
   float dbscan_eps;      /* m, default 1.2 */
   int dbscan_min_pts;    /* default 15 */
   float ccl_eps;         /* m, range difference joining 8-neighbours, default 1.0 */
@@ -66,6 +77,7 @@ typedef struct {
   uint8_t half_w[RS_MAX_ROWS][RS_ADAPT_BINS];   /* adaptive window half-width */
   uint8_t half_h[RS_MAX_ROWS][RS_ADAPT_BINS];   /* adaptive window half-height */
   uint8_t min_pts[RS_MAX_ROWS][RS_ADAPT_BINS];  /* adaptive minPts */
+  float eps_tab[RS_ADAPT_BINS];                 /* adaptive eps by range */
   float px[RS_MAX_CELLS], py[RS_MAX_CELLS], pz[RS_MAX_CELLS];
   int32_t next[RS_MAX_CELLS];
   int32_t heads[RS_GRID_BUCKETS];
