@@ -19,7 +19,7 @@ void rs_cluster_cfg_default(rs_cluster_cfg_t *c) {
   c->min_pts = 15;
   c->obj_w = 0.5f;
   c->obj_h = 0.8f;
-  c->adapt_share = 0.5f;
+  c->adapt_share = 0.2f;
   c->adapt_min_pts = 3;
   c->adapt_eps_share = 0.04f;
   c->adapt_eps_min = 0.5f;
@@ -190,7 +190,7 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, rs_
             else if (kk >= cols) kk -= cols;
           }
           uint32_t j = base + (uint32_t)kk;
-          if (fabsf(c->rr[j] - x) >= e || s->label[j] != 2) continue;
+          if (s->label[j] != 2 || fabsf(c->rr[j] - x) >= e) continue; /* mostly labelled already */
           s->label[j] = id;
           if (c->core[j]) c->queue[tail++] = j;
         }

@@ -49,7 +49,7 @@ typedef struct {
   float eps;             /* m, range difference; default 1.8 */
   int min_pts;           /* default 15 (the centre counts) */
   float obj_w, obj_h;    /* adaptive: the smallest object to find (m), default 0.5 x 0.8 */
-  float adapt_share;     /* adaptive: minPts = share x expected cells, default 0.5 */
+  float adapt_share;     /* adaptive: minPts = share x expected cells, default 0.2 */
   int adapt_min_pts;     /* adaptive: lowest minPts, default 3 */
   float adapt_eps_share; /* adaptive: eps = clamp(share x range, adapt_eps_min, eps): 0.04, 0.5 m */
   float adapt_eps_min;
