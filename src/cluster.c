@@ -133,17 +133,19 @@ static void prepare(rs_cluster_t *c, rs_slot_t *s, uint32_t *nfg) {
   *nfg = n;
 }
 
-static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, rs_cluster_stats_t *st) {
+/* The FSPC expansion with a given window, eps and minPts (or the adaptive
+ * tables). CCL is the same with a 3 x 3 window and minPts 1: every
+ * foreground cell is a core, 8-neighbours within eps join. */
+static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int hh0, int hw0, float eps, int min_pts,
+                 rs_cluster_stats_t *st) {
   const int rows = s->meta.rows, cols = s->meta.cols;
-  const float eps = c->cfg.eps;
-  const int hh0 = c->cfg.win_h / 2, hw0 = c->cfg.win_w / 2;
   if (adaptive && c->cols != cols) build_adaptive(c, cols);
   /* core cells */
   for (uint32_t k = 0; k < nfg; k++) {
     uint32_t i = c->fg[k];
     int r = (int)(i / (uint32_t)cols), col = (int)(i % (uint32_t)cols);
     int hh = hh0, hw = hw0;
-    uint32_t mp = (uint32_t)c->cfg.min_pts;
+    uint32_t mp = (uint32_t)min_pts;
     float e = eps;
     if (adaptive) {
       int b = bin_of(c->rr[i]);
@@ -272,54 +274,19 @@ static void dbscan(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, rs_cluster_stats
   st->clusters = ncl;
 }
 
-/* ---- connected components on the range image ---- */
-
-static void ccl(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, rs_cluster_stats_t *st) {
-  const int rows = s->meta.rows, cols = s->meta.cols;
-  const float eps = c->cfg.ccl_eps;
-  uint32_t ncl = 0;
-  for (uint32_t k = 0; k < nfg; k++) {
-    uint32_t seed = c->fg[k];
-    if (s->label[seed] != 2) continue;
-    if (ncl >= RS_MAX_CLUSTERS) {
-      st->overflow++;
-      continue;
-    }
-    const uint16_t id = (uint16_t)(3 + ncl++);
-    uint32_t head = 0, tail = 0;
-    c->queue[tail++] = seed;
-    s->label[seed] = id;
-    while (head < tail) {
-      uint32_t i = c->queue[head++];
-      int r = (int)(i / (uint32_t)cols), col = (int)(i % (uint32_t)cols);
-      const float x = c->rr[i];
-      for (int y = r - 1; y <= r + 1; y++) {
-        if (y < 0 || y >= rows) continue;
-        for (int d = -1; d <= 1; d++) {
-          int kk = col + d;
-          if (kk < 0) kk += cols;
-          else if (kk >= cols) kk -= cols;
-          uint32_t j = (uint32_t)y * (uint32_t)cols + (uint32_t)kk;
-          if (fabsf(c->rr[j] - x) >= eps || s->label[j] != 2) continue;
-          s->label[j] = id;
-          c->queue[tail++] = j;
-        }
-      }
-    }
-  }
-  st->clusters = ncl;
-}
-
 void rs_cluster_run(rs_cluster_t *c, rs_slot_t *s, rs_cluster_stats_t *st) {
   memset(st, 0, sizeof *st);
   uint32_t nfg;
   prepare(c, s, &nfg);
   st->foreground = nfg;
   switch (c->cfg.method) {
-  case RS_CLUSTER_FSPC: fspc(c, s, nfg, false, st); break;
-  case RS_CLUSTER_FSPC_ADAPTIVE: fspc(c, s, nfg, true, st); break;
+  case RS_CLUSTER_FSPC:
+  case RS_CLUSTER_FSPC_ADAPTIVE:
+    fspc(c, s, nfg, c->cfg.method == RS_CLUSTER_FSPC_ADAPTIVE, c->cfg.win_h / 2, c->cfg.win_w / 2, c->cfg.eps,
+         c->cfg.min_pts, st);
+    break;
   case RS_CLUSTER_DBSCAN: dbscan(c, s, nfg, st); break;
-  case RS_CLUSTER_CCL: ccl(c, s, nfg, st); break;
+  case RS_CLUSTER_CCL: fspc(c, s, nfg, false, 1, 1, c->cfg.ccl_eps, 1, st); break;
   default: break;
   }
   for (uint32_t k = 0; k < nfg; k++) {

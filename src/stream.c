@@ -170,3 +170,37 @@ int rs_stream_finish(rs_stream_t *st, rs_stream_emit_fn emit, void *user) {
   }
   return drain(st, emit, user);
 }
+
+int rs_stream_replay_file(rs_stream_t *st, const char *path, rs_stream_emit_fn emit, void *user, const bool *stop,
+                          char *err, size_t n) {
+  rs_capture_cfg_t cc = {.data_port = st->cfg.data_port, .speed = 0.0};
+  static rs_capture_t cap; /* tools only: one replay at a time */
+  int rc = rs_capture_open_file(&cap, path, &cc);
+  if (rc != RS_OK) {
+    snprintf(err, n, "%s", cap.err);
+    return rc;
+  }
+  rs_frame_in_t f;
+  int status = RS_OK;
+  while (!(stop && *stop)) {
+    rc = rs_capture_next(&cap, &f, NULL);
+    if (rc != 1) {
+      if (rc < 0) {
+        snprintf(err, n, "%s", cap.err);
+        status = rc;
+      }
+      break;
+    }
+    if (rs_stream_frame(st, cap.linktype, &f, emit, user) != RS_OK) {
+      snprintf(err, n, "%s", st->err);
+      status = RS_E_CALIB;
+      break;
+    }
+  }
+  rs_capture_close(&cap);
+  if (status != RS_E_CALIB && !(stop && *stop) && rs_stream_finish(st, emit, user) != RS_OK) {
+    snprintf(err, n, "%s", st->err);
+    status = RS_E_CALIB;
+  }
+  return status;
+}

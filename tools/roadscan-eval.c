@@ -118,19 +118,14 @@ int main(int argc, char **argv) {
     fprintf(stderr, "roadscan-eval: out of memory\n");
     return 1;
   }
-  rs_capture_cfg_t cc = {.data_port = RS_DEFAULT_DATA_PORT};
-  rs_capture_t cap;
-  if (rs_capture_open_file(&cap, argv[optind], &cc) != RS_OK) {
-    fprintf(stderr, "roadscan-eval: %s\n", cap.err);
-    return 1;
-  }
   rs_stream_cfg_t scfg = {.log = stderr};
   rs_stream_init(&stream, &scfg);
-  rs_frame_in_t f;
-  int rc;
-  while (!c.failed && (rc = rs_capture_next(&cap, &f, NULL)) == 1) rs_stream_frame(&stream, cap.linktype, &f, on_packet, &c);
-  if (!c.failed) rs_stream_finish(&stream, on_packet, &c);
-  rs_capture_close(&cap);
+  char rerr[RS_ERRMSG_SIZE];
+  int rc = rs_stream_replay_file(&stream, argv[optind], on_packet, &c, &c.failed, rerr, sizeof rerr);
+  if (rc != RS_OK && !c.failed) {
+    fprintf(stderr, "roadscan-eval: %s\n", rerr);
+    if (rc != RS_E_TRUNCATED) return 1;
+  }
   if (!c.failed) rs_eval_end_frame(&c.ev, c.frame > 0);
   for (int i = 0; i < 2 && !c.failed; i++)
     if (c.s[i].have)

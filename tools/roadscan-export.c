@@ -133,30 +133,17 @@ int main(int argc, char **argv) {
     }
     scfg.calib = &calib;
   }
-  rs_capture_cfg_t ccfg = {.data_port = scfg.data_port ? scfg.data_port : RS_DEFAULT_DATA_PORT, .speed = 0.0};
-  rs_capture_t cap;
-  if (rs_capture_open_file(&cap, argv[optind], &ccfg) != RS_OK) {
-    fprintf(stderr, "roadscan-export: %s\n", cap.err);
-    return 1;
-  }
   if (rs_stream_init(&stream, &scfg) != RS_OK) {
     fprintf(stderr, "roadscan-export: %s\n", stream.err);
     return 1;
   }
   export_t e = {.want = (uint64_t)frame, .cut_cd = (int)lround(cut * 100.0) % 36000, .last_rel = -1};
-  int rc = RS_OK;
-  while (!e.done) {
-    rs_frame_in_t f;
-    rc = rs_capture_next(&cap, &f, NULL);
-    if (rc != 1) break;
-    if (rs_stream_frame(&stream, cap.linktype, &f, on_packet, &e) != RS_OK) {
-      fprintf(stderr, "roadscan-export: %s\n", stream.err);
-      return 1;
-    }
+  int rc = rs_stream_replay_file(&stream, argv[optind], on_packet, &e, &e.done, err, sizeof err);
+  if (rc == RS_E_NOENT || rc == RS_E_FORMAT || rc == RS_E_LINKTYPE || rc == RS_E_CALIB) {
+    fprintf(stderr, "roadscan-export: %s\n", err);
+    return 1;
   }
-  if (rc < 0) fprintf(stderr, "roadscan-export: %s\n", cap.err);
-  rs_stream_finish(&stream, on_packet, &e);
-  rs_capture_close(&cap);
+  if (rc != RS_OK) fprintf(stderr, "roadscan-export: %s\n", err);
   if (e.oom) {
     fprintf(stderr, "roadscan-export: out of memory\n");
     return 1;

@@ -248,23 +248,14 @@ int main(int argc, char **argv) {
     }
     scfg.calib = &calib;
   }
-  rs_capture_cfg_t cc = {.data_port = RS_DEFAULT_DATA_PORT};
-  rs_capture_t cap;
-  if (rs_capture_open_file(&cap, argv[optind], &cc) != RS_OK) {
-    fprintf(stderr, "roadscan-learn: %s\n", cap.err);
-    return 1;
-  }
   if (rs_stream_init(&stream, &scfg) != RS_OK) {
     fprintf(stderr, "roadscan-learn: %s\n", stream.err);
     return 1;
   }
   int64_t t0 = rs_now_ns();
-  rs_frame_in_t f;
-  int rc = RS_CAPTURE_EOF;
-  while (L.rc == RS_OK && (rc = rs_capture_next(&cap, &f, NULL)) == 1) rs_stream_frame(&stream, cap.linktype, &f, on_packet, &L);
-  if (rc < 0) fprintf(stderr, "roadscan-learn: %s\n", cap.err);
-  rs_stream_finish(&stream, on_packet, &L);
-  rs_capture_close(&cap);
+  int rc = rs_stream_replay_file(&stream, argv[optind], on_packet, &L, NULL, err, sizeof err);
+  if (rc != RS_OK) fprintf(stderr, "roadscan-learn: %s\n", err);
+  if (rc == RS_E_NOENT || rc == RS_E_FORMAT || rc == RS_E_LINKTYPE || rc == RS_E_CALIB) return 1;
   if (L.rc != RS_OK || !L.lr_ready || L.lr.nframes < 10) {
     fprintf(stderr, "roadscan-learn: %s: %s\n", argv[optind],
             L.rc != RS_OK ? rs_strerror(L.rc) : "fewer than 10 complete frames: nothing to learn from");

@@ -70,6 +70,12 @@ int rs_stream_payload(rs_stream_t *st, const uint8_t *payload, uint32_t len, uin
                       rs_stream_emit_fn emit, void *user);
 /* End of input: decides the model with what was seen and drains the pre-buffer. */
 int rs_stream_finish(rs_stream_t *st, rs_stream_emit_fn emit, void *user);
+/* Replays a capture file flat out: every captured frame through the stream
+ * (emit per decoded packet), then rs_stream_finish. Stops early when *stop
+ * (optional) becomes true. RS_OK; a read error with err set (a truncated
+ * file after everything before the cut was emitted); RS_E_CALIB with st->err. */
+int rs_stream_replay_file(rs_stream_t *st, const char *path, rs_stream_emit_fn emit, void *user, const bool *stop,
+                          char *err, size_t n);
 /* Counts an error of a kind (and logs the first one). */
 void rs_stream_count(rs_stream_t *st, int code, const char *detail);
 /* Prints "key=count" pairs of non-zero error counters. */
