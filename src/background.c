@@ -26,9 +26,9 @@ void rs_bg_params_default(rs_bg_params_t *p) {
   p->window_s = 5.0;
   p->pair_gap_s = 1.0;
   p->margin_min = 0.05;
-  p->margin_share = 0.003;
+  p->margin_share = 0.006;
   p->merge_gap_min = 0.5;
-  p->merge_gap_share = 0.01;
+  p->merge_gap_share = 0.02;
   p->percentile = 50.0;
   p->percentile_tol = 0.3;
 }

@@ -45,9 +45,9 @@ typedef struct {
   double window_s;        /* coverage window, default 5 s */
   double pair_gap_s;      /* samples closer than this count as consecutive, default 1 s */
   double margin_min;      /* a surface interval is the cluster's [min, max] widened by */
-  double margin_share;    /* max(margin_min, margin_share * range): default 0.05 m, 0.003 */
+  double margin_share;    /* max(margin_min, margin_share * range): default 0.05 m, 0.006 */
   double merge_gap_min;   /* background clusters closer than max(merge_gap_min, */
-  double merge_gap_share; /* merge_gap_share * range) merge: default 0.5 m, 0.01 */
+  double merge_gap_share; /* merge_gap_share * range) merge: default 0.5 m, 0.02 */
   double percentile;      /* percentile method: background range percentile, default 50 */
   double percentile_tol;  /* ... minus this (m), default 0.3 */
 } rs_bg_params_t;
