@@ -7,7 +7,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 sensor=${1:-VLP-32C}
 out=${2:-out/bg}
-bin=build/bin
+bin=${BIN:-build/bin}
 mkdir -p "$out"
 printf '| scenario | model | static as background | objects kept | foliage/noise as background | learn time |\n'
 printf '|---|---|---|---|---|---|\n'
