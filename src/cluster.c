@@ -117,6 +117,14 @@ static uint32_t count_window(const float *rr, int rows, int cols, int r, int col
   return n;
 }
 
+/* up to 64 bits of a row's bitset from column a on */
+static inline uint64_t row_bits(const uint64_t *w, int a, int n) {
+  const int wi = a >> 6, off = a & 63;
+  uint64_t v = w[wi] >> off;
+  if (off + n > 64) v |= w[wi + 1] << (64 - off);
+  return n >= 64 ? v : v & ((1ull << n) - 1);
+}
+
 static void prepare(rs_cluster_t *c, rs_slot_t *s, uint32_t *nfg) {
   const uint32_t cells = (uint32_t)s->meta.rows * s->meta.cols;
   uint32_t n = 0;
@@ -156,7 +164,16 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
     }
     c->core[i] = count_window(c->rr, rows, cols, r, col, hh, hw, e, mp) >= mp;
   }
-  /* clusters: breadth-first over core cells; every cell enters the queue once */
+  /* clusters: breadth-first over core cells; every cell enters the queue
+   * once. The window scan visits only the cells still open (foreground, no
+   * cluster yet), from a per-row bitset: in a dense cluster most are taken. */
+  const int wpr = (cols + 63) / 64;
+  memset(c->open, 0, sizeof(uint64_t) * (size_t)rows * (size_t)wpr);
+  for (uint32_t k = 0; k < nfg; k++) {
+    uint32_t i = c->fg[k];
+    uint32_t r = i / (uint32_t)cols, col = i % (uint32_t)cols;
+    c->open[r * (uint32_t)wpr + (col >> 6)] |= 1ull << (col & 63);
+  }
   uint32_t ncl = 0;
   for (uint32_t k = 0; k < nfg; k++) {
     uint32_t seed = c->fg[k];
@@ -169,6 +186,10 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
     uint32_t head = 0, tail = 0;
     c->queue[tail++] = seed;
     s->label[seed] = id;
+    {
+      uint32_t sr = seed / (uint32_t)cols, sc = seed % (uint32_t)cols;
+      c->open[sr * (uint32_t)wpr + (sc >> 6)] &= ~(1ull << (sc & 63));
+    }
     while (head < tail) {
       uint32_t i = c->queue[head++];
       int r = (int)(i / (uint32_t)cols), col = (int)(i % (uint32_t)cols);
@@ -181,20 +202,49 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
         e = c->eps_tab[b];
       }
       const float x = c->rr[i];
-      const bool inside = col - hw >= 0 && col + hw < cols;
+      /* the window's columns as at most two segments (it may wrap) */
+      int seg_a[2], seg_n[2], nseg = 0;
+      if (2 * hw + 1 >= cols) {
+        seg_a[0] = 0;
+        seg_n[0] = cols;
+        nseg = 1;
+      } else if (col - hw < 0) {
+        seg_a[0] = 0;
+        seg_n[0] = col + hw + 1;
+        seg_a[1] = cols + col - hw;
+        seg_n[1] = hw - col;
+        nseg = 2;
+      } else if (col + hw >= cols) {
+        seg_a[0] = col - hw;
+        seg_n[0] = cols - (col - hw);
+        seg_a[1] = 0;
+        seg_n[1] = col + hw - cols + 1;
+        nseg = 2;
+      } else {
+        seg_a[0] = col - hw;
+        seg_n[0] = 2 * hw + 1;
+        nseg = 1;
+      }
       int r0 = r - hh < 0 ? 0 : r - hh, r1 = r + hh >= rows ? rows - 1 : r + hh;
       for (int y = r0; y <= r1; y++) {
+        uint64_t *w = c->open + (size_t)y * (size_t)wpr;
         const uint32_t base = (uint32_t)y * (uint32_t)cols;
-        for (int d = -hw; d <= hw; d++) {
-          int kk = col + d;
-          if (!inside) {
-            if (kk < 0) kk += cols;
-            else if (kk >= cols) kk -= cols;
+        for (int g = 0; g < nseg; g++) {
+          /* a segment longer than 64 columns (a huge window) is read in pieces */
+          for (int a = seg_a[g], left = seg_n[g]; left > 0; a += 64, left -= 64) {
+            int n = left < 64 ? left : 64;
+            uint64_t m = row_bits(w, a, n);
+            while (m) {
+              int bit = __builtin_ctzll(m);
+              m &= m - 1;
+              const int cc = a + bit;
+              const uint32_t j = base + (uint32_t)cc;
+              if (fabsf(c->rr[j] - x) >= e) continue;
+              s->label[j] = id;
+              w[cc >> 6] &= ~(1ull << (cc & 63));
+              if (c->core[j]) c->queue[tail++] = j;
+            }
           }
-          uint32_t j = base + (uint32_t)kk;
-          if (s->label[j] != 2 || fabsf(c->rr[j] - x) >= e) continue; /* mostly labelled already */
-          s->label[j] = id;
-          if (c->core[j]) c->queue[tail++] = j;
         }
       }
     }

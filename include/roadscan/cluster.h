@@ -38,6 +38,7 @@
 #define RS_MAX_WIN_W 31
 #define RS_ADAPT_BINS 256 /* 1 m range bins */
 #define RS_GRID_BUCKETS (1 << 16)
+#define RS_ROW_WORDS ((RS_MAX_COLS + 63) / 64)
 
 _Static_assert(RS_MAX_CLUSTERS + 3 < UINT16_MAX, "cluster labels fit in uint16_t");
 
@@ -74,6 +75,7 @@ typedef struct {
   uint8_t core[RS_MAX_CELLS];
   uint32_t fg[RS_MAX_CELLS];
   uint32_t queue[RS_MAX_CELLS];
+  uint64_t open[RS_MAX_ROWS * RS_ROW_WORDS];    /* foreground cells not in a cluster yet, per row */
   uint8_t half_w[RS_MAX_ROWS][RS_ADAPT_BINS];   /* adaptive window half-width */
   uint8_t half_h[RS_MAX_ROWS][RS_ADAPT_BINS];   /* adaptive window half-height */
   uint8_t min_pts[RS_MAX_ROWS][RS_ADAPT_BINS];  /* adaptive minPts */
