@@ -21,7 +21,8 @@ void rs_cluster_cfg_default(rs_cluster_cfg_t *c) {
   c->obj_h = 0.8f;
   c->adapt_share = 0.2f;
   c->adapt_min_pts = 3;
-  c->adapt_eps_share = 0.04f;
+  c->adapt_eps_share = 0.03f;
+  c->adapt_eps_rows = 1.0f;
   c->adapt_eps_min = 0.5f;
   c->dbscan_eps = 1.2f;
   c->dbscan_min_pts = 15;
@@ -62,6 +63,19 @@ int rs_cluster_init(rs_cluster_t *c, const rs_cluster_cfg_t *cfg, const rs_senso
 static void build_adaptive(rs_cluster_t *c, int cols) {
   const rs_sensor_t *s = c->sensor;
   const double daz = 2.0 * 3.14159265358979323846 / cols;
+  /* the sensor's median spacing between adjacent rows (radians): adjacent
+   * rows on one surface differ in range in proportion to it */
+  double gaps[RS_MAX_ROWS];
+  int ng = 0;
+  for (int r = 1; r < s->lasers; r++)
+    gaps[ng++] = (s->elevation_deg[s->laser_of_row[r]] - s->elevation_deg[s->laser_of_row[r - 1]]) * D2R;
+  for (int i = 1; i < ng; i++) /* insertion sort, at most 127 values, once per geometry */
+    for (int j = i; j > 0 && gaps[j - 1] > gaps[j]; j--) {
+      double t = gaps[j];
+      gaps[j] = gaps[j - 1];
+      gaps[j - 1] = t;
+    }
+  const double eps_share = fmax(c->cfg.adapt_eps_share, c->cfg.adapt_eps_rows * (ng ? gaps[ng / 2] : 0.0));
   for (int r = 0; r < s->lasers; r++) {
     double el = s->elevation_deg[s->laser_of_row[r]];
     double lo = r > 0 ? el - s->elevation_deg[s->laser_of_row[r - 1]] : 1e9;
@@ -80,8 +94,8 @@ static void build_adaptive(rs_cluster_t *c, int cols) {
       c->half_w[r][b] = (uint8_t)hw;
       c->half_h[r][b] = (uint8_t)hh;
       c->min_pts[r][b] = (uint8_t)mp;
-      double e = c->cfg.adapt_eps_share * range;
-      c->eps_tab[b] = (float)fmin(c->cfg.eps, fmax(c->cfg.adapt_eps_min, e));
+      double e = eps_share * range;
+      c->eps_tab[r][b] = (float)fmin(c->cfg.eps, fmax(c->cfg.adapt_eps_min, e));
     }
   }
   c->cols = cols;
@@ -160,7 +174,7 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
       hh = c->half_h[r][b];
       hw = c->half_w[r][b];
       mp = c->min_pts[r][b];
-      e = c->eps_tab[b];
+      e = c->eps_tab[r][b];
     }
     c->core[i] = count_window(c->rr, rows, cols, r, col, hh, hw, e, mp) >= mp;
   }
@@ -199,7 +213,7 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
         int b = bin_of(c->rr[i]);
         hh = c->half_h[r][b];
         hw = c->half_w[r][b];
-        e = c->eps_tab[b];
+        e = c->eps_tab[r][b];
       }
       const float x = c->rr[i];
       /* the window's columns as at most two segments (it may wrap) */

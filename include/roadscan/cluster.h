@@ -52,7 +52,8 @@ typedef struct {
   float obj_w, obj_h;    /* adaptive: the smallest object to find (m), default 0.5 x 0.8 */
   float adapt_share;     /* adaptive: minPts = share x expected cells, default 0.2 */
   int adapt_min_pts;     /* adaptive: lowest minPts, default 3 */
-  float adapt_eps_share; /* adaptive: eps = clamp(share x range, adapt_eps_min, eps): 0.04, 0.5 m */
+  float adapt_eps_share; /* adaptive: eps = clamp(max(share, adapt_eps_rows x the sensor's median */
+  float adapt_eps_rows;  /*   row spacing in radians) x range, adapt_eps_min, eps): 0.03, 1.0, 0.5 m */
   float adapt_eps_min;
   float dbscan_eps;      /* m, default 1.2 */
   int dbscan_min_pts;    /* default 15 */
@@ -79,7 +80,7 @@ typedef struct {
   uint8_t half_w[RS_MAX_ROWS][RS_ADAPT_BINS];   /* adaptive window half-width */
   uint8_t half_h[RS_MAX_ROWS][RS_ADAPT_BINS];   /* adaptive window half-height */
   uint8_t min_pts[RS_MAX_ROWS][RS_ADAPT_BINS];  /* adaptive minPts */
-  float eps_tab[RS_ADAPT_BINS];                 /* adaptive eps by range */
+  float eps_tab[RS_MAX_ROWS][RS_ADAPT_BINS];    /* adaptive eps by row and range (rows share it today) */
   float px[RS_MAX_CELLS], py[RS_MAX_CELLS], pz[RS_MAX_CELLS];
   int32_t next[RS_MAX_CELLS];
   int32_t heads[RS_GRID_BUCKETS];
