@@ -273,7 +273,8 @@ static inline uint32_t voxel_hash(int x, int y, int z) {
   return h & (RS_GRID_BUCKETS - 1);
 }
 
-static uint32_t region(const rs_cluster_t *c, uint32_t k, float eps, uint32_t *out, uint32_t cap) {
+/* points within eps of point k (itself included) */
+static uint32_t region_count(const rs_cluster_t *c, uint32_t k, float eps) {
   const float x = c->px[k], y = c->py[k], z = c->pz[k], e2 = eps * eps;
   const int ix = (int)floorf(x / eps), iy = (int)floorf(y / eps), iz = (int)floorf(z / eps);
   uint32_t n = 0;
@@ -283,7 +284,6 @@ static uint32_t region(const rs_cluster_t *c, uint32_t k, float eps, uint32_t *o
         for (int32_t j = c->heads[voxel_hash(ix + dx, iy + dy, iz + dz)]; j >= 0; j = c->next[j]) {
           float ax = c->px[j] - x, ay = c->py[j] - y, az = c->pz[j] - z;
           if (ax * ax + ay * ay + az * az > e2) continue;
-          if (out && n < cap) out[n] = (uint32_t)j;
           n++;
         }
   return n;
@@ -307,7 +307,7 @@ static void dbscan(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, rs_cluster_stats
     c->next[k] = c->heads[h];
     c->heads[h] = (int32_t)k;
   }
-  for (uint32_t k = 0; k < nfg; k++) c->core[k] = region(c, k, eps, NULL, 0) >= (uint32_t)c->cfg.dbscan_min_pts;
+  for (uint32_t k = 0; k < nfg; k++) c->core[k] = region_count(c, k, eps) >= (uint32_t)c->cfg.dbscan_min_pts;
   /* labels by point index in queue order; cluster ids written to the slot */
   uint32_t ncl = 0;
   for (uint32_t k = 0; k < nfg; k++) {

@@ -384,6 +384,9 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
             rs_cluster_method_name(p->cfg.cluster->cfg.method), (unsigned long long)p->clusters,
             p->proc.frames ? (double)p->clusters / (double)p->proc.frames : 0.0, (unsigned long long)p->clustered,
             (unsigned long long)p->noise, (unsigned long long)p->cfg.cluster->overflow_total);
+  if (p->cfg.labels_out && p->labels.rejected)
+    fprintf(out, "  labels-out: %llu lines written, %llu not written (address behind an earlier one: packets out of order)\n",
+            (unsigned long long)p->labels.written, (unsigned long long)p->labels.rejected);
   fprintf(out, "  errors: ");
   rs_stream_print_errors(n, out);
   fprintf(out, "\n  timings (CLOCK_MONOTONIC):\n");

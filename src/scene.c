@@ -479,7 +479,6 @@ static void static_cast(const rs_scene_t *sc, int laser, double az, float *range
   double o[3] = {sc->ox, sc->oy, sc->oz}, d[3];
   dir_of(sc, laser, az, d);
   double best = INFINITY, fbest = INFINITY;
-  int bi = 0;
   uint8_t bint = 0, fp = 0;
   if (d[2] < 0) {
     best = -o[2] / d[2];
@@ -497,7 +496,6 @@ static void static_cast(const rs_scene_t *sc, int laser, double az, float *range
       if (t < fbest) {
         fbest = t;
         fp = (uint8_t)(p->a[4] * 255.0f);
-        bi = p->intensity;
       }
       continue;
     }
@@ -510,7 +508,6 @@ static void static_cast(const rs_scene_t *sc, int laser, double az, float *range
   *inten = bint;
   *fol = (isfinite(fbest) && fbest < best) ? (float)fbest : 0.0f;
   *folp = *fol > 0 ? fp : 0;
-  (void)bi;
 }
 
 /* Row k: a block whose azimuth field reads k (0.01 degree); column: the

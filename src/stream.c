@@ -60,7 +60,7 @@ static int make_sensor(rs_stream_t *st, rs_model_t m) {
     }
   }
   st->sensor_ready = true;
-  if (st->cfg.log) fprintf(st->cfg.log, "roadscan: sensor %s (%s)%s\n", m == st->det.forced ? rs_model_name(m) : rs_model_name(m),
+  if (st->cfg.log) fprintf(st->cfg.log, "roadscan: sensor %s (%s)%s\n", rs_model_name(m),
                            st->det.reason, st->cfg.calib ? ", per-unit calibration applied" : "");
   return RS_OK;
 }

@@ -59,8 +59,6 @@ START_TEST(t_models_and_modes) {
                "--seed 3 -o %s --labels %s",
                models[m], modes[k], pcap, truth);
       ck_assert_int_eq(tu_exec(cmd, &out), 0);
-      unsigned long long packets = field_after(out, "(");
-      (void)packets;
       unsigned long long written = field_after(out, "): ");
       decode_file(pcap);
       ck_assert_int_eq(st.sensor.info->model, ids[m]);

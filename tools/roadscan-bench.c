@@ -140,8 +140,7 @@ static uint64_t run_pass(const rs_sensor_t *s, const pkts_t *p, rs_asm_t *a, int
   return points;
 }
 
-static double packet_rate(const rs_model_info_t *mi, bool dual, double hz) {
-  (void)hz;
+static double packet_rate(const rs_model_info_t *mi, bool dual) {
   int groups = mi->blocks_per_cycle > 1 ? (dual ? 1 : 3) : (dual ? 6 : 12);
   return 1e6 / (groups * rs_model_group_us(mi));
 }
@@ -179,7 +178,7 @@ static int synthetic(double seconds) {
       double pps = (double)packets / ((double)elapsed * 1e-9);
       printf("%-12s %-9s %10llu %12.0f %12.2f %10.2f %9.1f\n", s.info->name, rs_return_mode_name(modes[mi]),
              (unsigned long long)packets, pps, (double)points / ((double)elapsed * 1e-9) / 1e6, 1e6 / pps,
-             pps / packet_rate(s.info, modes[mi] == RS_MODE_DUAL, 10.0));
+             pps / packet_rate(s.info, modes[mi] == RS_MODE_DUAL));
       free(p.data);
       free(p.ts);
     }

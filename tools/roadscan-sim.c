@@ -281,7 +281,6 @@ int main(int argc, char **argv) {
       rs_pcapw_write(&w, t0 + t_pkt * 1e-6 + 1e-5, RS_DEFAULT_POSITION_PORT, pos, sizeof pos);
     }
     index++;
-    (void)az_end;
   }
   rs_pcapw_close(&w);
   int lrc = rs_labels_finish(&lw);
