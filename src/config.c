@@ -7,6 +7,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <strings.h>
 
 int rs_cfg_double(const char *key, const char *s, double lo, double hi, double *out, char *err, size_t n) {
   char *end;
@@ -46,4 +47,20 @@ int rs_cfg_long(const char *key, const char *s, long lo, long hi, long *out, cha
   }
   *out = v;
   return RS_OK;
+}
+
+int rs_cfg_bool(const char *key, const char *s, bool *out, char *err, size_t n) {
+  static const char *yes[] = {"1", "true", "yes", "on"}, *no[] = {"0", "false", "no", "off"};
+  for (size_t i = 0; s && i < 4; i++) {
+    if (strcasecmp(s, yes[i]) == 0) {
+      *out = true;
+      return RS_OK;
+    }
+    if (strcasecmp(s, no[i]) == 0) {
+      *out = false;
+      return RS_OK;
+    }
+  }
+  snprintf(err, n, "%s: '%s' is not true or false (yes/no, on/off, 1/0)", key, s ? s : "");
+  return RS_E_INVAL;
 }

@@ -6,6 +6,7 @@
 #include "roadscan/pipeline.h"
 
 #include "roadscan/error.h"
+#include "roadscan/log.h"
 
 #include <inttypes.h>
 #include <math.h>
@@ -32,6 +33,10 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
   rs_timing_init(&p->t_frame, "processing/frame");
   rs_timing_init(&p->t_background, "background/frame");
   rs_timing_init(&p->t_cluster, "cluster/frame");
+  rs_timing_init(&p->t_objects, "objects/frame");
+  rs_timing_init(&p->t_publish, "publish/frame");
+  rs_timing_init(&p->t_latency, "latency (frame complete -> published)");
+  p->line.t0_ns = rs_now_ns();
   if (cfg->background) {
     /* the map must have the model's geometry */
     p->cfg.assembly.columns = cfg->background->cols;
@@ -201,13 +206,13 @@ static void learn_frame(rs_pipeline_t *p, const rs_slot_t *s) {
     double hz = s->meta.rate_hz > 0 ? s->meta.rate_hz : 10.0;
     int frames = (int)ceil(p->cfg.learn_seconds * hz) + 2;
     if (rs_bg_learner_init(&p->learner, s->meta.model, s->meta.rows, s->meta.cols, frames, 1) != RS_OK) {
-      fprintf(stderr, "roadscan: cannot allocate %d frames for learning the background; going on without\n", frames);
+      rs_log(RS_LOG_ERR, "cannot allocate %d frames for learning the background; going on without", frames);
       p->cfg.learn_seconds = 0;
       return;
     }
     p->learning = true;
     p->learn_t0 = s->meta.t_first;
-    fprintf(stderr, "roadscan: learning the background from the first %.0f s\n", p->cfg.learn_seconds);
+    rs_log(RS_LOG_INFO, "learning the background from the first %.0f s", p->cfg.learn_seconds);
   }
   if (s->meta.t_first - p->learn_t0 < p->cfg.learn_seconds && p->learner.nframes < p->learner.max_frames) {
     rs_bg_learner_add(&p->learner, s);
@@ -222,40 +227,92 @@ static void learn_frame(rs_pipeline_t *p, const rs_slot_t *s) {
   p->learning = false;
   p->cfg.learn_seconds = 0;
   if (rc != RS_OK) {
-    fprintf(stderr, "roadscan: learning the background failed: %s\n", rs_strerror(rc));
+    rs_log(RS_LOG_ERR, "learning the background failed: %s", rs_strerror(rc));
     return;
   }
   p->have_learned = true;
   p->cfg.background = &p->learned;
   char err[RS_ERRMSG_SIZE];
   if (p->cfg.learn_out && rs_bg_save(&p->learned, p->cfg.learn_out, err, sizeof err) != RS_OK)
-    fprintf(stderr, "roadscan: %s\n", err);
-  fprintf(stderr, "roadscan: background learned from %u frames in %.1f s%s%s\n", p->learned.frames, p->learn_s,
+    rs_log(RS_LOG_ERR, "%s", err);
+  rs_log(RS_LOG_INFO, "background learned from %u frames in %.1f s%s%s", p->learned.frames, p->learn_s,
           p->cfg.learn_out ? ", saved to " : "", p->cfg.learn_out ? p->cfg.learn_out : "");
 }
+
+static void stage_time(rs_pipeline_t *p, rs_timing_t *t, int64_t ns) {
+  rs_timing_add(t, ns);
+  if (ns > p->line.worst_ns) {
+    p->line.worst_ns = ns;
+    p->line.worst = t->name;
+  }
+}
+
+/* One log line per summary_s seconds: never one per frame or packet. */
+static void maybe_log_line(rs_pipeline_t *p) {
+  if (p->cfg.summary_s <= 0) return;
+  int64_t now = rs_now_ns();
+  double dt = (double)(now - p->line.t0_ns) * 1e-9;
+  if (dt < p->cfg.summary_s) return;
+  uint64_t frames = p->proc.frames - p->line.frames, objects = p->objects - p->line.objects;
+  rs_log(RS_LOG_INFO,
+         "last %.0f s: %" PRIu64 " frames (%.1f/s), %" PRIu64 " objects; totals: %" PRIu64 " frames, %" PRIu64
+         " dropped, %" PRIu64 " over budget, %" PRIu64 " packets missing; worst stage %s %.2f ms",
+         dt, frames, (double)frames / dt, objects, p->proc.frames, rs_ring_dropped(&p->ring), p->overruns,
+         p->proc.missing_packets, p->line.worst ? p->line.worst : "-", (double)p->line.worst_ns * 1e-6);
+  p->line.t0_ns = now;
+  p->line.frames = p->proc.frames;
+  p->line.objects = p->objects;
+  p->line.worst_ns = 0;
+  p->line.worst = NULL;
+}
+
+static const rs_object_list_t no_objects;
 
 static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
   if (p->cfg.learn_seconds > 0 && p->cfg.background == NULL) learn_frame(p, s);
   int64_t t0 = rs_now_ns();
+  int64_t bg_ns = 0, cl_ns = 0, obj_ns = 0, pub_ns = 0;
   if (p->cfg.background && !p->rate_checked && !s->meta.partial && p->cfg.background->rate_hz > 0) {
     p->rate_checked = true;
     double want = p->cfg.background->rate_hz, got = s->meta.rate_hz;
     if (fabs(got - want) > 0.05 * want)
-      fprintf(stderr, "roadscan: the sensor turns at %.2f Hz, the background model was learned at %.2f Hz: relearn it\n",
-              got, want);
+      rs_log(RS_LOG_WARN, "the sensor turns at %.2f Hz, the background model was learned at %.2f Hz: relearn it", got,
+             want);
   }
+  uint64_t fg0 = p->bg.foreground;
   if (p->cfg.background && s->meta.cols == p->cfg.background->cols && s->meta.rows == p->cfg.background->rows) {
     rs_bg_subtract(p->cfg.background, s, &p->bg);
-    rs_timing_add(&p->t_background, rs_now_ns() - t0);
+    bg_ns = rs_now_ns() - t0;
+    stage_time(p, &p->t_background, bg_ns);
   }
+  rs_cluster_stats_t cs;
+  memset(&cs, 0, sizeof cs);
+  const rs_object_list_t *objs = &no_objects;
   if (p->cfg.cluster && p->cfg.cluster->cfg.method != RS_CLUSTER_NONE && (p->cfg.background || p->cfg.learn_seconds <= 0)) {
     int64_t tc = rs_now_ns();
-    rs_cluster_stats_t cs;
     rs_cluster_run(p->cfg.cluster, s, &cs);
-    rs_timing_add(&p->t_cluster, rs_now_ns() - tc);
+    cl_ns = rs_now_ns() - tc;
+    stage_time(p, &p->t_cluster, cl_ns);
     p->clusters += cs.clusters;
     p->clustered += cs.clustered;
     p->noise += cs.noise;
+    if (p->cfg.objects) {
+      int64_t to = rs_now_ns();
+      rs_objects_extract(p->cfg.objects, s, &p->stream.sensor, p->cfg.object_list);
+      obj_ns = rs_now_ns() - to;
+      stage_time(p, &p->t_objects, obj_ns);
+      objs = p->cfg.object_list;
+      p->objects += cs.clusters;
+    }
+  }
+  int64_t published_ns = 0;
+  if (p->cfg.publish) {
+    int64_t tp = rs_now_ns();
+    rs_publish_objects(p->cfg.publish, &s->meta, objs, rs_publish_utime());
+    published_ns = rs_now_ns();
+    pub_ns = published_ns - tp;
+    stage_time(p, &p->t_publish, pub_ns);
+    if (s->meta.assembled_ns > 0) rs_timing_add(&p->t_latency, published_ns - s->meta.assembled_ns);
   }
   const rs_frame_meta_t *m = &s->meta;
   uint32_t filled[RS_LAYERS] = {0, 0};
@@ -273,6 +330,7 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
   }
   p->proc.frames++;
   if (m->partial) p->proc.partial_frames++;
+  p->proc.missing_packets += m->missing_packets;
   p->proc.points += m->points;
   p->proc.cells_filled[0] += filled[0];
   p->proc.cells_filled[1] += filled[1];
@@ -283,6 +341,32 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
   if (p->labels_open) write_labels(p, s);
   int64_t dt = rs_now_ns() - t0;
   rs_timing_add(&p->t_frame, dt);
+  double budget_ms = p->cfg.budget_ms > 0 ? p->cfg.budget_ms : 1000.0 / (m->rate_hz > 0 ? m->rate_hz : 10.0);
+  if ((double)dt * 1e-6 > budget_ms) p->overruns++;
+  if (p->cfg.publish) {
+    roadscan_frame_stats_t st;
+    memset(&st, 0, sizeof st);
+    st.utime = rs_publish_utime();
+    st.sensor_id = p->cfg.publish->sensor_id;
+    st.frame_seq = (int64_t)m->seq;
+    st.background_us = (int32_t)(bg_ns / 1000);
+    st.cluster_us = (int32_t)(cl_ns / 1000);
+    st.objects_us = (int32_t)(obj_ns / 1000);
+    st.publish_us = (int32_t)(pub_ns / 1000);
+    st.processing_us = (int32_t)(dt / 1000);
+    st.latency_us = m->assembled_ns > 0 ? (int32_t)((published_ns - m->assembled_ns) / 1000) : -1;
+    st.points = (int32_t)m->points;
+    st.foreground = (int32_t)(p->bg.foreground - fg0);
+    st.clusters = (int32_t)cs.clusters;
+    st.noise = (int32_t)cs.noise;
+    st.frames_processed = (int64_t)p->proc.frames;
+    st.frames_dropped = (int64_t)m->dropped_frames;
+    st.deadline_overruns = (int64_t)p->overruns;
+    st.packets_missing = (int64_t)p->proc.missing_packets;
+    st.truncated_lists = (int64_t)p->cfg.publish->truncated_lists;
+    st.budget_ms = (float)budget_ms;
+    rs_publish_stats(p->cfg.publish, &st);
+  }
   if (p->cfg.frames_out) {
     fprintf(p->cfg.frames_out,
             "%" PRIu64 ",%.6f,%.6f,%u,%u,%u,%u,%" PRIu64 ",%u,%u,%u,%u,%u,%d,%u,%u,%.3f,%s,%u,%u,%u,%u,%.3f,%.3f,%.1f\n",
@@ -302,11 +386,13 @@ static void *proc_main(void *arg) {
         idx = rs_ring_take(&p->ring, 0);
         if (idx < 0) break;
       } else {
+        maybe_log_line(p);
         continue;
       }
     }
     process_frame(p, &p->slots[idx]);
     rs_ring_release(&p->ring, idx);
+    maybe_log_line(p);
   }
   if (p->cfg.frames_out) fflush(p->cfg.frames_out);
   if (p->labels_open && rs_labels_finish(&p->labels) != RS_OK) {
@@ -384,6 +470,19 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
             rs_cluster_method_name(p->cfg.cluster->cfg.method), (unsigned long long)p->clusters,
             p->proc.frames ? (double)p->clusters / (double)p->proc.frames : 0.0, (unsigned long long)p->clustered,
             (unsigned long long)p->noise, (unsigned long long)p->cfg.cluster->overflow_total);
+  if (p->cfg.publish) {
+    const rs_publish_t *pub = p->cfg.publish;
+    fprintf(out, "  lcm: %llu object lists on %s, %llu statistics%s%s, %s; %llu truncated (%llu objects beyond %u), %llu errors\n",
+            (unsigned long long)pub->lists, pub->channel, (unsigned long long)pub->stats,
+            pub->stats_channel[0] ? " on " : "", pub->stats_channel, pub->url, (unsigned long long)pub->truncated_lists,
+            (unsigned long long)pub->objects_dropped, pub->cap, (unsigned long long)pub->errors);
+  }
+  fprintf(out, "  deadline: %llu of %llu frames over budget (",
+          (unsigned long long)p->overruns, (unsigned long long)p->proc.frames);
+  if (p->cfg.budget_ms > 0)
+    fprintf(out, "%.1f ms)\n", p->cfg.budget_ms);
+  else
+    fprintf(out, "the frame period)\n");
   if (p->cfg.labels_out && p->labels.rejected)
     fprintf(out, "  labels-out: %llu lines written, %llu not written (address behind an earlier one: packets out of order)\n",
             (unsigned long long)p->labels.written, (unsigned long long)p->labels.rejected);
@@ -393,5 +492,8 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
   rs_timing_print(&p->t_packet, out);
   if (p->cfg.background) rs_timing_print(&p->t_background, out);
   if (p->cfg.cluster && p->cfg.cluster->cfg.method != RS_CLUSTER_NONE) rs_timing_print(&p->t_cluster, out);
+  if (p->t_objects.n) rs_timing_print(&p->t_objects, out);
+  if (p->t_publish.n) rs_timing_print(&p->t_publish, out);
   rs_timing_print(&p->t_frame, out);
+  if (p->t_latency.n) rs_timing_print(&p->t_latency, out);
 }

@@ -1,11 +1,13 @@
 /* roadscan-eval - compare two point-label files over a capture.
  *
- *   roadscan-eval CAPTURE TRUTH PRED [--json]
+ *   roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE]
  *
  * Reads the capture with the project's decoder, walks its returns in
  * address order merging both label files (unlisted = 1), cuts frames where
  * a block azimuth is smaller than the previous block's (the spec's rule),
- * skips frame 0, and prints the metrics. Single-threaded tool. */
+ * skips frame 0, and prints the metrics. --objects writes the centroid of
+ * every true instance of every frame (frame numbers as roadscand's
+ * frame_seq: 0 is the part before the first roll-over). Single-threaded. */
 #include "roadscan/eval.h"
 #include "roadscan/labels.h"
 #include "roadscan/stream.h"
@@ -22,8 +24,17 @@ typedef struct {
   const char *role;
 } src_t;
 
+#define MAX_INST 4096
+typedef struct {
+  uint32_t label, n;
+  double sum[3];
+} inst_t;
+
 typedef struct {
   src_t s[2];
+  FILE *objects;
+  inst_t inst[MAX_INST];
+  uint32_t ninst, last;
   rs_eval_t ev;
   int prev_az;
   uint64_t frame;
@@ -32,6 +43,35 @@ typedef struct {
 } ctx_t;
 
 static rs_stream_t stream;
+
+static void add_instance(ctx_t *c, uint32_t label, const rs_point_t *p) {
+  if (c->last >= c->ninst || c->inst[c->last].label != label) {
+    uint32_t i = 0;
+    while (i < c->ninst && c->inst[i].label != label) i++;
+    if (i == c->ninst) {
+      if (c->ninst == MAX_INST) return;
+      c->inst[c->ninst++] = (inst_t){label, 0, {0, 0, 0}};
+    }
+    c->last = i;
+  }
+  inst_t *t = &c->inst[c->last];
+  t->n++;
+  t->sum[0] += p->x;
+  t->sum[1] += p->y;
+  t->sum[2] += p->z;
+}
+
+static void end_frame(ctx_t *c) {
+  rs_eval_end_frame(&c->ev, c->frame > 0);
+  for (uint32_t i = 0; c->objects && i < c->ninst; i++) {
+    const inst_t *t = &c->inst[i];
+    if (t->n >= RS_EVAL_MIN_INSTANCE)
+      fprintf(c->objects, "%llu,%u,%u,%.4f,%.4f,%.4f\n", (unsigned long long)c->frame, t->label, t->n, t->sum[0] / t->n,
+              t->sum[1] / t->n, t->sum[2] / t->n);
+  }
+  c->ninst = 0;
+  c->last = 0;
+}
 
 static int advance(ctx_t *c, src_t *s) {
   int rc = rs_labels_next(&s->rd, &s->cur);
@@ -68,7 +108,7 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
   for (int b = 0; b < pkt->blocks; b++) {
     int az = pkt->block_azimuth[b];
     if (c->prev_az >= 0 && az < c->prev_az) {
-      rs_eval_end_frame(&c->ev, c->frame > 0);
+      end_frame(c);
       c->frame++;
     }
     c->prev_az = az;
@@ -78,29 +118,46 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
       uint32_t t = label_at(c, &c->s[0], key), pr = label_at(c, &c->s[1], key);
       if (c->failed) return;
       rs_eval_point(&c->ev, t, pr, p->distance, c->frame > 0);
+      if (c->objects && t >= 3) add_instance(c, t, p);
     }
   }
 }
 
 int main(int argc, char **argv) {
-  static const struct option opts[] = {{"json", no_argument, NULL, 'j'}, {"help", no_argument, NULL, 'h'}, {NULL, 0, NULL, 0}};
+  static const struct option opts[] = {{"json", no_argument, NULL, 'j'},
+                                       {"objects", required_argument, NULL, 'o'},
+                                       {"help", no_argument, NULL, 'h'},
+                                       {NULL, 0, NULL, 0}};
   bool json = false;
+  const char *objects_path = NULL;
   int o;
   while ((o = getopt_long(argc, argv, "", opts, NULL)) != -1) {
     if (o == 'j') json = true;
+    else if (o == 'o') objects_path = optarg;
     else if (o == 'h') {
-      printf("usage: roadscan-eval CAPTURE TRUTH PRED [--json]\n"
-             "Point-label files as in specs/point-labels.md; metrics as in the FSPC paper's Table 3.\n");
+      printf("usage: roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE]\n"
+             "Point-label files as in specs/point-labels.md; metrics as in the FSPC paper's Table 3.\n"
+             "  --objects FILE  CSV frame,instance,points,x,y,z: the centroid (sensor frame) of every true\n"
+             "                  instance of at least %d returns in every frame\n",
+             RS_EVAL_MIN_INSTANCE);
       return 0;
     } else {
       return 2;
     }
   }
   if (argc - optind != 3) {
-    fprintf(stderr, "usage: roadscan-eval CAPTURE TRUTH PRED [--json]\n");
+    fprintf(stderr, "usage: roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE]\n");
     return 2;
   }
   static ctx_t c;
+  if (objects_path) {
+    c.objects = fopen(objects_path, "w");
+    if (c.objects == NULL) {
+      fprintf(stderr, "roadscan-eval: --objects %s: cannot write\n", objects_path);
+      return 1;
+    }
+    fprintf(c.objects, "frame,instance,points,x,y,z\n");
+  }
   c.prev_az = -1;
   c.s[0].role = "truth";
   c.s[1].role = "prediction";
@@ -126,7 +183,11 @@ int main(int argc, char **argv) {
     fprintf(stderr, "roadscan-eval: %s\n", rerr);
     if (rc != RS_E_TRUNCATED) return 1;
   }
-  if (!c.failed) rs_eval_end_frame(&c.ev, c.frame > 0);
+  if (!c.failed) end_frame(&c);
+  if (c.objects && fclose(c.objects) != 0) {
+    fprintf(stderr, "roadscan-eval: --objects %s: write failed\n", objects_path);
+    return 1;
+  }
   for (int i = 0; i < 2 && !c.failed; i++)
     if (c.s[i].have)
       snprintf(c.err, sizeof c.err, "%s labels: %s:%ld: address %u,%u,%u is not a return of the capture", c.s[i].role,

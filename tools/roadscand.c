@@ -1,14 +1,21 @@
 /* roadscand - the roadside LiDAR daemon.
  *
- * Main thread: parses options, loads calibration, starts the pipeline
- * (packet thread + processing thread), waits, prints the summary. Signal
- * handlers only set the pipeline's stop flag. All large state is static. */
+ * Main thread: reads the config file (INI, inih) and then the command line
+ * (which overrides it) through one table of options, loads calibration and
+ * background, opens the LCM publisher, starts the pipeline (packet thread +
+ * processing thread), waits, prints the summary. Signal handlers only set
+ * the pipeline's stop flag. All large state is static. */
 #include "roadscan/calib.h"
 #include "roadscan/config.h"
 #include "roadscan/error.h"
+#include "roadscan/log.h"
 #include "roadscan/pipeline.h"
 
+#include <ini.h>
+
+#include <errno.h>
 #include <getopt.h>
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -20,12 +27,53 @@ static rs_pipeline_t pipeline;
 static rs_calib_t calib;
 static rs_bg_model_t bgmodel;
 static rs_cluster_t cluster;
+static rs_objects_t objects;
+static rs_object_list_t object_list;
+static rs_publish_t publisher;
+
+/* Every option: its command-line name is its config-file key, in `section`. */
+#define OPTIONS(X)                                                                                   \
+  X(PCAP, "pcap", 1, "source") X(SPEED, "speed", 1, "source") X(FAST, "fast", 0, "source")            \
+  X(LOOP, "loop", 0, "source") X(IFACE, "iface", 1, "source") X(PORT, "port", 1, "source")            \
+  X(SOURCE, "source", 1, "source") X(MODEL, "model", 1, "sensor") X(CALIB, "calibration", 1, "sensor") \
+  X(RPM, "rpm", 1, "sensor") X(POSE, "pose", 1, "sensor") X(COLS, "columns", 1, "sensor")               \
+  X(CUT, "cut-azimuth", 1, "sensor") X(BG, "background", 1, "background")                             \
+  X(LEARN, "learn-seconds", 1, "background") X(LEARN_OUT, "learn-out", 1, "background")              \
+  X(CLUSTER, "cluster", 1, "cluster") X(WINDOW, "window", 1, "cluster") X(EPS, "eps", 1, "cluster")     \
+  X(MINPTS, "min-pts", 1, "cluster") X(URL, "lcm-url", 1, "lcm") X(CHANNEL, "channel", 1, "lcm")       \
+  X(STATS, "stats-channel", 1, "lcm") X(SENSOR_ID, "sensor-id", 1, "lcm")                             \
+  X(DATAGRAM, "max-datagram", 1, "lcm") X(NO_PUBLISH, "no-publish", 0, "lcm")                         \
+  X(BUDGET, "budget-ms", 1, "daemon") X(SUMMARY, "summary-seconds", 1, "daemon")                      \
+  X(SYSLOG, "syslog", 0, "daemon") X(FRAMES, "frames-out", 1, "daemon")                               \
+  X(LABELS, "labels-out", 1, "daemon") X(QUIET, "quiet", 0, "daemon")
+
+enum {
+#define X(id, name, arg, sec) O_##id,
+  OPTIONS(X)
+#undef X
+  O_COUNT,
+  O_CONFIG = O_COUNT, O_HELP, O_VERSION
+};
+static const struct {
+  const char *name;
+  int arg;
+  const char *section;
+} defs[O_COUNT] = {
+#define X(id, name, arg, sec) {name, arg, sec},
+    OPTIONS(X)
+#undef X
+};
 
 static void usage(FILE *out) {
   fprintf(out,
-          "usage: roadscand (--pcap FILE | --iface NAME) [options]\n"
+          "usage: roadscand [--config FILE] (--pcap FILE | --iface NAME) [options]\n"
           "\n"
-          "Source\n"
+          "Every option can also be set in the config file (INI): the key is the option's name,\n"
+          "in the section shown in brackets; flags take true/false. The command line overrides\n"
+          "the file. Example: /usr/share/doc/roadscan/roadscand.ini (packaging/roadscand.ini).\n"
+          "  --config FILE        read options from FILE first\n"
+          "\n"
+          "Source [source]\n"
           "  --pcap FILE          replay a pcap or pcapng capture\n"
           "  --speed X            replay at X times the original timing (default 1)\n"
           "  --fast               replay as fast as possible, never dropping a frame (analysis)\n"
@@ -33,35 +81,51 @@ static void usage(FILE *out) {
           "  --iface NAME         capture live from a network interface (needs CAP_NET_RAW)\n"
           "  --port N             sensor data UDP port (default 2368)\n"
           "  --source ADDR        only packets from this sensor address\n"
-          "Sensor\n"
+          "Sensor [sensor]\n"
           "  --model NAME         force the model: %s\n"
           "                       (default: detected from the packets)\n"
           "  --calibration FILE   per-unit calibration (ROS velodyne YAML)\n"
           "  --rpm N              rotation rate assumed until one is measured (default 600)\n"
-          "Background\n"
+          "  --pose \"X Y Z ROLL PITCH YAW\"\n"
+          "                       the sensor's pose in the site (metres, degrees; site = Rz Ry Rx p + t):\n"
+          "                       objects are also published in the site frame\n"
+          "  --columns N          azimuth bins of the map (default: from the measured rate)\n"
+          "  --cut-azimuth DEG    azimuth where frames start (default 0)\n"
+          "Background [background]\n"
           "  --background MODEL   static-scene model (roadscan-learn): its returns are labelled 1,\n"
           "                       the rest 2 until clustering\n"
           "  --learn-seconds N    with no --background: learn the model from the first N seconds\n"
           "                       of frames, then subtract it (real-time replay drops frames while\n"
           "                       it learns; --fast does not)\n"
           "  --learn-out MODEL    save the model learned online\n"
-          "Clustering (of the foreground)\n"
+          "Clustering of the foreground [cluster]\n"
           "  --cluster METHOD     fspc (default with a background), fspc-adaptive, dbscan, ccl, none\n"
           "  --window HxW         FSPC window, odd numbers (default 5x11)\n"
           "  --eps M              FSPC range difference (default 1.8); DBSCAN radius with --cluster dbscan (1.2)\n"
           "  --min-pts N          core threshold, the centre counted (default 15)\n"
-          "Frames\n"
-          "  --columns N          azimuth bins of the map (default: from the measured rate)\n"
-          "  --cut-azimuth DEG    azimuth where frames start (default 0)\n"
-          "Output\n"
+          "LCM [lcm]: one object list and one statistics message per frame\n"
+          "  --lcm-url URL        LCM provider (default %s; memq:// and\n"
+          "                       file://PATH?mode=w also work)\n"
+          "  --channel NAME       object lists (default %s)\n"
+          "  --stats-channel NAME per-frame statistics (default %s; 'none' = not sent)\n"
+          "  --sensor-id ID       sensor_id field of every message (default roadscan)\n"
+          "  --max-datagram N     bytes of one LCM datagram; sets the object cap (default %d, min %d)\n"
+          "  --no-publish         do not publish (analysis runs)\n"
+          "Daemon [daemon]\n"
+          "  --budget-ms MS       processing budget per frame (default: the frame period); overruns\n"
+          "                       are counted and reported\n"
+          "  --summary-seconds S  one log line every S seconds (default 10, 0 = none)\n"
+          "  --syslog             log to syslog (daemon facility) instead of stderr\n"
           "  --frames-out FILE    one CSV line per frame\n"
           "  --labels-out FILE    the pipeline's label of every return (specs/point-labels.md)\n"
-          "  --quiet              no summary\n"
+          "  --quiet              no summary at the end\n"
           "  --help, --version\n"
           "\n"
           "SIGINT/SIGTERM stop cleanly and print the summary. Exit status: 0 done (input errors are\n"
-          "counted in the summary), 1 fatal error, 2 bad usage.\n",
-          rs_model_names());
+          "counted in the summary), 1 fatal error (including an LCM URL that cannot publish), 2 bad\n"
+          "usage or configuration.\n",
+          rs_model_names(), RS_PUB_DEFAULT_URL, RS_PUB_DEFAULT_CHANNEL, RS_PUB_DEFAULT_STATS, RS_PUB_DATAGRAM_MAX,
+          RS_PUB_DATAGRAM_MIN);
 }
 
 static void on_signal(int sig) {
@@ -70,185 +134,317 @@ static void on_signal(int sig) {
 }
 
 static int bad(const char *msg) {
-  fprintf(stderr, "roadscand: %s\n", msg);
+  rs_log(RS_LOG_ERR, "%s", msg);
   return 2;
 }
 
-int main(int argc, char **argv) {
-  enum { O_PCAP = 256, O_SPEED, O_FAST, O_LOOP, O_IFACE, O_PORT, O_SOURCE, O_MODEL, O_CALIB, O_RPM, O_COLS,
-         O_CUT, O_FRAMES, O_LABELS, O_BG, O_LEARN, O_LEARN_OUT, O_CLUSTER, O_WINDOW, O_EPS, O_MINPTS, O_QUIET, O_HELP, O_VERSION };
-  static const struct option opts[] = {
-      {"pcap", required_argument, NULL, O_PCAP},       {"speed", required_argument, NULL, O_SPEED},
-      {"fast", no_argument, NULL, O_FAST},             {"loop", no_argument, NULL, O_LOOP},
-      {"iface", required_argument, NULL, O_IFACE},     {"port", required_argument, NULL, O_PORT},
-      {"source", required_argument, NULL, O_SOURCE},   {"model", required_argument, NULL, O_MODEL},
-      {"calibration", required_argument, NULL, O_CALIB}, {"rpm", required_argument, NULL, O_RPM},
-      {"columns", required_argument, NULL, O_COLS},    {"cut-azimuth", required_argument, NULL, O_CUT},
-      {"frames-out", required_argument, NULL, O_FRAMES}, {"labels-out", required_argument, NULL, O_LABELS},
-      {"background", required_argument, NULL, O_BG},  {"quiet", no_argument, NULL, O_QUIET},
-      {"learn-seconds", required_argument, NULL, O_LEARN}, {"learn-out", required_argument, NULL, O_LEARN_OUT},
-      {"cluster", required_argument, NULL, O_CLUSTER}, {"window", required_argument, NULL, O_WINDOW},
-      {"eps", required_argument, NULL, O_EPS},          {"min-pts", required_argument, NULL, O_MINPTS},
-      {"help", no_argument, NULL, O_HELP},             {"version", no_argument, NULL, O_VERSION},
-      {NULL, 0, NULL, 0}};
+/* Everything the options set. */
+static struct {
   rs_pipeline_cfg_t cfg;
-  memset(&cfg, 0, sizeof cfg);
-  cfg.capture.speed = 1.0;
-  cfg.capture.data_port = RS_DEFAULT_DATA_PORT;
-  cfg.stream.log = stderr;
-  cfg.assembly.default_hz = 10.0;
-  const char *frames_path = NULL, *calib_path = NULL, *bg_path = NULL;
-  bool quiet = false, fast = false, speed_set = false, cluster_set = false;
-  double eps_set = 0;
   rs_cluster_cfg_t ccfg;
-  rs_cluster_cfg_default(&ccfg);
-  char err[RS_ERRMSG_SIZE];
+  rs_publish_cfg_t pub;
+  rs_pose_t pose;
+  const char *frames_path, *calib_path, *bg_path;
+  bool quiet, fast, speed_set, cluster_set, have_pose, no_publish, use_syslog;
+  double eps;
+} st;
+
+static int set_flag(const char *key, const char *val, bool *out, char *err, size_t n) {
+  if (val == NULL) {
+    *out = true;
+    return RS_OK;
+  }
+  return rs_cfg_bool(key, val, out, err, n);
+}
+
+/* Applies one option; key names it in messages ("--eps", "file: [cluster] eps").
+ * val is NULL for a flag given on the command line. Strings are kept. */
+static int apply(int id, const char *val, const char *key, char *err, size_t n) {
   double d;
   long l;
+  rs_pipeline_cfg_t *cfg = &st.cfg;
+  const char *v = val && (defs[id].arg || id == O_FAST) ? strdup(val) : val;
+  if (val && !v) {
+    snprintf(err, n, "%s: out of memory", key);
+    return RS_E_NOMEM;
+  }
+  switch (id) {
+  case O_PCAP: cfg->pcap_path = v; break;
+  case O_IFACE: cfg->iface = v; break;
+  case O_SPEED:
+    if (rs_cfg_double(key, v, 0.001, 1000.0, &cfg->capture.speed, err, n)) return RS_E_INVAL;
+    st.speed_set = true;
+    break;
+  case O_FAST: return set_flag(key, v, &st.fast, err, n);
+  case O_LOOP: return set_flag(key, v, &cfg->capture.loop, err, n);
+  case O_PORT:
+    if (rs_cfg_long(key, v, 1, 65535, &l, err, n)) return RS_E_INVAL;
+    cfg->capture.data_port = (uint16_t)l;
+    break;
+  case O_SOURCE: cfg->capture.source_addr = v; break;
+  case O_MODEL:
+    cfg->stream.force_model = rs_model_from_name(v);
+    if (cfg->stream.force_model == RS_MODEL_UNKNOWN) {
+      snprintf(err, n, "%s: unknown sensor '%s' (known: %s)", key, v, rs_model_names());
+      return RS_E_INVAL;
+    }
+    break;
+  case O_CALIB: st.calib_path = v; break;
+  case O_RPM:
+    if (rs_cfg_double(key, v, 300.0, 1200.0, &d, err, n)) return RS_E_INVAL;
+    cfg->assembly.default_hz = d / 60.0;
+    break;
+  case O_POSE: {
+    double x[6];
+    char tail;
+    if (sscanf(v, "%lf %lf %lf %lf %lf %lf %c", &x[0], &x[1], &x[2], &x[3], &x[4], &x[5], &tail) != 6) {
+      snprintf(err, n, "%s: '%s' is not six numbers \"X Y Z ROLL PITCH YAW\" (metres, degrees)", key, v);
+      return RS_E_INVAL;
+    }
+    for (int i = 0; i < 6; i++)
+      if (!isfinite(x[i]) || (i < 3 && fabs(x[i]) > 1e7) || (i >= 3 && fabs(x[i]) > 360.0)) {
+        snprintf(err, n, "%s: '%s': positions within 1e7 m, angles within 360 degrees", key, v);
+        return RS_E_INVAL;
+      }
+    const double rad = 3.14159265358979323846 / 180.0;
+    st.pose = (rs_pose_t){x[0], x[1], x[2], x[3] * rad, x[4] * rad, x[5] * rad};
+    st.have_pose = true;
+    break;
+  }
+  case O_COLS:
+    if (rs_cfg_long(key, v, RS_MIN_COLS, RS_MAX_COLS, &l, err, n)) return RS_E_INVAL;
+    cfg->assembly.columns = (int)l;
+    break;
+  case O_CUT:
+    if (rs_cfg_double(key, v, 0.0, 359.99, &cfg->assembly.cut_deg, err, n)) return RS_E_INVAL;
+    break;
+  case O_FRAMES: st.frames_path = v; break;
+  case O_LABELS: cfg->labels_out = v; break;
+  case O_BG: st.bg_path = v; break;
+  case O_LEARN:
+    if (rs_cfg_double(key, v, 1.0, 3600.0, &cfg->learn_seconds, err, n)) return RS_E_INVAL;
+    break;
+  case O_LEARN_OUT: cfg->learn_out = v; break;
+  case O_CLUSTER: {
+    int m = rs_cluster_method_from_name(v);
+    if (m < 0) {
+      snprintf(err, n, "%s: '%s' is not fspc, fspc-adaptive, dbscan, ccl or none", key, v);
+      return RS_E_INVAL;
+    }
+    st.ccfg.method = (rs_cluster_method_t)m;
+    st.cluster_set = true;
+    break;
+  }
+  case O_WINDOW: {
+    int h, w;
+    char tail;
+    if (sscanf(v, "%dx%d%c", &h, &w, &tail) != 2 || h < 1 || w < 1 || h % 2 == 0 || w % 2 == 0 || h > RS_MAX_WIN_H ||
+        w > RS_MAX_WIN_W) {
+      snprintf(err, n, "%s: '%s' is not HxW with odd H <= %d and odd W <= %d", key, v, RS_MAX_WIN_H, RS_MAX_WIN_W);
+      return RS_E_INVAL;
+    }
+    st.ccfg.win_h = h;
+    st.ccfg.win_w = w;
+    break;
+  }
+  case O_EPS:
+    if (rs_cfg_double(key, v, 0.01, 50.0, &st.eps, err, n)) return RS_E_INVAL;
+    break;
+  case O_MINPTS:
+    if (rs_cfg_long(key, v, 1, 255, &l, err, n)) return RS_E_INVAL;
+    st.ccfg.min_pts = st.ccfg.dbscan_min_pts = (int)l;
+    break;
+  case O_URL: st.pub.url = v; break;
+  case O_CHANNEL: st.pub.channel = v; break;
+  case O_STATS: st.pub.stats_channel = strcmp(v, "none") == 0 ? "" : v; break;
+  case O_SENSOR_ID: st.pub.sensor_id = v; break;
+  case O_DATAGRAM:
+    if (rs_cfg_long(key, v, RS_PUB_DATAGRAM_MIN, RS_PUB_DATAGRAM_MAX, &l, err, n)) return RS_E_INVAL;
+    st.pub.max_datagram = (int)l;
+    break;
+  case O_NO_PUBLISH: return set_flag(key, v, &st.no_publish, err, n);
+  case O_BUDGET:
+    if (rs_cfg_double(key, v, 0.1, 10000.0, &cfg->budget_ms, err, n)) return RS_E_INVAL;
+    break;
+  case O_SUMMARY:
+    if (rs_cfg_double(key, v, 0.0, 86400.0, &cfg->summary_s, err, n)) return RS_E_INVAL;
+    break;
+  case O_SYSLOG: return set_flag(key, v, &st.use_syslog, err, n);
+  case O_QUIET: return set_flag(key, v, &st.quiet, err, n);
+  default: snprintf(err, n, "%s: not an option", key); return RS_E_INVAL;
+  }
+  return RS_OK;
+}
+
+typedef struct {
+  const char *path;
+  char err[RS_ERRMSG_SIZE];
+  bool failed;
+} ini_ctx_t;
+
+static int on_ini(void *user, const char *section, const char *name, const char *value) {
+  ini_ctx_t *c = user;
+  if (c->failed) return 0;
+  char key[512];
+  snprintf(key, sizeof key, "%s: [%s] %s", c->path, section, name);
+  for (int id = 0; id < O_COUNT; id++) {
+    if (strcmp(defs[id].name, name) != 0) continue;
+    if (strcmp(defs[id].section, section) != 0) {
+      snprintf(c->err, sizeof c->err, "%s: '%s' belongs in section [%s]", key, name, defs[id].section);
+      c->failed = true;
+      return 0;
+    }
+    if (apply(id, value, key, c->err, sizeof c->err) != RS_OK) {
+      c->failed = true;
+      return 0;
+    }
+    return 1;
+  }
+  snprintf(c->err, sizeof c->err, "%s: unknown key '%s' (the keys are the option names of --help)", key, name);
+  c->failed = true;
+  return 0;
+}
+
+/* 0 ok, 2 bad file (message logged). */
+static int read_config(const char *path) {
+  ini_ctx_t c = {.path = path, .failed = false};
+  FILE *f = fopen(path, "r");
+  if (f == NULL) {
+    snprintf(c.err, sizeof c.err, "--config %s: cannot read: %s", path, strerror(errno));
+    return bad(c.err);
+  }
+  int rc = ini_parse_file(f, on_ini, &c);
+  fclose(f);
+  if (c.failed) return bad(c.err);
+  if (rc != 0) {
+    snprintf(c.err, sizeof c.err, "%s:%d: not an INI line (expected [section] or key = value)", path, rc);
+    return bad(c.err);
+  }
+  return 0;
+}
+
+int main(int argc, char **argv) {
+  static struct option opts[O_VERSION + 2];
+  for (int id = 0; id < O_COUNT; id++)
+    opts[id] = (struct option){defs[id].name, defs[id].arg ? required_argument : no_argument, NULL, 256 + id};
+  opts[O_CONFIG] = (struct option){"config", required_argument, NULL, 256 + O_CONFIG};
+  opts[O_HELP] = (struct option){"help", no_argument, NULL, 256 + O_HELP};
+  opts[O_VERSION] = (struct option){"version", no_argument, NULL, 256 + O_VERSION};
+  rs_log_open("roadscand", false);
+  rs_pipeline_cfg_t *cfg = &st.cfg;
+  cfg->capture.speed = 1.0;
+  cfg->capture.data_port = RS_DEFAULT_DATA_PORT;
+  cfg->stream.log = stderr;
+  cfg->assembly.default_hz = 10.0;
+  cfg->summary_s = 10.0;
+  rs_cluster_cfg_default(&st.ccfg);
+  char err[RS_ERRMSG_SIZE];
+  /* the config file first, whatever its place on the command line */
+  for (int i = 1; i < argc; i++) {
+    const char *path = NULL;
+    if (strcmp(argv[i], "--config") == 0 && i + 1 < argc) path = argv[i + 1];
+    else if (strncmp(argv[i], "--config=", 9) == 0) path = argv[i] + 9;
+    if (path && read_config(path) != 0) return 2;
+  }
   int c;
   while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
-    switch (c) {
-    case O_PCAP: cfg.pcap_path = optarg; break;
-    case O_IFACE: cfg.iface = optarg; break;
-    case O_SPEED:
-      if (rs_cfg_double("--speed", optarg, 0.001, 1000.0, &cfg.capture.speed, err, sizeof err)) return bad(err);
-      speed_set = true;
-      break;
-    case O_FAST: fast = true; break;
-    case O_LOOP: cfg.capture.loop = true; break;
-    case O_PORT:
-      if (rs_cfg_long("--port", optarg, 1, 65535, &l, err, sizeof err)) return bad(err);
-      cfg.capture.data_port = (uint16_t)l;
-      break;
-    case O_SOURCE: cfg.capture.source_addr = optarg; break;
-    case O_MODEL:
-      cfg.stream.force_model = rs_model_from_name(optarg);
-      if (cfg.stream.force_model == RS_MODEL_UNKNOWN) {
-        snprintf(err, sizeof err, "--model: unknown sensor '%s' (known: %s)", optarg, rs_model_names());
-        return bad(err);
-      }
-      break;
-    case O_CALIB: calib_path = optarg; break;
-    case O_RPM:
-      if (rs_cfg_double("--rpm", optarg, 300.0, 1200.0, &d, err, sizeof err)) return bad(err);
-      cfg.assembly.default_hz = d / 60.0;
-      break;
-    case O_COLS:
-      if (rs_cfg_long("--columns", optarg, RS_MIN_COLS, RS_MAX_COLS, &l, err, sizeof err)) return bad(err);
-      cfg.assembly.columns = (int)l;
-      break;
-    case O_CUT:
-      if (rs_cfg_double("--cut-azimuth", optarg, 0.0, 359.99, &cfg.assembly.cut_deg, err, sizeof err)) return bad(err);
-      break;
-    case O_FRAMES: frames_path = optarg; break;
-    case O_LABELS: cfg.labels_out = optarg; break;
-    case O_BG: bg_path = optarg; break;
-    case O_LEARN:
-      if (rs_cfg_double("--learn-seconds", optarg, 1.0, 3600.0, &cfg.learn_seconds, err, sizeof err)) return bad(err);
-      break;
-    case O_LEARN_OUT: cfg.learn_out = optarg; break;
-    case O_CLUSTER: {
-      int m = rs_cluster_method_from_name(optarg);
-      if (m < 0) {
-        snprintf(err, sizeof err, "--cluster: '%s' is not fspc, fspc-adaptive, dbscan, ccl or none", optarg);
-        return bad(err);
-      }
-      ccfg.method = (rs_cluster_method_t)m;
-      cluster_set = true;
-      break;
+    if (c == 256 + O_CONFIG) continue;
+    if (c == 256 + O_HELP) {
+      usage(stdout);
+      return 0;
     }
-    case O_WINDOW: {
-      int h, w;
-      char tail;
-      if (sscanf(optarg, "%dx%d%c", &h, &w, &tail) != 2 || h < 1 || w < 1 || h % 2 == 0 || w % 2 == 0 ||
-          h > RS_MAX_WIN_H || w > RS_MAX_WIN_W) {
-        snprintf(err, sizeof err, "--window: '%s' is not HxW with odd H <= %d and odd W <= %d", optarg, RS_MAX_WIN_H,
-                 RS_MAX_WIN_W);
-        return bad(err);
-      }
-      ccfg.win_h = h;
-      ccfg.win_w = w;
-      break;
+    if (c == 256 + O_VERSION) {
+      printf("roadscand %s\n", RS_VERSION);
+      return 0;
     }
-    case O_EPS:
-      if (rs_cfg_double("--eps", optarg, 0.01, 50.0, &d, err, sizeof err)) return bad(err);
-      eps_set = d;
-      break;
-    case O_MINPTS:
-      if (rs_cfg_long("--min-pts", optarg, 1, 255, &l, err, sizeof err)) return bad(err);
-      ccfg.min_pts = ccfg.dbscan_min_pts = (int)l;
-      break;
-    case O_QUIET: quiet = true; break;
-    case O_HELP: usage(stdout); return 0;
-    case O_VERSION: printf("roadscand 0.1.0\n"); return 0;
-    default: usage(stderr); return 2;
+    if (c < 256 || c >= 256 + O_COUNT) {
+      usage(stderr);
+      return 2;
     }
+    char key[64];
+    snprintf(key, sizeof key, "--%s", defs[c - 256].name);
+    if (apply(c - 256, optarg, key, err, sizeof err) != RS_OK) return bad(err);
   }
   if (optind < argc) {
     snprintf(err, sizeof err, "unexpected argument '%s' (see --help)", argv[optind]);
     return bad(err);
   }
-  if ((cfg.pcap_path == NULL) == (cfg.iface == NULL)) return bad("give exactly one source: --pcap FILE or --iface NAME");
-  if (cfg.iface && (fast || speed_set || cfg.capture.loop)) return bad("--speed, --fast and --loop apply to --pcap only");
-  if (fast && speed_set) return bad("--fast and --speed exclude each other");
-  if (fast) {
-    cfg.capture.speed = 0.0;
-    cfg.lossless = true;
+  if (st.use_syslog) rs_log_open("roadscand", true);
+  if ((cfg->pcap_path == NULL) == (cfg->iface == NULL)) return bad("give exactly one source: --pcap FILE or --iface NAME");
+  if (cfg->iface && (st.fast || st.speed_set || cfg->capture.loop)) return bad("--speed, --fast and --loop apply to --pcap only");
+  if (st.fast && st.speed_set) return bad("--fast and --speed exclude each other");
+  if (st.fast) {
+    cfg->capture.speed = 0.0;
+    cfg->lossless = true;
   }
-  cfg.stream.data_port = cfg.capture.data_port;
-  cfg.stream.source_addr = cfg.capture.source_addr;
-  cfg.stream.default_hz = cfg.assembly.default_hz;
-  if (calib_path) {
-    if (rs_calib_load_yaml(calib_path, &calib, err, sizeof err) != RS_OK) {
-      fprintf(stderr, "roadscand: %s\n", err);
+  cfg->stream.data_port = cfg->capture.data_port;
+  cfg->stream.source_addr = cfg->capture.source_addr;
+  cfg->stream.default_hz = cfg->assembly.default_hz;
+  if (st.calib_path) {
+    if (rs_calib_load_yaml(st.calib_path, &calib, err, sizeof err) != RS_OK) {
+      rs_log(RS_LOG_ERR, "%s", err);
       return 1;
     }
-    cfg.stream.calib = &calib;
+    cfg->stream.calib = &calib;
   }
-  if (bg_path && cfg.learn_seconds > 0) return bad("--background and --learn-seconds exclude each other");
-  if (cfg.learn_out && cfg.learn_seconds <= 0) return bad("--learn-out needs --learn-seconds");
-  if (bg_path) {
-    if (rs_bg_load(&bgmodel, bg_path, err, sizeof err) != RS_OK) {
-      fprintf(stderr, "roadscand: %s\n", err);
+  if (st.bg_path && cfg->learn_seconds > 0) return bad("--background and --learn-seconds exclude each other");
+  if (cfg->learn_out && cfg->learn_seconds <= 0) return bad("--learn-out needs --learn-seconds");
+  if (st.bg_path) {
+    if (rs_bg_load(&bgmodel, st.bg_path, err, sizeof err) != RS_OK) {
+      rs_log(RS_LOG_ERR, "%s", err);
       return 1;
     }
-    if (cfg.stream.force_model != RS_MODEL_UNKNOWN && cfg.stream.force_model != bgmodel.model) {
-      fprintf(stderr, "roadscand: %s: the model is for a %s, --model says %s\n", bg_path, rs_model_name(bgmodel.model),
-              rs_model_name(cfg.stream.force_model));
+    if (cfg->stream.force_model != RS_MODEL_UNKNOWN && cfg->stream.force_model != bgmodel.model) {
+      rs_log(RS_LOG_ERR, "%s: the model is for a %s, --model says %s", st.bg_path, rs_model_name(bgmodel.model),
+             rs_model_name(cfg->stream.force_model));
       return 1;
     }
-    if (cfg.assembly.columns && cfg.assembly.columns != bgmodel.cols) {
-      fprintf(stderr, "roadscand: %s: the model has %u columns, --columns says %d\n", bg_path, bgmodel.cols,
-              cfg.assembly.columns);
+    if (cfg->assembly.columns && cfg->assembly.columns != bgmodel.cols) {
+      rs_log(RS_LOG_ERR, "%s: the model has %u columns, --columns says %d", st.bg_path, bgmodel.cols,
+             cfg->assembly.columns);
       return 1;
     }
-    cfg.background = &bgmodel;
+    cfg->background = &bgmodel;
   }
-  if (!cluster_set) ccfg.method = (bg_path || cfg.learn_seconds > 0) ? RS_CLUSTER_FSPC : RS_CLUSTER_NONE;
-  if (eps_set > 0) {
-    if (ccfg.method == RS_CLUSTER_DBSCAN) ccfg.dbscan_eps = (float)eps_set;
-    else if (ccfg.method == RS_CLUSTER_CCL) ccfg.ccl_eps = (float)eps_set;
-    else ccfg.eps = (float)eps_set;
+  if (!st.cluster_set) st.ccfg.method = (st.bg_path || cfg->learn_seconds > 0) ? RS_CLUSTER_FSPC : RS_CLUSTER_NONE;
+  if (st.eps > 0) {
+    if (st.ccfg.method == RS_CLUSTER_DBSCAN) st.ccfg.dbscan_eps = (float)st.eps;
+    else if (st.ccfg.method == RS_CLUSTER_CCL) st.ccfg.ccl_eps = (float)st.eps;
+    else st.ccfg.eps = (float)st.eps;
   }
-  if (ccfg.method != RS_CLUSTER_NONE) {
-    if (rs_cluster_init(&cluster, &ccfg, NULL) != RS_OK) return bad("bad clustering parameters");
-    cfg.cluster = &cluster;
+  if (st.ccfg.method != RS_CLUSTER_NONE) {
+    if (rs_cluster_init(&cluster, &st.ccfg, NULL) != RS_OK) return bad("bad clustering parameters");
+    cfg->cluster = &cluster;
+  }
+  if (cfg->cluster) {
+    rs_objects_init(&objects, st.have_pose ? &st.pose : NULL);
+    cfg->objects = &objects;
+    cfg->object_list = &object_list;
+  }
+  if (!st.no_publish) {
+    int prc = rs_publish_init(&publisher, &st.pub);
+    if (prc != RS_OK) {
+      rs_log(RS_LOG_ERR, "%s", publisher.err);
+      return prc == RS_E_INVAL ? 2 : 1;
+    }
+    cfg->publish = &publisher;
   }
   FILE *frames = NULL;
-  if (frames_path) {
-    frames = fopen(frames_path, "w");
+  if (st.frames_path) {
+    frames = fopen(st.frames_path, "w");
     if (frames == NULL) {
-      fprintf(stderr, "roadscand: --frames-out %s: cannot write: ", frames_path);
-      perror(NULL);
+      rs_log(RS_LOG_ERR, "--frames-out %s: cannot write: %s", st.frames_path, strerror(errno));
+      rs_publish_deinit(&publisher);
       return 1;
     }
     fprintf(frames, "%s\n", rs_pipeline_csv_header());
-    cfg.frames_out = frames;
+    cfg->frames_out = frames;
   }
-  int rc = rs_pipeline_init(&pipeline, &cfg, slots, RING_SLOTS);
+  int rc = rs_pipeline_init(&pipeline, cfg, slots, RING_SLOTS);
   if (rc != RS_OK) {
-    fprintf(stderr, "roadscand: %s\n", pipeline.input_err[0] ? pipeline.input_err : rs_strerror(rc));
+    rs_log(RS_LOG_ERR, "%s", pipeline.input_err[0] ? pipeline.input_err : rs_strerror(rc));
     if (frames) fclose(frames);
+    rs_publish_deinit(&publisher);
     return 1;
   }
   struct sigaction sa;
@@ -259,21 +455,23 @@ int main(int argc, char **argv) {
   sigaction(SIGTERM, &sa, NULL);
   rc = rs_pipeline_start(&pipeline);
   if (rc != RS_OK) {
-    fprintf(stderr, "roadscand: cannot start threads: %s\n", rs_strerror(rc));
+    rs_log(RS_LOG_ERR, "cannot start threads: %s", rs_strerror(rc));
     rs_pipeline_deinit(&pipeline);
+    rs_publish_deinit(&publisher);
     return 1;
   }
   rs_pipeline_join(&pipeline);
   int status = 0;
   if (pipeline.input_status != RS_OK) {
-    fprintf(stderr, "roadscand: input ended early: %s\n", pipeline.input_err);
+    rs_log(RS_LOG_ERR, "input ended early: %s", pipeline.input_err);
     if (pipeline.input_status != RS_E_TRUNCATED) status = 1;
   }
-  if (!quiet) rs_pipeline_summary(&pipeline, stderr);
+  if (!st.quiet) rs_pipeline_summary(&pipeline, stderr);
   rs_pipeline_deinit(&pipeline);
-  if (bg_path) rs_bg_model_free(&bgmodel);
+  rs_publish_deinit(&publisher);
+  if (st.bg_path) rs_bg_model_free(&bgmodel);
   if (frames && fclose(frames) != 0) {
-    fprintf(stderr, "roadscand: --frames-out %s: write failed\n", frames_path);
+    rs_log(RS_LOG_ERR, "--frames-out %s: write failed", st.frames_path);
     status = 1;
   }
   return status;

@@ -3,11 +3,14 @@
 #ifndef ROADSCAN_CONFIG_H
 #define ROADSCAN_CONFIG_H
 
+#include <stdbool.h>
 #include <stddef.h>
 
 /* Whole string must be a finite number within [lo, hi]. RS_OK or RS_E_INVAL
  * with err = "--speed: 'abc' is not a number" / "... must be between ...". */
 int rs_cfg_double(const char *key, const char *s, double lo, double hi, double *out, char *err, size_t n);
 int rs_cfg_long(const char *key, const char *s, long lo, long hi, long *out, char *err, size_t n);
+/* true/false, yes/no, on/off, 1/0 (any case). */
+int rs_cfg_bool(const char *key, const char *s, bool *out, char *err, size_t n);
 
 #endif

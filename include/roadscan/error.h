@@ -34,7 +34,9 @@
   X(PERM, "permission", "permission denied")                                        \
   X(NODEV, "no-device", "no such capture interface")                                \
   X(CAPTURE, "capture", "capture error")                                            \
-  X(THREAD, "thread", "thread error")
+  X(THREAD, "thread", "thread error")                                              \
+  X(LCM, "lcm", "LCM error")                                                        \
+  X(NOROUTE, "no-route", "no route to the LCM multicast group")
 
 typedef enum {
   RS_OK = 0,

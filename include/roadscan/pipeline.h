@@ -2,8 +2,11 @@
  *
  * Packet thread: capture -> stream (parse, detect, decode) -> frame assembly
  * into the slot it owns -> ring. Processing thread: takes complete frames,
- * computes per-frame statistics (later: background, clustering, objects,
- * publishing), writes the frames CSV, releases the slot. Slots are the
+ * subtracts the background, clusters, extracts objects, publishes the
+ * object list and the frame statistics over LCM, writes the frames CSV,
+ * releases the slot. Each frame has a time budget (default: the frame
+ * period); overruns are counted, and the ring hands the processing thread
+ * the newest frame, so a late frame never delays the next one. Slots are the
  * caller's (statically allocated by the program). After start-up nothing
  * allocates. Counters are written by their own thread and read by the
  * caller after rs_pipeline_join. */
@@ -15,6 +18,8 @@
 #include "roadscan/cluster.h"
 #include "roadscan/frame.h"
 #include "roadscan/labels.h"
+#include "roadscan/objects.h"
+#include "roadscan/publish.h"
 #include "roadscan/ring.h"
 #include "roadscan/stream.h"
 #include "roadscan/timing.h"
@@ -36,11 +41,17 @@ typedef struct {
   double learn_seconds;        /* > 0 and no model: learn from the first seconds, then subtract */
   const char *learn_out;       /* where the learned model is saved */
   rs_cluster_t *cluster;       /* optional: clustering work area, configured (processing thread) */
+  rs_objects_t *objects;       /* optional with cluster: object work area (rs_objects_init done) */
+  rs_object_list_t *object_list; /* required with objects: the frame's objects */
+  rs_publish_t *publish;       /* optional: LCM publisher (rs_publish_init done) */
+  double budget_ms;            /* per-frame processing budget; 0 = the frame period */
+  double summary_s;            /* > 0: one log line every summary_s seconds */
 } rs_pipeline_cfg_t;
 
 typedef struct {
   uint64_t frames;             /* frames processed */
   uint64_t partial_frames;
+  uint64_t missing_packets;
   uint64_t points;
   uint64_t cells_filled[RS_LAYERS];
   double min_range, max_range;
@@ -73,7 +84,17 @@ typedef struct {
   double learn_s;              /* time the learning took */
   bool rate_checked;           /* the model's rotation rate compared with the sensor's */
   rs_timing_t t_cluster;       /* clustering per frame */
-  uint64_t clusters, clustered, noise;
+  rs_timing_t t_objects;       /* object extraction per frame */
+  rs_timing_t t_publish;       /* encoding + lcm_publish per frame */
+  rs_timing_t t_latency;       /* frame complete -> object list published */
+  uint64_t clusters, clustered, noise, objects;
+  uint64_t overruns;           /* frames over budget */
+  struct {                     /* the periodic log line (processing thread) */
+    int64_t t0_ns;
+    uint64_t frames, objects;
+    int64_t worst_ns;
+    const char *worst;
+  } line;
   rs_proc_counters_t proc;
   rs_labels_writer_t labels;   /* processing thread */
   bool labels_open;

@@ -1,0 +1,272 @@
+/* check_daemon - roadscand as a service: its config file (every value
+ * validated, the command line overriding it), --help covering every option,
+ * periodic log lines, the deadline budget; and, in a private network
+ * namespace, real LCM over udpm://: a missing multicast route, every frame's
+ * list received, lcm-logger / lcm-logplayer round trips, a subscriber that
+ * falls behind, truncation. */
+#include "testutil.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *cap, *model;
+
+/* a small site: learn on 40 s, run on 3 s (once, before the tests fork) */
+static void make_site(void) {
+  static char c[512], m[512];
+  snprintf(c, sizeof c, "%s", tu_tmp("dmn-test.pcap"));
+  snprintf(m, sizeof m, "%s", tu_tmp("dmn.model"));
+  char cmd[4096];
+  const char *out;
+  snprintf(cmd, sizeof cmd,
+           "./roadscan-sim --sensor VLP-32C --scenario light --seconds 40 --seed 41 -o %s.l --labels %s.lc && "
+           "./roadscan-sim --sensor VLP-32C --scenario light --seconds 3 --seed 42 -o %s --labels %s.tc && "
+           "./roadscan-learn %s.l -o %s --frames 300",
+           c, c, c, c, c, m);
+  ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
+  cap = c;
+  model = m;
+}
+
+static const char *write_ini(const char *name, const char *text) {
+  const char *p = tu_tmp(name);
+  FILE *f = fopen(p, "w");
+  ck_assert_ptr_nonnull(f);
+  fputs(text, f);
+  fclose(f);
+  return p;
+}
+
+static long num_after(const char *s, const char *key) {
+  const char *p = strstr(s, key);
+  ck_assert_msg(p != NULL, "'%s' not in: %s", key, s);
+  return strtol(p + strlen(key), NULL, 10);
+}
+
+START_TEST(t_config_errors) {
+  struct {
+    const char *ini, *msg;
+  } cases[] = {
+      {"[cluster]\neps = abc\n", "[cluster] eps: 'abc' is not a number"},
+      {"[cluster]\nmin-pts = 0\n", "[cluster] min-pts: 0 is out of range"},
+      {"[source]\nfast = maybe\n", "[source] fast: 'maybe' is not true or false"},
+      {"[source]\nspeeed = 2\n", "unknown key 'speeed'"},
+      {"[daemon]\neps = 1.0\n", "'eps' belongs in section [cluster]"},
+      {"[sensor]\npose = 1 2 3\n", "[sensor] pose: '1 2 3' is not six numbers"},
+      {"[sensor]\nmodel = HDL-64E\n", "[sensor] model: unknown sensor 'HDL-64E'"},
+      {"[lcm]\nmax-datagram = 100\n", "[lcm] max-datagram: 100 is out of range"},
+      {"[lcm]\nchannel = two words\n", "channel: 'two words' has a space"},
+      {"[lcm]\nlcm-url = udpm://10.0.0.1:7667\n", "is not an IPv4 multicast address"},
+      {"[daemon]\nbudget-ms = -1\n", "[daemon] budget-ms: -1 is out of range"},
+      {"this is not ini\n", "not an INI line"},
+  };
+  char cmd[4096];
+  const char *out;
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+    const char *ini = write_ini("dmn-bad.ini", cases[i].ini);
+    snprintf(cmd, sizeof cmd, "./roadscand --config %s --pcap %s --fast", ini, cap);
+    ck_assert_int_eq(tu_exec(cmd, &out), 2);
+    ck_assert_msg(strstr(out, cases[i].msg) != NULL, "case %zu: expected '%s' in: %s", i, cases[i].msg, out);
+    ck_assert_msg(strstr(out, ini) != NULL || strstr(cases[i].msg, "channel") || strstr(cases[i].msg, "multicast"),
+                  "case %zu: the file is not named: %s", i, out);
+  }
+  ck_assert_int_eq(tu_exec("./roadscand --config /nonexistent/roadscand.ini --pcap x", &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "/nonexistent/roadscand.ini: cannot read"));
+  ck_assert_int_eq(tu_exec("./roadscand --pcap x --pose '0 0 0 0 0 400'", &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "angles within 360 degrees"));
+}
+END_TEST
+
+START_TEST(t_config_and_overrides) {
+  char text[1024], cmd[2048];
+  const char *out;
+  snprintf(text, sizeof text,
+           "# a site\n[source]\npcap = %s\nfast = true\n[sensor]\npose = 10 20 5 0 0 90\n[background]\nbackground = %s\n"
+           "[cluster]\ncluster = ccl\n[lcm]\nlcm-url = memq://\nsensor-id = north\n[daemon]\nsummary-seconds = 0\n",
+           cap, model);
+  const char *ini = write_ini("dmn-good.ini", text);
+  snprintf(cmd, sizeof cmd, "./roadscand --config %s", ini);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "clusters: ccl"));
+  ck_assert_ptr_nonnull(strstr(out, "lcm: "));
+  ck_assert_ptr_nonnull(strstr(out, "memq://"));
+  long frames = num_after(out, "frames: ");
+  ck_assert_int_ge(frames, 29);
+  ck_assert_int_eq(num_after(out, "lcm: "), frames);
+  /* the command line wins over the file */
+  snprintf(cmd, sizeof cmd, "./roadscand --cluster fspc-adaptive --config %s --no-publish", ini);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "clusters: fspc-adaptive"));
+  ck_assert_ptr_null(strstr(out, "lcm: "));
+}
+END_TEST
+
+START_TEST(t_help_covers_every_option) {
+  const char *out;
+  ck_assert_int_eq(tu_exec("./roadscand --help", &out), 0);
+  static const char *names[] = {"pcap", "speed", "fast", "loop", "iface", "port", "source", "model", "calibration",
+                                "rpm", "pose", "columns", "cut-azimuth", "background", "learn-seconds", "learn-out",
+                                "cluster", "window", "eps", "min-pts", "lcm-url", "channel", "stats-channel",
+                                "sensor-id", "max-datagram", "no-publish", "budget-ms", "summary-seconds", "syslog",
+                                "frames-out", "labels-out", "quiet", "config", "help", "version"};
+  for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
+    char opt[64];
+    snprintf(opt, sizeof opt, "--%s", names[i]);
+    ck_assert_msg(strstr(out, opt) != NULL, "%s is not in --help", opt);
+  }
+  /* and each of them is accepted (bad values are refused by name, not as unknown options) */
+  for (size_t i = 0; i < sizeof names / sizeof names[0] - 3; i++) {
+    char cmd[256];
+    const char *o2;
+    snprintf(cmd, sizeof cmd, "./roadscand --%s=@bad@ 2>&1 | head -3", names[i]);
+    tu_exec(cmd, &o2);
+    ck_assert_msg(strstr(o2, "unrecognized option") == NULL, "--%s: %s", names[i], o2);
+  }
+}
+END_TEST
+
+START_TEST(t_log_lines_and_budget) {
+  char cmd[4096];
+  const char *out;
+  /* real time, a line every 0.5 s: a handful, not one per frame */
+  snprintf(cmd, sizeof cmd,
+           "./roadscand --pcap %s --background %s --lcm-url memq:// --summary-seconds 0.5 --budget-ms 0.1", cap, model);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  int lines = 0;
+  for (const char *p = out; (p = strstr(p, "roadscand: last ")) != NULL; p++) lines++;
+  long frames = num_after(out, "frames: ");
+  ck_assert_int_ge(lines, 3);
+  ck_assert_int_le(lines, 8);
+  ck_assert_ptr_nonnull(strstr(out, "worst stage "));
+  /* a 0.1 ms budget: every frame with objects is over it, and it says so */
+  long over = num_after(out, "deadline: ");
+  ck_assert_int_ge(over, frames - 2);
+  ck_assert_ptr_nonnull(strstr(out, "frames over budget (0.1 ms)"));
+  /* the default budget (the frame period) is met on this light scene */
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s --lcm-url memq://", cap, model);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "frames over budget (the frame period)"));
+  /* --syslog: the lines go to syslog, not to stderr */
+  snprintf(cmd, sizeof cmd,
+           "./roadscand --pcap %s --background %s --lcm-url memq:// --summary-seconds 0.5 --syslog --speed 4", cap, model);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_ptr_null(strstr(out, "roadscand: last "));
+  ck_assert_ptr_nonnull(strstr(out, "roadscan summary"));
+}
+END_TEST
+
+static char *slurp(const char *path) {
+  static char bufs[4][1 << 22];
+  static int next;
+  char *b = bufs[next++ % 4];
+  FILE *f = fopen(path, "r");
+  if (f == NULL) {
+    b[0] = '\0';
+    return b;
+  }
+  size_t n = fread(b, 1, sizeof bufs[0] - 1, f);
+  b[n] = '\0';
+  fclose(f);
+  return b;
+}
+
+/* object-list lines only (drops the statistics lines) */
+static char *lists_only(const char *s) {
+  static char out[2][1 << 22];
+  static int next;
+  char *o = out[next++ % 2], *w = o;
+  while (*s) {
+    const char *e = strchr(s, '\n');
+    size_t len = e ? (size_t)(e - s) + 1 : strlen(s);
+    if (strncmp(s, "{\"stats\"", 8) != 0) {
+      memcpy(w, s, len);
+      w += len;
+    }
+    s += len;
+  }
+  *w = '\0';
+  return o;
+}
+
+static int count_lines(const char *s, const char *needle) {
+  int n = 0;
+  for (const char *p = s; (p = strstr(p, needle)) != NULL; p++) n++;
+  return n;
+}
+
+START_TEST(t_udpm_in_netns) {
+  char cmd[4096];
+  const char *out;
+  const char *dir = tu_tmp("dmn-net");
+  snprintf(cmd, sizeof cmd, "rm -rf %s && mkdir -p %s && sh %s/lcm-net.sh %s %s %s %s", dir, dir, RS_TESTS_DIR,
+           RS_BIN_DIR, dir, cap, model);
+  int rc = tu_exec(cmd, &out);
+  if (rc == 77) {
+    fprintf(stderr, "skipped: %s\n", out);
+    return;
+  }
+  ck_assert_msg(rc == 0, "%s", out);
+  char p[1024];
+#define F(name) (snprintf(p, sizeof p, "%s/%s", dir, name), p)
+  /* 1. no route: status 1, the command to run, nothing published */
+  const char *noroute = slurp(F("noroute.txt"));
+  ck_assert_str_eq(slurp(F("noroute.status")), "1\n");
+  ck_assert_msg(strstr(noroute, "ip route add 224.0.0.0/4 dev lo") != NULL, "%s", noroute);
+  ck_assert_ptr_null(strstr(noroute, "roadscan summary"));
+  /* 2. every frame's list arrived, in order, no gaps */
+  const char *daemon = slurp(F("daemon.txt"));
+  ck_assert_str_eq(slurp(F("daemon.status")), "0\n");
+  long frames = num_after(daemon, "frames: ");
+  ck_assert_int_ge(frames, 29);
+  ck_assert_int_eq(num_after(daemon, "lcm: "), frames);
+  ck_assert_ptr_nonnull(strstr(daemon, " 0 dropped"));
+  char *live = slurp(F("live.json"));
+  char *live_lists = lists_only(live);
+  ck_assert_int_eq(count_lines(live_lists, "\"frame_seq\":"), frames);
+  ck_assert_int_eq(count_lines(live, "{\"stats\":true"), frames);
+  for (long i = 0; i < frames; i++) {
+    char want[64];
+    snprintf(want, sizeof want, "\"frame_seq\":%ld,", i);
+    ck_assert_msg(strstr(live_lists, want) != NULL, "frame %ld missing", i);
+  }
+  const char *live_err = slurp(F("live.err"));
+  ck_assert_msg(strstr(live_err, "gaps 0,") != NULL && strstr(live_err, "malformed 0") != NULL, "%s", live_err);
+  ck_assert_int_ge(count_lines(daemon, "roadscand: last "), 2);
+  /* 3. the lcm-logger log decodes to exactly the same object lists */
+  char *from_log = slurp(F("log.json"));
+  ck_assert_int_eq(count_lines(from_log, "\"frame_seq\":"), frames);
+  ck_assert_msg(strcmp(from_log, live_lists) == 0, "the logged lists differ from the live ones");
+  /* 4. and lcm-logplayer plays them back unchanged */
+  ck_assert_msg(strcmp(slurp(F("replay.json")), from_log) == 0, "the replayed lists differ from the log");
+  /* 5. a slow subscriber costs the daemon nothing; it reads late, or misses lists it counts as gaps */
+  const char *dslow = slurp(F("daemon-slow.txt"));
+  long sframes = num_after(dslow, "frames: ");
+  ck_assert_ptr_nonnull(strstr(dslow, " 0 dropped"));
+  ck_assert_int_eq(num_after(dslow, "lcm: "), sframes);
+  const char *slow_err = slurp(F("slow.err"));
+  long got = num_after(slow_err, "lists "), gaps = num_after(slow_err, "gaps ");
+  ck_assert_int_gt(got, 0);
+  ck_assert_int_le(got + gaps, sframes);
+  ck_assert_int_ge(got + gaps, sframes - 1); /* only the tail can be lost unseen */
+  /* 6. truncation: flagged in the lists and counted by the daemon */
+  const char *dtrunc = slurp(F("daemon-trunc.txt"));
+  ck_assert_int_eq(num_after(dtrunc, "?ttl=0; "), num_after(dtrunc, "lcm: ")); /* "N truncated": every list */
+  ck_assert_int_gt(count_lines(slurp(F("trunc.json")), "\"truncated\":true"), 0);
+#undef F
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("daemon");
+  TCase *tc = tcase_create("core");
+  tcase_set_timeout(tc, 280);
+  tcase_add_unchecked_fixture(tc, make_site, NULL);
+  tcase_add_test(tc, t_config_errors);
+  tcase_add_test(tc, t_config_and_overrides);
+  tcase_add_test(tc, t_help_covers_every_option);
+  tcase_add_test(tc, t_log_lines_and_budget);
+  tcase_add_test(tc, t_udpm_in_netns);
+  suite_add_tcase(s, tc);
+  return tu_run(s);
+}

@@ -1,0 +1,389 @@
+/* check_lcm - object lists over real LCM (memq:// in process): the encoded
+ * list decodes back to the objects, truncation keeps the largest clusters
+ * within one datagram, bad settings are refused with the reason, untrusted
+ * bytes are checked before decoding; and the whole pipeline on a simulated
+ * capture publishes one list per frame whose centroids agree with the
+ * simulator's ground truth. */
+#include "roadscan/error.h"
+#include "roadscan/objects.h"
+#include "roadscan/pipeline.h"
+#include "roadscan/publish.h"
+#include "testutil.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static rs_publish_t pub;
+static rs_object_list_t list;
+static rs_frame_meta_t meta;
+
+/* what a raw subscriber received */
+#define MAX_MSGS 400
+static struct {
+  int n;
+  int len[MAX_MSGS];
+  uint8_t *data[MAX_MSGS];
+} rx;
+
+static void on_raw(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
+  (void)channel;
+  (void)user;
+  if (rx.n == MAX_MSGS) return;
+  rx.data[rx.n] = malloc(rbuf->data_size);
+  memcpy(rx.data[rx.n], rbuf->data, rbuf->data_size);
+  rx.len[rx.n++] = (int)rbuf->data_size;
+}
+
+static void rx_clear(void) {
+  for (int i = 0; i < rx.n; i++) free(rx.data[i]);
+  rx.n = 0;
+}
+
+static void drain(lcm_t *lcm) {
+  while (lcm_handle_timeout(lcm, 0) > 0) {
+  }
+}
+
+static void make_objects(uint32_t n) {
+  memset(&list, 0, sizeof list);
+  list.count = n;
+  for (uint32_t k = 0; k < n; k++) {
+    rs_object_t *o = &list.obj[k];
+    o->id = k + 1;
+    o->points = 10 + (k * 37) % 101; /* distinct enough, not sorted */
+    o->sensor.centroid[0] = (float)k;
+    o->sensor.centroid[1] = 2.0f * (float)k;
+    o->sensor.centroid[2] = -1.5f;
+    o->sensor.obb_length = 4.5f;
+    o->sensor.obb_width = 1.8f;
+    o->sensor.obb_heading = 0.25f;
+    o->range_min = 7.0f + (float)k;
+    o->az_start = 350.0f;
+    o->az_end = 4.5f;
+    o->row_min = 2;
+    o->row_max = 9;
+    o->col_start = 1790;
+    o->col_end = 12;
+    o->intensity_mean = 33.5f;
+    o->t_first = 1700000000.123456;
+    o->t_last = 1700000000.1300004;
+  }
+  memset(&meta, 0, sizeof meta);
+  meta.seq = 42;
+  meta.model = RS_MODEL_VLP32C;
+  meta.t_first = 1700000000.1;
+  meta.t_last = 1700000000.2;
+  meta.packets = 151;
+  meta.missing_packets = 3;
+  meta.columns = 1700;
+  meta.cols = 1820;
+}
+
+START_TEST(t_round_trip) {
+  lcm_t *lcm = lcm_create("memq://");
+  ck_assert_ptr_nonnull(lcm);
+  lcm_subscription_t *sub = lcm_subscribe(lcm, "OBJ", on_raw, NULL);
+  rs_publish_cfg_t cfg = {.channel = "OBJ", .stats_channel = "", .sensor_id = "north-pole", .lcm = lcm};
+  ck_assert_int_eq(rs_publish_init(&pub, &cfg), RS_OK);
+  make_objects(5);
+  list.obj[2].points = 0; /* a label with no returns is not an object */
+  ck_assert_int_eq(rs_publish_objects(&pub, &meta, &list, 123456789), RS_OK);
+  drain(lcm);
+  ck_assert_int_eq(rx.n, 1);
+  ck_assert(rs_publish_list_plausible(rx.data[0], rx.len[0]));
+  roadscan_object_list_t m;
+  ck_assert_int_eq(roadscan_object_list_t_decode(rx.data[0], 0, rx.len[0], &m), rx.len[0]);
+  ck_assert_str_eq(m.sensor_id, "north-pole");
+  ck_assert_str_eq(m.sensor_model, "VLP-32C");
+  ck_assert_int_eq(m.utime, 123456789);
+  ck_assert_int_eq(m.frame_seq, 42);
+  ck_assert_int_eq(m.t_first, 1700000000100000LL);
+  ck_assert_int_eq(m.t_last, 1700000000200000LL);
+  ck_assert_int_eq(m.packets, 151);
+  ck_assert_int_eq(m.packets_missing, 3);
+  ck_assert_int_eq(m.columns_covered, 1700);
+  ck_assert_int_eq(m.columns, 1820);
+  ck_assert(!m.truncated);
+  ck_assert(!m.site_valid);
+  ck_assert_int_eq(m.num_clusters, 4);
+  ck_assert_int_eq(m.num_objects, 4);
+  const int ids[4] = {1, 2, 4, 5};
+  for (int i = 0; i < 4; i++) {
+    const roadscan_object_t *w = &m.objects[i];
+    const rs_object_t *o = &list.obj[ids[i] - 1];
+    ck_assert_int_eq(w->id, ids[i]);
+    ck_assert_int_eq(w->points, (int)o->points);
+    ck_assert_float_eq(w->centroid[1], o->sensor.centroid[1]);
+    ck_assert_float_eq(w->obb_heading, 0.25f);
+    ck_assert_float_eq(w->range_min, o->range_min);
+    ck_assert_float_eq(w->azimuth_start, 350.0f);
+    ck_assert_int_eq(w->col_start, 1790);
+    ck_assert_int_eq(w->col_end, 12);
+    ck_assert_int_eq(w->row_max, 9);
+    ck_assert_int_eq(w->t_first, 1700000000123456LL);
+    ck_assert_int_eq(w->t_last, 1700000000130000LL);
+  }
+  roadscan_object_list_t_decode_cleanup(&m);
+  /* statistics are off (empty channel): nothing else was sent */
+  roadscan_frame_stats_t st;
+  memset(&st, 0, sizeof st);
+  st.sensor_id = "x";
+  ck_assert_int_eq(rs_publish_stats(&pub, &st), RS_OK);
+  drain(lcm);
+  ck_assert_int_eq(rx.n, 1);
+  ck_assert_uint_eq(pub.lists, 1);
+  ck_assert_uint_eq(pub.stats, 0);
+  rx_clear();
+  rs_publish_deinit(&pub);
+  lcm_unsubscribe(lcm, sub);
+  lcm_destroy(lcm);
+}
+END_TEST
+
+START_TEST(t_truncation) {
+  lcm_t *lcm = lcm_create("memq://");
+  lcm_subscription_t *sub = lcm_subscribe(lcm, "OBJ", on_raw, NULL);
+  rs_publish_cfg_t cfg = {.channel = "OBJ", .max_datagram = 1400, .lcm = lcm};
+  ck_assert_int_eq(rs_publish_init(&pub, &cfg), RS_OK);
+  const uint32_t cap = pub.cap;
+  ck_assert_uint_ge(cap, 3);
+  ck_assert_uint_lt(cap, 20);
+  rs_publish_t big;
+  rs_publish_cfg_t bcfg = {.channel = "OBJ", .lcm = lcm};
+  ck_assert_int_eq(rs_publish_init(&big, &bcfg), RS_OK);
+  ck_assert_uint_gt(big.cap, 300); /* a 64 kB datagram holds hundreds */
+  rs_publish_deinit(&big);
+  /* exactly the cap: not truncated */
+  make_objects(cap);
+  ck_assert_int_eq(rs_publish_objects(&pub, &meta, &list, 1), RS_OK);
+  /* three times the cap: the largest clusters are kept */
+  make_objects(3 * cap);
+  ck_assert_int_eq(rs_publish_objects(&pub, &meta, &list, 2), RS_OK);
+  drain(lcm);
+  ck_assert_int_eq(rx.n, 2);
+  for (int i = 0; i < 2; i++) ck_assert_int_le(rx.len[i] + (int)strlen("OBJ") + 1, 1400);
+  roadscan_object_list_t m;
+  ck_assert_int_ge(roadscan_object_list_t_decode(rx.data[0], 0, rx.len[0], &m), 0);
+  ck_assert(!m.truncated);
+  ck_assert_int_eq(m.num_objects, (int)cap);
+  roadscan_object_list_t_decode_cleanup(&m);
+  ck_assert_int_ge(roadscan_object_list_t_decode(rx.data[1], 0, rx.len[1], &m), 0);
+  ck_assert(m.truncated);
+  ck_assert_int_eq(m.num_objects, (int)cap);
+  ck_assert_int_eq(m.num_clusters, (int)(3 * cap));
+  int32_t smallest_kept = INT32_MAX;
+  for (int i = 0; i < m.num_objects; i++)
+    if (m.objects[i].points < smallest_kept) smallest_kept = m.objects[i].points;
+  /* nothing dropped is larger than anything kept */
+  for (uint32_t k = 0; k < 3 * cap; k++) {
+    bool kept = false;
+    for (int i = 0; i < m.num_objects; i++) kept |= m.objects[i].id == (int32_t)k + 1;
+    if (!kept) ck_assert_int_le((int)list.obj[k].points, smallest_kept);
+  }
+  roadscan_object_list_t_decode_cleanup(&m);
+  ck_assert_uint_eq(pub.truncated_lists, 1);
+  ck_assert_uint_eq(pub.objects_dropped, 2 * cap);
+  rx_clear();
+  rs_publish_deinit(&pub);
+  lcm_unsubscribe(lcm, sub);
+  lcm_destroy(lcm);
+}
+END_TEST
+
+START_TEST(t_bad_settings) {
+  struct {
+    rs_publish_cfg_t cfg;
+    int rc;
+    const char *msg;
+  } cases[] = {
+      {{.url = "tcpq://localhost"}, RS_E_INVAL, "provider"},
+      {{.url = "udpm://10.1.2.3:7667"}, RS_E_INVAL, "not an IPv4 multicast address"},
+      {{.url = "udpm://239.255.76.67:99999"}, RS_E_INVAL, "bad port"},
+      {{.url = "memq://", .channel = "has space"}, RS_E_INVAL, "channel"},
+      {{.url = "memq://", .channel = ""}, RS_E_INVAL, "channel"},
+      {{.url = "memq://", .max_datagram = 100}, RS_E_INVAL, "max datagram"},
+      {{.url = "memq://", .max_datagram = 70000}, RS_E_INVAL, "max datagram"},
+      {{.url = "memq://", .sensor_id = "a-sensor-id-that-is-far-too-long-to-be-useful-in-any-message-at-all"},
+       RS_E_INVAL, "sensor id"},
+  };
+  for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+    ck_assert_int_eq(rs_publish_init(&pub, &cases[i].cfg), cases[i].rc);
+    ck_assert_msg(strstr(pub.err, cases[i].msg) != NULL, "case %zu: '%s'", i, pub.err);
+    rs_publish_deinit(&pub);
+  }
+  rs_publish_cfg_t ok = {.url = "memq://"};
+  ck_assert_int_eq(rs_publish_init(&pub, &ok), RS_OK);
+  ck_assert_str_eq(pub.channel, RS_PUB_DEFAULT_CHANNEL);
+  ck_assert_str_eq(pub.stats_channel, RS_PUB_DEFAULT_STATS);
+  rs_publish_deinit(&pub);
+}
+END_TEST
+
+START_TEST(t_untrusted_bytes) {
+  lcm_t *lcm = lcm_create("memq://");
+  lcm_subscription_t *sub = lcm_subscribe(lcm, "OBJ", on_raw, NULL);
+  rs_publish_cfg_t cfg = {.channel = "OBJ", .lcm = lcm};
+  ck_assert_int_eq(rs_publish_init(&pub, &cfg), RS_OK);
+  make_objects(3);
+  ck_assert_int_eq(rs_publish_objects(&pub, &meta, &list, 1), RS_OK);
+  drain(lcm);
+  ck_assert_int_eq(rx.n, 1);
+  uint8_t *b = rx.data[0];
+  ck_assert(rs_publish_list_plausible(b, rx.len[0]));
+  ck_assert(!rs_publish_list_plausible(b, 10));
+  b[16] = 0x80; /* negative count */
+  ck_assert(!rs_publish_list_plausible(b, rx.len[0]));
+  b[16] = 0x00;
+  b[17] = 0x10; /* a million objects in a few hundred bytes */
+  ck_assert(!rs_publish_list_plausible(b, rx.len[0]));
+  rx_clear();
+  rs_publish_deinit(&pub);
+  lcm_unsubscribe(lcm, sub);
+  lcm_destroy(lcm);
+}
+END_TEST
+
+/* ---- the whole pipeline on a simulated capture ---- */
+
+static rs_slot_t slots[4];
+static rs_pipeline_t pipe;
+static rs_bg_model_t model;
+static rs_cluster_t cluster;
+static rs_objects_t objects;
+
+typedef struct {
+  long frame;
+  float x, y, z;
+  int points;
+} truth_t;
+#define MAX_TRUTH 20000
+static truth_t truth[MAX_TRUTH];
+static int ntruth;
+
+static void load_truth(const char *path) {
+  FILE *f = fopen(path, "r");
+  ck_assert_ptr_nonnull(f);
+  char line[256];
+  ck_assert_ptr_nonnull(fgets(line, sizeof line, f)); /* header */
+  ntruth = 0;
+  while (fgets(line, sizeof line, f) && ntruth < MAX_TRUTH) {
+    truth_t *t = &truth[ntruth];
+    unsigned inst;
+    if (sscanf(line, "%ld,%u,%d,%f,%f,%f", &t->frame, &inst, &t->points, &t->x, &t->y, &t->z) == 6) ntruth++;
+  }
+  fclose(f);
+}
+
+static float nearest_truth(long frame, const float *c) {
+  float best = INFINITY;
+  for (int i = 0; i < ntruth; i++) {
+    if (truth[i].frame != frame) continue;
+    float dx = truth[i].x - c[0], dy = truth[i].y - c[1], dz = truth[i].z - c[2];
+    best = fminf(best, sqrtf(dx * dx + dy * dy + dz * dz));
+  }
+  return best;
+}
+
+START_TEST(t_pipeline_end_to_end) {
+  char cmd[2048];
+  const char *out;
+  const char *lp = tu_tmp("lcm-learn.pcap"), *tp = tu_tmp("lcm-test.pcap"), *tc = tu_tmp("lcm-test.csv");
+  const char *mp = tu_tmp("lcm.model"), *objs = tu_tmp("lcm-truth-objects.csv");
+  snprintf(cmd, sizeof cmd,
+           "./roadscan-sim --sensor VLP-32C --scenario light --seconds 40 --seed 31 -o %s --labels %s.l && "
+           "./roadscan-sim --sensor VLP-32C --scenario light --seconds 5 --seed 32 -o %s --labels %s && "
+           "./roadscan-learn %s -o %s --frames 300 && ./roadscan-eval %s %s %s --objects %s",
+           lp, lp, tp, tc, lp, mp, tp, tc, tc, objs);
+  ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
+  load_truth(objs);
+  ck_assert_int_gt(ntruth, 100);
+  char err[RS_ERRMSG_SIZE];
+  ck_assert_int_eq(rs_bg_load(&model, mp, err, sizeof err), RS_OK);
+  rs_cluster_cfg_t ccfg;
+  rs_cluster_cfg_default(&ccfg);
+  ccfg.method = RS_CLUSTER_FSPC_ADAPTIVE;
+  ck_assert_int_eq(rs_cluster_init(&cluster, &ccfg, NULL), RS_OK);
+  rs_objects_init(&objects, NULL);
+  lcm_t *lcm = lcm_create("memq://");
+  lcm_subscription_t *sub = lcm_subscribe(lcm, "OBJ", on_raw, NULL);
+  rs_publish_cfg_t pcfg = {.channel = "OBJ", .stats_channel = "", .lcm = lcm};
+  ck_assert_int_eq(rs_publish_init(&pub, &pcfg), RS_OK);
+  rs_pipeline_cfg_t cfg;
+  memset(&cfg, 0, sizeof cfg);
+  cfg.pcap_path = tp;
+  cfg.lossless = true;
+  cfg.capture.data_port = RS_DEFAULT_DATA_PORT;
+  cfg.stream.data_port = RS_DEFAULT_DATA_PORT;
+  cfg.stream.default_hz = cfg.assembly.default_hz = 10.0;
+  cfg.background = &model;
+  cfg.cluster = &cluster;
+  cfg.objects = &objects;
+  cfg.object_list = &list;
+  cfg.publish = &pub;
+  ck_assert_int_eq(rs_pipeline_init(&pipe, &cfg, slots, 4), RS_OK);
+  ck_assert_int_eq(rs_pipeline_start(&pipe), RS_OK);
+  rs_pipeline_join(&pipe);
+  const uint64_t frames = pipe.proc.frames;
+  rs_pipeline_deinit(&pipe);
+  drain(lcm);
+  /* one list per frame, in order */
+  ck_assert_uint_ge(frames, 49);
+  ck_assert_int_eq(rx.n, (int)frames);
+  int near = 0, within1 = 0, far = 0, big = 0;
+  float worst = 0.0f;
+  for (int i = 0; i < rx.n; i++) {
+    roadscan_object_list_t m;
+    ck_assert(rs_publish_list_plausible(rx.data[i], rx.len[i]));
+    ck_assert_int_eq(roadscan_object_list_t_decode(rx.data[i], 0, rx.len[i], &m), rx.len[i]);
+    ck_assert_int_eq(m.frame_seq, i);
+    ck_assert(!m.truncated);
+    for (int k = 0; k < m.num_objects && m.frame_seq > 0 && !m.partial; k++) {
+      const roadscan_object_t *o = &m.objects[k];
+      if (o->points < 50) continue; /* small clusters: parts of instances, foliage */
+      big++;
+      float d = nearest_truth(m.frame_seq, o->centroid);
+      worst = fmaxf(worst, d);
+      within1 += d < 1.0f;
+      if (d < 0.5f) near++;
+      else {
+        far++;
+        if (getenv("DBG")) fprintf(stderr, "frame %ld obj %d pts %d c=%.2f,%.2f,%.2f d=%.2f L=%.2f\n", (long)m.frame_seq, o->id, o->points, o->centroid[0], o->centroid[1], o->centroid[2], d, o->obb_length);
+      }
+      /* the box holds the centroid; the oriented box is no larger than the aligned one allows */
+      for (int a = 0; a < 3; a++) {
+        ck_assert_float_le(o->box_min[a], o->centroid[a] + 1e-3f);
+        ck_assert_float_ge(o->box_max[a], o->centroid[a] - 1e-3f);
+      }
+      ck_assert_float_ge(o->obb_length, o->obb_width);
+    }
+    roadscan_object_list_t_decode_cleanup(&m);
+  }
+  /* tolerance between a cluster's centroid and the nearest true instance's: 85 % within
+   * 0.5 m, 95 % within 1 m, none beyond 2 m (a cluster that misses part of a car that
+   * the background or noise took moves its centroid) */
+  ck_assert_int_gt(big, 50);
+  ck_assert_msg(near >= 0.85 * big, "%d of %d objects within 0.5 m of a true instance (%d not)", near, big, far);
+  ck_assert_msg(within1 >= 0.95 * big, "%d of %d objects within 1 m of a true instance", within1, big);
+  ck_assert_float_lt(worst, 2.0f);
+  rx_clear();
+  rs_publish_deinit(&pub);
+  lcm_unsubscribe(lcm, sub);
+  lcm_destroy(lcm);
+  rs_bg_model_free(&model);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("lcm");
+  TCase *tc = tcase_create("core");
+  tcase_set_timeout(tc, 280);
+  tcase_add_test(tc, t_round_trip);
+  tcase_add_test(tc, t_truncation);
+  tcase_add_test(tc, t_bad_settings);
+  tcase_add_test(tc, t_untrusted_bytes);
+  tcase_add_test(tc, t_pipeline_end_to_end);
+  suite_add_tcase(s, tc);
+  return tu_run(s);
+}

@@ -1,0 +1,254 @@
+/* check_objects - cluster attributes on hand-built maps: a box rendered by
+ * ray casting (its oriented box must come back), extents across the column
+ * seam, times, intensity, missing labels, and the site frame of a pose. */
+#include "roadscan/error.h"
+#include "roadscan/objects.h"
+#include "testutil.h"
+
+#include <math.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+#define COLS 1800
+
+static rs_slot_t slot;
+static rs_objects_t objs;
+static rs_object_list_t list;
+static rs_sensor_t sensor;
+
+static void clear_map(void) {
+  ck_assert_int_eq(rs_sensor_init(&sensor, RS_MODEL_VLP32C), RS_OK);
+  memset(&slot.meta, 0, sizeof slot.meta);
+  slot.meta.rows = (uint16_t)sensor.lasers;
+  slot.meta.cols = COLS;
+  memset(slot.range, 0, sizeof slot.range);
+  memset(slot.label, 0, sizeof slot.label);
+  memset(slot.intensity, 0, sizeof slot.intensity);
+  memset(slot.addr, 0, sizeof slot.addr);
+}
+
+/* Casts the ray of every cell at a vertical box (centre cx, cy; length L
+ * along heading h; width W; z from z0 to z1 in the sensor frame) and labels
+ * the cells that hit it. Returns the number of cells hit. */
+static int render_box(float cx, float cy, float h, float L, float W, float z0, float z1, uint16_t label) {
+  int hits = 0;
+  const float ch = cosf(h), sh = sinf(h);
+  for (int r = 0; r < slot.meta.rows; r++) {
+    int laser = sensor.laser_of_row[r];
+    for (int c = 0; c < COLS; c++) {
+      float az = (float)((c + 0.5) * 2.0 * PI / COLS);
+      float dx = sinf(az), dy = cosf(az); /* ground direction of the ray */
+      /* ray origin in box coordinates (u along the length, v across) */
+      float ou = (0 - cx) * ch + (0 - cy) * sh, ov = -(0 - cx) * sh + (0 - cy) * ch;
+      float du = dx * ch + dy * sh, dv = -dx * sh + dy * ch;
+      float tmin = 0.0f, tmax = 1e9f;
+      const float o2[2] = {ou, ov}, d2[2] = {du, dv}, half[2] = {L / 2, W / 2};
+      bool miss = false;
+      for (int a = 0; a < 2 && !miss; a++) {
+        if (fabsf(d2[a]) < 1e-9f) {
+          if (fabsf(o2[a]) > half[a]) miss = true;
+          continue;
+        }
+        float t1 = (-half[a] - o2[a]) / d2[a], t2 = (half[a] - o2[a]) / d2[a];
+        if (t1 > t2) {
+          float t = t1;
+          t1 = t2;
+          t2 = t;
+        }
+        tmin = fmaxf(tmin, t1);
+        tmax = fminf(tmax, t2);
+        if (tmin > tmax) miss = true;
+      }
+      if (miss || tmin <= 0.0f) continue;
+      /* ground distance tmin -> range and height along this laser */
+      float range = tmin / sensor.cos_el[laser];
+      float z = range * sensor.sin_el[laser] + sensor.vert_offset_m[laser];
+      if (z < z0 || z > z1) continue;
+      uint32_t i = rs_cell(&slot, 0, r, c);
+      slot.range[i] = range;
+      slot.label[i] = label;
+      slot.intensity[i] = 40;
+      hits++;
+    }
+  }
+  return hits;
+}
+
+static float angle_diff(float a, float b) { /* headings modulo pi */
+  float d = fmodf(fabsf(a - b), (float)PI);
+  return fminf(d, (float)PI - d);
+}
+
+START_TEST(test_box_comes_back) {
+  /* a 4.5 x 1.8 m car, 15 m away, heading 30 degrees, seen from a 4 m pole */
+  const float headings[] = {0.0f, 0.5236f, -1.1f, 1.5f};
+  for (int t = 0; t < 4; t++) {
+    clear_map();
+    float cx = 9.0f, cy = 12.0f;
+    int hits = render_box(cx, cy, headings[t], 4.5f, 1.8f, -2.0f, -0.4f, 3);
+    ck_assert_int_gt(hits, 100);
+    rs_objects_init(&objs, NULL);
+    rs_objects_extract(&objs, &slot, &sensor, &list);
+    ck_assert_uint_eq(list.count, 1);
+    const rs_object_t *o = &list.obj[0];
+    ck_assert_uint_eq(o->points, (uint32_t)hits);
+    ck_assert_uint_eq(o->id, 1);
+    ck_assert(!list.site_valid);
+    /* visible faces give three corners: the full box, to the map's resolution */
+    ck_assert_float_eq_tol(o->sensor.obb_length, 4.5f, 0.15f);
+    ck_assert_float_eq_tol(o->sensor.obb_width, 1.8f, 0.15f);
+    ck_assert_float_le(angle_diff(o->sensor.obb_heading, headings[t]), 0.05f);
+    ck_assert_float_eq_tol(o->sensor.obb_center[0], cx, 0.15f);
+    ck_assert_float_eq_tol(o->sensor.obb_center[1], cy, 0.15f);
+    ck_assert(o->sensor.obb_heading > -PI / 2 - 1e-6 && o->sensor.obb_heading <= PI / 2 + 1e-6);
+    /* axis-aligned box and height */
+    ck_assert_float_ge(o->sensor.box_min[2], -2.0f - 0.01f);
+    ck_assert_float_le(o->sensor.box_max[2], -0.4f + 0.01f);
+    ck_assert_float_le(o->sensor.box_min[0], o->sensor.centroid[0]);
+    ck_assert_float_ge(o->sensor.box_max[0], o->sensor.centroid[0]);
+    /* the aligned box of a rotated car is wider than the car, the oriented one is not */
+    float aabb_area = (o->sensor.box_max[0] - o->sensor.box_min[0]) * (o->sensor.box_max[1] - o->sensor.box_min[1]);
+    ck_assert_float_ge(aabb_area + 0.05f, o->sensor.obb_length * o->sensor.obb_width);
+    ck_assert_float_eq_tol(o->intensity_mean, 40.0f, 1e-3f);
+    float near = sqrtf(cx * cx + cy * cy) - 2.5f;
+    ck_assert_float_ge(o->range_min, near * 0.9f);
+    ck_assert_float_le(o->range_min, sqrtf(cx * cx + cy * cy));
+  }
+}
+END_TEST
+
+START_TEST(test_centroid_and_extents) {
+  clear_map();
+  double sx = 0, sy = 0, sz = 0;
+  int n = 0;
+  for (int r = 3; r <= 6; r++)
+    for (int c = 100; c <= 119; c++) {
+      uint32_t i = rs_cell(&slot, 0, r, c);
+      slot.range[i] = 20.0f + 0.01f * (float)c;
+      slot.label[i] = 3;
+      slot.intensity[i] = (uint8_t)(c - 100);
+      float p[3];
+      rs_objects_cell_xyz(&sensor, r, c, COLS, slot.range[i], p);
+      sx += p[0];
+      sy += p[1];
+      sz += p[2];
+      n++;
+    }
+  rs_objects_init(&objs, NULL);
+  rs_objects_extract(&objs, &slot, &sensor, &list);
+  ck_assert_uint_eq(list.count, 1);
+  const rs_object_t *o = &list.obj[0];
+  ck_assert_uint_eq(o->points, (uint32_t)n);
+  ck_assert_float_eq_tol(o->sensor.centroid[0], sx / n, 1e-4);
+  ck_assert_float_eq_tol(o->sensor.centroid[1], sy / n, 1e-4);
+  ck_assert_float_eq_tol(o->sensor.centroid[2], sz / n, 1e-4);
+  ck_assert_uint_eq(o->row_min, 3);
+  ck_assert_uint_eq(o->row_max, 6);
+  ck_assert_uint_eq(o->col_start, 100);
+  ck_assert_uint_eq(o->col_end, 119);
+  ck_assert_float_eq_tol(o->az_start, 20.0f, 1e-4f);
+  ck_assert_float_eq_tol(o->az_end, 24.0f, 1e-4f);
+  ck_assert_float_eq_tol(o->range_min, 21.0f, 1e-4f);
+  ck_assert_float_eq_tol(o->intensity_mean, 9.5f, 1e-4f);
+}
+END_TEST
+
+START_TEST(test_seam_missing_labels_and_times) {
+  clear_map();
+  slot.meta.first_packet = 1000;
+  slot.meta.last_packet = 1100;
+  slot.meta.t_first = 50.0;
+  slot.meta.t_last = 50.1;
+  /* object 1 (label 3) across column 0; object 3 (label 5) elsewhere; no label 4 */
+  for (int c = COLS - 5; c < COLS + 5; c++) {
+    int col = c % COLS;
+    uint32_t i = rs_cell(&slot, 0, 10, col);
+    slot.range[i] = 8.0f;
+    slot.label[i] = 3;
+    slot.addr[i].packet = col < 5 ? 1000 + (uint32_t)col : 1095 + (uint32_t)(col - (COLS - 5));
+  }
+  for (int c = 500; c < 510; c++) {
+    uint32_t i = rs_cell(&slot, 1, 12, c); /* second layer only */
+    slot.range[i] = 30.0f;
+    slot.label[i] = 5;
+    slot.addr[i].packet = 1040;
+  }
+  rs_objects_init(&objs, NULL);
+  rs_objects_extract(&objs, &slot, &sensor, &list);
+  ck_assert_uint_eq(list.count, 3);
+  const rs_object_t *a = &list.obj[0], *b = &list.obj[1], *c = &list.obj[2];
+  ck_assert_uint_eq(a->points, 10);
+  ck_assert_uint_eq(a->col_start, COLS - 5);
+  ck_assert_uint_eq(a->col_end, 4);
+  ck_assert_float_eq_tol(a->az_start, 359.0f, 1e-3f);
+  ck_assert_float_eq_tol(a->az_end, 1.0f, 1e-3f);
+  ck_assert_double_eq_tol(a->t_first, 50.0, 1e-9);
+  ck_assert_double_eq_tol(a->t_last, 50.099, 1e-9);
+  ck_assert_uint_eq(b->points, 0);
+  ck_assert_uint_eq(c->points, 10);
+  ck_assert_uint_eq(c->id, 3);
+  ck_assert_double_eq_tol(c->t_first, 50.04, 1e-9);
+  ck_assert_double_eq_tol(c->t_last, 50.04, 1e-9);
+  /* a point-like column set: 10 returns at one range along an arc */
+  ck_assert_float_le(c->sensor.obb_width, 0.05f);
+  ck_assert_float_eq_tol(c->sensor.obb_length, 2.0f * 30.0f * sensor.cos_el[sensor.laser_of_row[12]] *
+                                                   sinf((float)(9.0 * PI / COLS)), 0.02f);
+}
+END_TEST
+
+START_TEST(test_site_frame) {
+  clear_map();
+  int hits = render_box(-6.0f, 14.0f, 0.3f, 4.0f, 1.7f, -5.0f, -3.5f, 3);
+  ck_assert_int_gt(hits, 50);
+  rs_objects_init(&objs, NULL);
+  rs_objects_extract(&objs, &slot, &sensor, &list);
+  rs_object_t plain = list.obj[0];
+  /* sensor 5 m up at (100, 200), turned 90 degrees left, level */
+  rs_pose_t pose = {100.0, 200.0, 5.0, 0.0, 0.0, PI / 2};
+  rs_objects_init(&objs, &pose);
+  rs_objects_extract(&objs, &slot, &sensor, &list);
+  ck_assert(list.site_valid);
+  const rs_object_t *o = &list.obj[0];
+  /* the sensor frame is unchanged */
+  ck_assert_float_eq_tol(o->sensor.centroid[0], plain.sensor.centroid[0], 1e-5f);
+  ck_assert_float_eq_tol(o->sensor.obb_heading, plain.sensor.obb_heading, 1e-5f);
+  /* rotation by +90 degrees: (x, y) -> (-y, x) */
+  ck_assert_float_eq_tol(o->site.centroid[0], 100.0f - plain.sensor.centroid[1], 1e-3f);
+  ck_assert_float_eq_tol(o->site.centroid[1], 200.0f + plain.sensor.centroid[0], 1e-3f);
+  ck_assert_float_eq_tol(o->site.centroid[2], 5.0f + plain.sensor.centroid[2], 1e-3f);
+  ck_assert_float_eq_tol(o->site.box_min[2], 5.0f + plain.sensor.box_min[2], 1e-3f);
+  ck_assert_float_le(angle_diff(o->site.obb_heading, plain.sensor.obb_heading + (float)(PI / 2)), 0.02f);
+  ck_assert_float_eq_tol(o->site.obb_length, plain.sensor.obb_length, 0.02f);
+  ck_assert_float_eq_tol(o->site.obb_width, plain.sensor.obb_width, 0.02f);
+  /* a pitched sensor: the site z of a point ahead changes with the pitch */
+  rs_pose_t tilt = {0.0, 0.0, 0.0, 0.0, 0.1, 0.0};
+  rs_objects_init(&objs, &tilt);
+  rs_objects_extract(&objs, &slot, &sensor, &list);
+  const float *p = plain.sensor.centroid;
+  float z = (float)(-sin(0.1) * p[0] + cos(0.1) * p[2]);
+  ck_assert_float_eq_tol(list.obj[0].site.centroid[2], z, 1e-3f);
+}
+END_TEST
+
+START_TEST(test_empty_frame) {
+  clear_map();
+  slot.range[rs_cell(&slot, 0, 0, 0)] = 5.0f;
+  slot.label[rs_cell(&slot, 0, 0, 0)] = 2; /* noise is not an object */
+  rs_objects_init(&objs, NULL);
+  rs_objects_extract(&objs, &slot, &sensor, &list);
+  ck_assert_uint_eq(list.count, 0);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("objects");
+  TCase *tc = tcase_create("core");
+  tcase_set_timeout(tc, 60);
+  tcase_add_test(tc, test_box_comes_back);
+  tcase_add_test(tc, test_centroid_and_extents);
+  tcase_add_test(tc, test_seam_missing_labels_and_times);
+  tcase_add_test(tc, test_site_frame);
+  tcase_add_test(tc, test_empty_frame);
+  suite_add_tcase(s, tc);
+  return tu_run(s);
+}

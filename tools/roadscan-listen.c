@@ -1,0 +1,301 @@
+/* roadscan-listen - subscribes to roadscand's object lists and prints them.
+ *
+ * One thread: lcm_handle_timeout in a loop; the handler checks the message
+ * (fingerprint, object count against its size) before decoding it, prints a
+ * table or one JSON line, and tracks the rate and the frame numbers missed
+ * (gaps) per sensor id. Reads a live URL or an LCM log file (--log). */
+#include "roadscan/config.h"
+#include "roadscan/error.h"
+#include "roadscan/publish.h"
+
+#include <getopt.h>
+#include <inttypes.h>
+#include <lcm/lcm.h>
+#include <math.h>
+#include <signal.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define MAX_SENSORS 16
+
+static volatile sig_atomic_t stop;
+static void on_signal(int sig) {
+  (void)sig;
+  stop = 1;
+}
+
+static struct {
+  bool json, stats, quiet;
+  long count, delay_ms;
+  uint64_t lists, stats_msgs, malformed, gaps, objects;
+  double t0, t_last;
+  struct {
+    char id[RS_PUB_NAME_MAX];
+    int64_t last_seq;
+  } sensors[MAX_SENSORS];
+  int nsensors;
+} L;
+
+static double now_s(void) {
+  struct timespec ts;
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static void json_floats(const char *name, const float *v, int n) {
+  printf("\"%s\":[", name);
+  for (int i = 0; i < n; i++) printf("%s%.4f", i ? "," : "", (double)v[i]);
+  printf("]");
+}
+
+/* Frames missed since the previous list of the same sensor. */
+static int64_t gap_of(const char *id, int64_t seq) {
+  for (int i = 0; i < L.nsensors; i++)
+    if (strcmp(L.sensors[i].id, id) == 0) {
+      int64_t g = seq > L.sensors[i].last_seq + 1 ? seq - L.sensors[i].last_seq - 1 : 0;
+      L.sensors[i].last_seq = seq;
+      return g;
+    }
+  if (L.nsensors < MAX_SENSORS) {
+    snprintf(L.sensors[L.nsensors].id, sizeof L.sensors[0].id, "%s", id);
+    L.sensors[L.nsensors++].last_seq = seq;
+  }
+  return 0;
+}
+
+static void print_json(const roadscan_object_list_t *m, int64_t gap) {
+  printf("{\"sensor_id\":\"%s\",\"sensor_model\":\"%s\",\"frame_seq\":%" PRId64 ",\"utime\":%" PRId64
+         ",\"t_first\":%" PRId64 ",\"t_last\":%" PRId64 ",\"packets\":%d,\"packets_missing\":%d,"
+         "\"columns_covered\":%d,\"columns\":%d,\"partial\":%s,\"truncated\":%s,\"num_clusters\":%d,"
+         "\"site_valid\":%s,\"gap\":%" PRId64 ",\"objects\":[",
+         m->sensor_id, m->sensor_model, m->frame_seq, m->utime, m->t_first, m->t_last, m->packets, m->packets_missing,
+         m->columns_covered, m->columns, m->partial ? "true" : "false", m->truncated ? "true" : "false",
+         m->num_clusters, m->site_valid ? "true" : "false", gap);
+  for (int i = 0; i < m->num_objects; i++) {
+    const roadscan_object_t *o = &m->objects[i];
+    printf("%s{\"id\":%d,\"points\":%d,", i ? "," : "", o->id, o->points);
+    json_floats("centroid", o->centroid, 3);
+    printf(",");
+    json_floats("box_min", o->box_min, 3);
+    printf(",");
+    json_floats("box_max", o->box_max, 3);
+    printf(",");
+    json_floats("obb_center", o->obb_center, 2);
+    printf(",\"obb_length\":%.4f,\"obb_width\":%.4f,\"obb_heading\":%.5f,\"range_min\":%.4f,"
+           "\"azimuth_start\":%.3f,\"azimuth_end\":%.3f,\"rows\":[%d,%d],\"cols\":[%d,%d],\"intensity_mean\":%.2f,"
+           "\"t_first\":%" PRId64 ",\"t_last\":%" PRId64,
+           (double)o->obb_length, (double)o->obb_width, (double)o->obb_heading, (double)o->range_min,
+           (double)o->azimuth_start, (double)o->azimuth_end, o->row_min, o->row_max, o->col_start, o->col_end,
+           (double)o->intensity_mean, o->t_first, o->t_last);
+    if (m->site_valid) {
+      printf(",");
+      json_floats("site_centroid", o->site_centroid, 3);
+      printf(",");
+      json_floats("site_box_min", o->site_box_min, 3);
+      printf(",");
+      json_floats("site_box_max", o->site_box_max, 3);
+      printf(",");
+      json_floats("site_obb_center", o->site_obb_center, 2);
+      printf(",\"site_obb_length\":%.4f,\"site_obb_width\":%.4f,\"site_obb_heading\":%.5f",
+             (double)o->site_obb_length, (double)o->site_obb_width, (double)o->site_obb_heading);
+    }
+    printf("}");
+  }
+  printf("]}\n");
+}
+
+static void print_table(const roadscan_object_list_t *m, int64_t gap) {
+  double rate = L.lists > 1 && L.t_last > L.t0 ? (double)(L.lists - 1) / (L.t_last - L.t0) : 0.0;
+  printf("%s frame %" PRId64 " (%s)  t=%.3f  %d objects%s  %d/%d columns, %d packets missing%s  rate %.1f/s  gaps %" PRIu64
+         "%s\n",
+         m->sensor_id, m->frame_seq, m->sensor_model, (double)m->t_first * 1e-6, m->num_objects,
+         m->truncated ? " (TRUNCATED)" : "", m->columns_covered, m->columns, m->packets_missing,
+         m->partial ? ", partial" : "", rate, L.gaps, gap ? "  <- frames missed" : "");
+  if (m->num_objects == 0) return;
+  const bool site = m->site_valid;
+  printf("  %4s %6s %8s %8s %7s %6s %5s %7s %6s %6s %7s %15s%s\n", "id", "points", "x", "y", "z", "length", "width",
+         "heading", "z_min", "z_max", "range", "azimuth", site ? "  (site frame)" : "  (sensor frame)");
+  for (int i = 0; i < m->num_objects; i++) {
+    const roadscan_object_t *o = &m->objects[i];
+    const float *c = site ? o->site_centroid : o->centroid, *lo = site ? o->site_box_min : o->box_min,
+                *hi = site ? o->site_box_max : o->box_max;
+    float len = site ? o->site_obb_length : o->obb_length, wid = site ? o->site_obb_width : o->obb_width;
+    float head = site ? o->site_obb_heading : o->obb_heading;
+    printf("  %4d %6d %8.2f %8.2f %7.2f %6.2f %5.2f %7.1f %6.2f %6.2f %7.2f %7.2f-%-7.2f\n", o->id, o->points,
+           (double)c[0], (double)c[1], (double)c[2], (double)len, (double)wid, (double)head * 180.0 / M_PI,
+           (double)lo[2], (double)hi[2], (double)o->range_min, (double)o->azimuth_start, (double)o->azimuth_end);
+  }
+}
+
+static void on_list(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
+  (void)channel;
+  (void)user;
+  roadscan_object_list_t m;
+  if (!rs_publish_list_plausible(rbuf->data, (int)rbuf->data_size) ||
+      roadscan_object_list_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m) < 0) {
+    L.malformed++;
+    fprintf(stderr, "roadscan-listen: %s: a message of %u bytes is not a roadscan object list; ignored\n", channel,
+            rbuf->data_size);
+    return;
+  }
+  double t = now_s();
+  if (L.lists == 0) L.t0 = t;
+  L.t_last = t;
+  L.lists++;
+  L.objects += (uint64_t)m.num_objects;
+  int64_t gap = gap_of(m.sensor_id, m.frame_seq);
+  L.gaps += (uint64_t)gap;
+  if (!L.quiet) {
+    if (L.json)
+      print_json(&m, gap);
+    else
+      print_table(&m, gap);
+    fflush(stdout);
+  }
+  roadscan_object_list_t_decode_cleanup(&m);
+  if (L.delay_ms > 0) {
+    struct timespec d = {L.delay_ms / 1000, (L.delay_ms % 1000) * 1000000L};
+    nanosleep(&d, NULL);
+  }
+  if (L.count > 0 && (long)L.lists >= L.count) stop = 1;
+}
+
+static void on_stats(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
+  (void)user;
+  roadscan_frame_stats_t s;
+  if (roadscan_frame_stats_t_decode(rbuf->data, 0, (int)rbuf->data_size, &s) < 0) {
+    L.malformed++;
+    fprintf(stderr, "roadscan-listen: %s: a message of %u bytes is not roadscan frame statistics; ignored\n", channel,
+            rbuf->data_size);
+    return;
+  }
+  L.stats_msgs++;
+  if (!L.quiet) {
+    if (L.json)
+      printf("{\"stats\":true,\"sensor_id\":\"%s\",\"frame_seq\":%" PRId64 ",\"background_us\":%d,\"cluster_us\":%d,"
+             "\"objects_us\":%d,\"publish_us\":%d,\"processing_us\":%d,\"latency_us\":%d,\"points\":%d,"
+             "\"foreground\":%d,\"clusters\":%d,\"noise\":%d,\"frames_processed\":%" PRId64 ",\"frames_dropped\":%" PRId64
+             ",\"deadline_overruns\":%" PRId64 ",\"packets_missing\":%" PRId64 ",\"truncated_lists\":%" PRId64
+             ",\"budget_ms\":%.2f}\n",
+             s.sensor_id, s.frame_seq, s.background_us, s.cluster_us, s.objects_us, s.publish_us, s.processing_us,
+             s.latency_us, s.points, s.foreground, s.clusters, s.noise, s.frames_processed, s.frames_dropped,
+             s.deadline_overruns, s.packets_missing, s.truncated_lists, (double)s.budget_ms);
+    else
+      printf("%s frame %" PRId64 " stats: processing %.2f ms (background %.2f, cluster %.2f, objects %.2f, publish "
+             "%.2f) latency %.2f ms; %d foreground, %d clusters; %" PRId64 " dropped, %" PRId64 " over budget\n",
+             s.sensor_id, s.frame_seq, s.processing_us * 1e-3, s.background_us * 1e-3, s.cluster_us * 1e-3,
+             s.objects_us * 1e-3, s.publish_us * 1e-3, s.latency_us * 1e-3, s.foreground, s.clusters,
+             s.frames_dropped, s.deadline_overruns);
+    fflush(stdout);
+  }
+  roadscan_frame_stats_t_decode_cleanup(&s);
+}
+
+static void usage(FILE *out) {
+  fprintf(out,
+          "usage: roadscan-listen [options]\n"
+          "Prints the object lists roadscand publishes over LCM.\n"
+          "  --url URL            LCM provider (default %s)\n"
+          "  --log FILE           read an LCM log (lcm-logger) instead, as fast as possible\n"
+          "  --channel NAME       object lists (default %s)\n"
+          "  --stats [NAME]       also print the frame statistics (channel default %s)\n"
+          "  --json               one JSON object per line and message\n"
+          "  --count N            exit after N object lists\n"
+          "  --timeout S          exit after S seconds with no message (default: wait)\n"
+          "  --delay-ms MS        sleep after each list (to try a consumer that falls behind)\n"
+          "  --quiet              print only the final counts\n"
+          "At the end (signal, --count, --timeout, end of the log) it prints on stderr:\n"
+          "  lists N, objects N, gaps N (frames missed), stats N, malformed N, rate R/s\n"
+          "Exit status: 0, 1 when no list was received, 2 bad usage.\n",
+          RS_PUB_DEFAULT_URL, RS_PUB_DEFAULT_CHANNEL, RS_PUB_DEFAULT_STATS);
+}
+
+int main(int argc, char **argv) {
+  enum { O_URL = 256, O_LOG, O_CHANNEL, O_STATS, O_JSON, O_COUNT, O_TIMEOUT, O_DELAY, O_QUIET, O_HELP };
+  static const struct option opts[] = {{"url", required_argument, NULL, O_URL},
+                                       {"log", required_argument, NULL, O_LOG},
+                                       {"channel", required_argument, NULL, O_CHANNEL},
+                                       {"stats", optional_argument, NULL, O_STATS},
+                                       {"json", no_argument, NULL, O_JSON},
+                                       {"count", required_argument, NULL, O_COUNT},
+                                       {"timeout", required_argument, NULL, O_TIMEOUT},
+                                       {"delay-ms", required_argument, NULL, O_DELAY},
+                                       {"quiet", no_argument, NULL, O_QUIET},
+                                       {"help", no_argument, NULL, O_HELP},
+                                       {NULL, 0, NULL, 0}};
+  const char *url = RS_PUB_DEFAULT_URL, *channel = RS_PUB_DEFAULT_CHANNEL, *stats = NULL, *log = NULL;
+  double timeout = 0;
+  char err[RS_ERRMSG_SIZE], logurl[4200];
+  int c;
+  while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
+    switch (c) {
+    case O_URL: url = optarg; break;
+    case O_LOG: log = optarg; break;
+    case O_CHANNEL: channel = optarg; break;
+    case O_STATS: stats = optarg ? optarg : RS_PUB_DEFAULT_STATS; break;
+    case O_JSON: L.json = true; break;
+    case O_QUIET: L.quiet = true; break;
+    case O_COUNT:
+      if (rs_cfg_long("--count", optarg, 1, 1000000000L, &L.count, err, sizeof err)) goto bad;
+      break;
+    case O_TIMEOUT:
+      if (rs_cfg_double("--timeout", optarg, 0.01, 1e6, &timeout, err, sizeof err)) goto bad;
+      break;
+    case O_DELAY:
+      if (rs_cfg_long("--delay-ms", optarg, 0, 60000, &L.delay_ms, err, sizeof err)) goto bad;
+      break;
+    case O_HELP: usage(stdout); return 0;
+    default: usage(stderr); return 2;
+    }
+  }
+  if (optind < argc) {
+    snprintf(err, sizeof err, "unexpected argument '%s'", argv[optind]);
+    goto bad;
+  }
+  if (log) {
+    if (access(log, R_OK) != 0) {
+      snprintf(err, sizeof err, "--log %s: cannot read", log);
+      goto bad;
+    }
+    snprintf(logurl, sizeof logurl, "file://%s?speed=0", log);
+    url = logurl;
+  }
+  lcm_t *lcm = lcm_create(url);
+  if (lcm == NULL) {
+    fprintf(stderr, "roadscan-listen: cannot open LCM URL '%s'%s\n", url,
+            strncmp(url, "udpm://", 7) == 0 ? " (is there a multicast route? e.g. ip route add 224.0.0.0/4 dev lo)" : "");
+    return 1;
+  }
+  lcm_subscription_t *sub = lcm_subscribe(lcm, channel, on_list, NULL);
+  lcm_subscription_t *ssub = stats ? lcm_subscribe(lcm, stats, on_stats, NULL) : NULL;
+  struct sigaction sa;
+  memset(&sa, 0, sizeof sa);
+  sa.sa_handler = on_signal;
+  sigaction(SIGINT, &sa, NULL);
+  sigaction(SIGTERM, &sa, NULL);
+  double idle_since = now_s();
+  while (!stop) {
+    int rc = lcm_handle_timeout(lcm, 100);
+    if (rc < 0) break; /* end of a log, or an error */
+    if (rc > 0) {
+      idle_since = now_s();
+    } else if (timeout > 0 && now_s() - idle_since >= timeout) {
+      break;
+    }
+  }
+  lcm_unsubscribe(lcm, sub);
+  if (ssub) lcm_unsubscribe(lcm, ssub);
+  lcm_destroy(lcm);
+  double rate = L.lists > 1 && L.t_last > L.t0 ? (double)(L.lists - 1) / (L.t_last - L.t0) : 0.0;
+  fprintf(stderr,
+          "roadscan-listen: lists %" PRIu64 ", objects %" PRIu64 ", gaps %" PRIu64 ", stats %" PRIu64
+          ", malformed %" PRIu64 ", rate %.2f/s\n",
+          L.lists, L.objects, L.gaps, L.stats_msgs, L.malformed, rate);
+  return L.lists > 0 ? 0 : 1;
+bad:
+  fprintf(stderr, "roadscan-listen: %s\n", err);
+  return 2;
+}
