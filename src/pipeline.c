@@ -35,7 +35,7 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
   rs_timing_init(&p->t_cluster, "cluster/frame");
   rs_timing_init(&p->t_objects, "objects/frame");
   rs_timing_init(&p->t_publish, "publish/frame");
-  rs_timing_init(&p->t_latency, "latency (frame complete -> published)");
+  rs_timing_init(&p->t_latency, "latency/frame (last packet read -> list published)");
   p->line.t0_ns = rs_now_ns();
   if (cfg->background) {
     /* the map must have the model's geometry */
@@ -110,8 +110,12 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
     }
   }
   /* bounded: every FRAME_DONE resumes at least one block further */
+  const int64_t now = rs_now_ns();
   for (int i = 0; i <= RS_BLOCKS && p->cur >= 0; i++) {
-    if (rs_asm_feed(&p->assembly, &p->slots[p->cur], pkt, index, ts) == RS_ASM_CONSUMED) break;
+    rs_slot_t *s = &p->slots[p->cur];
+    rs_asm_result_t r = rs_asm_feed(&p->assembly, s, pkt, index, ts);
+    if (s->meta.packets > 0 && s->meta.last_packet == index) s->meta.last_packet_ns = now; /* it contributed */
+    if (r == RS_ASM_CONSUMED) break;
     publish_cur(p);
   }
   p->stream.rate_hint = p->assembly.rate;
@@ -312,7 +316,7 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
     published_ns = rs_now_ns();
     pub_ns = published_ns - tp;
     stage_time(p, &p->t_publish, pub_ns);
-    if (s->meta.assembled_ns > 0) rs_timing_add(&p->t_latency, published_ns - s->meta.assembled_ns);
+    if (s->meta.last_packet_ns > 0) rs_timing_add(&p->t_latency, published_ns - s->meta.last_packet_ns);
   }
   const rs_frame_meta_t *m = &s->meta;
   uint32_t filled[RS_LAYERS] = {0, 0};
@@ -354,7 +358,7 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
     st.objects_us = (int32_t)(obj_ns / 1000);
     st.publish_us = (int32_t)(pub_ns / 1000);
     st.processing_us = (int32_t)(dt / 1000);
-    st.latency_us = m->assembled_ns > 0 ? (int32_t)((published_ns - m->assembled_ns) / 1000) : -1;
+    st.latency_us = m->last_packet_ns > 0 ? (int32_t)((published_ns - m->last_packet_ns) / 1000) : -1;
     st.points = (int32_t)m->points;
     st.foreground = (int32_t)(p->bg.foreground - fg0);
     st.clusters = (int32_t)cs.clusters;

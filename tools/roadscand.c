@@ -163,10 +163,18 @@ static int apply(int id, const char *val, const char *key, char *err, size_t n) 
   double d;
   long l;
   rs_pipeline_cfg_t *cfg = &st.cfg;
-  const char *v = val && (defs[id].arg || id == O_FAST) ? strdup(val) : val;
-  if (val && !v) {
-    snprintf(err, n, "%s: out of memory", key);
-    return RS_E_NOMEM;
+  /* values outlive the config parser's buffers: kept in a static arena */
+  static char arena[16384];
+  static size_t used;
+  const char *v = val;
+  if (val) {
+    size_t len = strlen(val) + 1;
+    if (len > sizeof arena - used) {
+      snprintf(err, n, "%s: the options take more than %zu bytes", key, sizeof arena);
+      return RS_E_NOMEM;
+    }
+    v = memcpy(arena + used, val, len);
+    used += len;
   }
   switch (id) {
   case O_PCAP: cfg->pcap_path = v; break;

@@ -59,6 +59,7 @@ typedef struct {
   uint32_t collisions;      /* returns landing on an occupied cell with no free neighbour (nearer kept) */
   uint64_t dropped_frames;  /* frames dropped by the ring so far (set by the pipeline) */
   int64_t assembled_ns;     /* CLOCK_MONOTONIC when the frame was complete */
+  int64_t last_packet_ns;   /* CLOCK_MONOTONIC when its last packet was read (set by the pipeline) */
 } rs_frame_meta_t;
 
 typedef struct {
