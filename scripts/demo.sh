@@ -24,5 +24,21 @@ build/bin/roadscan-learn out/site.pcap -o out/site.bg --image out/site-backgroun
 build/bin/roadscan-sim --sensor VLP-32C --scenario rush --seconds 10 --seed 7 -o out/rush.pcap --labels out/rush-truth.csv
 build/bin/roadscand --pcap out/rush.pcap --fast --background out/site.bg --labels-out out/rush-pred.csv --quiet
 build/bin/roadscan-eval out/rush.pcap out/rush-truth.csv out/rush-pred.csv
+echo "== the daemon at the original timing, publishing object lists over LCM; roadscan-listen prints them"
+if ip route get 239.255.76.67 >/dev/null 2>&1; then
+  build/bin/roadscan-listen --timeout 3 > out/objects.txt &
+  listener=$!
+  sleep 0.3
+  build/bin/roadscand --pcap out/rush.pcap --background out/site.bg --cluster fspc-adaptive --pose "0 0 3 0 0 0"
+  wait $listener || true
+else
+  echo "(no multicast route on this host: publishing to an LCM log file instead)"
+  rm -f "$PWD/out/objects.lcmlog"
+  build/bin/roadscand --pcap out/rush.pcap --background out/site.bg --cluster fspc-adaptive --pose "0 0 3 0 0 0" \
+    --lcm-url "file://$PWD/out/objects.lcmlog?mode=w"
+  build/bin/roadscan-listen --log out/objects.lcmlog > out/objects.txt
+fi
+echo "== out/objects.txt (first frame)"
+sed -n '1,12p' out/objects.txt
 echo "== decode + frame assembly throughput"
 build/bin/roadscan-bench --seconds 0.3
