@@ -266,7 +266,11 @@ START_TEST(t_background_tools) {
   char line[256];
   ck_assert_ptr_nonnull(fgets(line, sizeof line, f));
   fclose(f);
-  ck_assert_str_eq(line, "frame,foreground,decode_us,assembly_us,background_us,fspc_us,fspc_adaptive_us,dbscan_us,ccl_us\n");
+  ck_assert_str_eq(line, "frame,foreground,decode_us,assembly_us,background_us,fspc_us,fspc_adaptive_us,dbscan_us,ccl_us,"
+                         "objects_us,encode_us\n");
+  ck_assert_ptr_nonnull(strstr(out, "objects (fspc)"));
+  ck_assert_ptr_nonnull(strstr(out, "lcm encode"));
+  ck_assert_ptr_null(strstr(out, "lcm encode failed"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --cluster kmeans", &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "'kmeans' is not fspc"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --window 4x11", &out), 2);
