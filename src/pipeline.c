@@ -260,9 +260,11 @@ static void maybe_log_line(rs_pipeline_t *p) {
   uint64_t frames = p->proc.frames - p->line.frames, objects = p->objects - p->line.objects;
   rs_log(RS_LOG_INFO,
          "last %.0f s: %" PRIu64 " frames (%.1f/s), %" PRIu64 " objects; totals: %" PRIu64 " frames, %" PRIu64
-         " dropped, %" PRIu64 " over budget, %" PRIu64 " packets missing; worst stage %s %.2f ms",
+         " dropped, %" PRIu64 " over budget, %" PRIu64 " packets missing, %" PRIu64
+         " publish errors; worst stage %s %.2f ms",
          dt, frames, (double)frames / dt, objects, p->proc.frames, rs_ring_dropped(&p->ring), p->overruns,
-         p->proc.missing_packets, p->line.worst ? p->line.worst : "-", (double)p->line.worst_ns * 1e-6);
+         p->proc.missing_packets, p->cfg.publish ? p->cfg.publish->errors : 0, p->line.worst ? p->line.worst : "-",
+         (double)p->line.worst_ns * 1e-6);
   p->line.t0_ns = now;
   p->line.frames = p->proc.frames;
   p->line.objects = p->objects;
