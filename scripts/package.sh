@@ -23,5 +23,11 @@ tmp=$(mktemp -d)
 dpkg-deb -x "$deb" "$tmp"
 grep -q '^ExecStart=/usr/bin/roadscand --config /etc/roadscan/roadscand.ini --syslog$' "$tmp/usr/lib/systemd/system/roadscand.service" ||
   { echo "package.sh: the unit does not start /usr/bin/roadscand with /etc/roadscan/roadscand.ini" >&2; exit 1; }
+if command -v systemd-analyze >/dev/null; then
+  # syntax and directives; the binary itself is not installed on this machine
+  msgs=$(SYSTEMD_LOG_LEVEL=warning systemd-analyze verify --man=no "$tmp/usr/lib/systemd/system/roadscand.service" 2>&1 |
+         grep -v "Command /usr/bin/roadscand is not executable" || true)
+  [ -z "$msgs" ] || { echo "package.sh: systemd-analyze verify: $msgs" >&2; exit 1; }
+fi
 rm -rf "$tmp"
 echo "$deb"
