@@ -10,6 +10,7 @@
 #include "roadscan/publish.h"
 #include "testutil.h"
 
+#include <lcm/eventlog.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -245,6 +246,60 @@ START_TEST(t_untrusted_bytes) {
 }
 END_TEST
 
+/* roadscan-listen counts and skips what is not an object list, and goes on */
+START_TEST(t_listener_rejects_garbage) {
+  const char *path = tu_tmp("lcm-garbage.lcmlog");
+  remove(path);
+  lcm_eventlog_t *log = lcm_eventlog_create(path, "w");
+  ck_assert_ptr_nonnull(log);
+  rs_publish_cfg_t cfg = {.url = "memq://"};
+  ck_assert_int_eq(rs_publish_init(&pub, &cfg), RS_OK);
+  static uint8_t buf[RS_PUB_DATAGRAM_MAX], bad[64];
+  int64_t n = 0;
+  for (int f = 0; f < 6; f++) {
+    void *data = buf;
+    int len;
+    make_objects(4);
+    meta.seq = (uint64_t)f;
+    roadscan_object_list_t m;
+    rs_publish_fill(&pub, &meta, &list, 1, &m);
+    len = roadscan_object_list_t_encode(buf, 0, (int)sizeof buf, &m);
+    ck_assert_int_gt(len, 0);
+    if (f == 1) { /* a few random-looking bytes */
+      for (int i = 0; i < 40; i++) bad[i] = (uint8_t)(i * 73 + 11);
+      data = bad;
+      len = 40;
+    } else if (f == 2) { /* a million objects claimed in a few hundred bytes */
+      buf[17] = 0x10;
+    } else if (f == 3) { /* another type's fingerprint */
+      buf[0] ^= 0xff;
+    } else if (f == 4) { /* cut short */
+      len -= 50;
+    }
+    lcm_eventlog_event_t ev = {n++, 1700000000000000LL + f, 16, len, (char *)RS_PUB_DEFAULT_CHANNEL, data};
+    ck_assert_int_eq(lcm_eventlog_write_event(log, &ev), 0);
+  }
+  /* statistics cut short (the decoder has allocated the sensor id by then) */
+  roadscan_frame_stats_t st;
+  memset(&st, 0, sizeof st);
+  st.sensor_id = "north";
+  int slen = roadscan_frame_stats_t_encode(buf, 0, (int)sizeof buf, &st);
+  lcm_eventlog_event_t sev = {n++, 1700000000000009LL, 14, slen - 20, (char *)RS_PUB_DEFAULT_STATS, buf};
+  ck_assert_int_eq(lcm_eventlog_write_event(log, &sev), 0);
+  lcm_eventlog_destroy(log);
+  rs_publish_deinit(&pub);
+  char cmd[1024];
+  const char *out;
+  snprintf(cmd, sizeof cmd, "./roadscan-listen --log %s --json --stats", path);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "lists 2, objects 8, gaps 4, stats 0, malformed 5"));
+  ck_assert_ptr_nonnull(strstr(out, "is not roadscan frame statistics; ignored"));
+  ck_assert_ptr_nonnull(strstr(out, "a message of 40 bytes is not a roadscan object list; ignored"));
+  ck_assert_ptr_nonnull(strstr(out, "\"frame_seq\":0,"));
+  ck_assert_ptr_nonnull(strstr(out, "\"frame_seq\":5,"));
+}
+END_TEST
+
 /* ---- the whole pipeline on a simulated capture ---- */
 
 static rs_slot_t slots[4];
@@ -383,6 +438,7 @@ int main(void) {
   tcase_add_test(tc, t_truncation);
   tcase_add_test(tc, t_bad_settings);
   tcase_add_test(tc, t_untrusted_bytes);
+  tcase_add_test(tc, t_listener_rejects_garbage);
   tcase_add_test(tc, t_pipeline_end_to_end);
   suite_add_tcase(s, tc);
   return tu_run(s);

@@ -134,8 +134,15 @@ static void on_list(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
   (void)channel;
   (void)user;
   roadscan_object_list_t m;
-  if (!rs_publish_list_plausible(rbuf->data, (int)rbuf->data_size) ||
-      roadscan_object_list_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m) < 0) {
+  memset(&m, 0, sizeof m);
+  bool ok = rs_publish_list_plausible(rbuf->data, (int)rbuf->data_size);
+  if (ok && roadscan_object_list_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m) < 0) {
+    /* the generated decoder returns what it allocated before failing: free it */
+    if (m.objects == NULL) m.num_objects = 0;
+    roadscan_object_list_t_decode_cleanup(&m);
+    ok = false;
+  }
+  if (!ok) {
     L.malformed++;
     fprintf(stderr, "roadscan-listen: %s: a message of %u bytes is not a roadscan object list; ignored\n", channel,
             rbuf->data_size);
@@ -166,7 +173,9 @@ static void on_list(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
 static void on_stats(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
   (void)user;
   roadscan_frame_stats_t s;
+  memset(&s, 0, sizeof s);
   if (roadscan_frame_stats_t_decode(rbuf->data, 0, (int)rbuf->data_size, &s) < 0) {
+    roadscan_frame_stats_t_decode_cleanup(&s); /* what the decoder allocated before failing */
     L.malformed++;
     fprintf(stderr, "roadscan-listen: %s: a message of %u bytes is not roadscan frame statistics; ignored\n", channel,
             rbuf->data_size);
