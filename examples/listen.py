@@ -8,6 +8,7 @@ Options: --url URL (default: the daemon's), --channel NAME, --count N.
 A log recorded with lcm-logger reads with --url 'file:///abs/path.lcmlog?speed=0'.
 """
 import argparse
+import struct
 import sys
 
 import lcm
@@ -24,10 +25,16 @@ def main():
     args = ap.parse_args()
 
     lc = lcm.LCM(args.url)
-    seen = {"lists": 0, "objects": 0, "gaps": 0, "last": {}}
+    seen = {"lists": 0, "objects": 0, "gaps": 0, "malformed": 0, "last": {}}
 
     def on_list(channel, data):
-        m = object_list_t.decode(data)
+        try:
+            m = object_list_t.decode(data)
+        except (ValueError, struct.error):
+            seen["malformed"] += 1
+            print(f"{channel}: a message of {len(data)} bytes is not a roadscan object list; ignored",
+                  file=sys.stderr)
+            return
         last = seen["last"].get(m.sensor_id)
         if last is not None and m.frame_seq > last + 1:
             seen["gaps"] += m.frame_seq - last - 1
@@ -51,8 +58,8 @@ def main():
     except (KeyboardInterrupt, OSError):  # OSError: end of a log file
         pass
     finally:
-        print(f"lists {seen['lists']}, objects {seen['objects']}, gaps {seen['gaps']}",
-              file=sys.stderr)
+        print(f"lists {seen['lists']}, objects {seen['objects']}, gaps {seen['gaps']}, "
+              f"malformed {seen['malformed']}", file=sys.stderr)
 
 
 if __name__ == "__main__":
