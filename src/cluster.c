@@ -24,6 +24,7 @@ void rs_cluster_cfg_default(rs_cluster_cfg_t *c) {
   c->adapt_eps_share = 0.03f;
   c->adapt_eps_rows = 1.0f;
   c->adapt_eps_min = 0.5f;
+  c->adapt_eps_max = 2.5f;
   c->dbscan_eps = 1.2f;
   c->dbscan_min_pts = 15;
   c->ccl_eps = 1.0f;
@@ -49,7 +50,7 @@ int rs_cluster_init(rs_cluster_t *c, const rs_cluster_cfg_t *cfg, const rs_senso
   if (cfg->win_h < 1 || cfg->win_h > RS_MAX_WIN_H || cfg->win_h % 2 == 0 || cfg->win_w < 1 ||
       cfg->win_w > RS_MAX_WIN_W || cfg->win_w % 2 == 0)
     return RS_E_INVAL;
-  if (!(cfg->eps > 0) || cfg->min_pts < 1 || !(cfg->dbscan_eps > 0) || cfg->dbscan_min_pts < 1 || !(cfg->ccl_eps > 0))
+  if (!(cfg->eps > 0) || cfg->min_pts < 1 || !(cfg->adapt_eps_max >= cfg->adapt_eps_min) || !(cfg->dbscan_eps > 0) || cfg->dbscan_min_pts < 1 || !(cfg->ccl_eps > 0))
     return RS_E_INVAL;
   c->cfg = *cfg;
   c->sensor = s;
@@ -95,7 +96,7 @@ static void build_adaptive(rs_cluster_t *c, int cols) {
       c->half_h[r][b] = (uint8_t)hh;
       c->min_pts[r][b] = (uint8_t)mp;
       double e = eps_share * range;
-      c->eps_tab[r][b] = (float)fmin(c->cfg.eps, fmax(c->cfg.adapt_eps_min, e));
+      c->eps_tab[r][b] = (float)fmin(c->cfg.adapt_eps_max, fmax(c->cfg.adapt_eps_min, e));
     }
   }
   c->cols = cols;

@@ -101,7 +101,8 @@ static void usage(FILE *out) {
           "Clustering of the foreground [cluster]\n"
           "  --cluster METHOD     fspc (default with a background), fspc-adaptive, dbscan, ccl, none\n"
           "  --window HxW         FSPC window, odd numbers (default 5x11)\n"
-          "  --eps M              FSPC range difference (default 1.8); DBSCAN radius with --cluster dbscan (1.2)\n"
+          "  --eps M              FSPC range difference (default 1.8); the largest one with fspc-adaptive (2.5);\n"
+          "                       DBSCAN radius with --cluster dbscan (1.2); CCL's with --cluster ccl (1.0)\n"
           "  --min-pts N          core threshold, the centre counted (default 15)\n"
           "LCM [lcm]: one object list and one statistics message per frame\n"
           "  --lcm-url URL        LCM provider (default %s; memq:// and\n"
@@ -418,6 +419,7 @@ int main(int argc, char **argv) {
   if (st.eps > 0) {
     if (st.ccfg.method == RS_CLUSTER_DBSCAN) st.ccfg.dbscan_eps = (float)st.eps;
     else if (st.ccfg.method == RS_CLUSTER_CCL) st.ccfg.ccl_eps = (float)st.eps;
+    else if (st.ccfg.method == RS_CLUSTER_FSPC_ADAPTIVE) st.ccfg.adapt_eps_max = (float)st.eps;
     else st.ccfg.eps = (float)st.eps;
   }
   if (st.ccfg.method != RS_CLUSTER_NONE) {

@@ -19,7 +19,7 @@
  * Adaptive FSPC: per laser row and 1 m range bin, the window shrinks to what
  * an obj_w x obj_h object would cover, minPts to adapt_share of the cells it
  * would fill (at least adapt_min_pts, at most min_pts), and eps to
- * 0.04 x range (0.5 m to eps): a car roof seen by one laser near the pole
+ * 0.03 x range (0.5 to 2.5 m): a car roof seen by one laser near the pole
  * and a pedestrian at 150 m are found; cars queued 2 m apart stay apart.
  * The same bounded cost.
  *
@@ -53,8 +53,9 @@ typedef struct {
   float adapt_share;     /* adaptive: minPts = share x expected cells, default 0.2 */
   int adapt_min_pts;     /* adaptive: lowest minPts, default 3 */
   float adapt_eps_share; /* adaptive: eps = clamp(max(share, adapt_eps_rows x the sensor's median */
-  float adapt_eps_rows;  /*   row spacing in radians) x range, adapt_eps_min, eps): 0.03, 1.0, 0.5 m */
-  float adapt_eps_min;
+  float adapt_eps_rows;  /*   row spacing in radians) x range, adapt_eps_min, adapt_eps_max): 0.03, 1.0, */
+  float adapt_eps_min;   /*   0.5 m, 2.5 m */
+  float adapt_eps_max;
   float dbscan_eps;      /* m, default 1.2 */
   int dbscan_min_pts;    /* default 15 */
   float ccl_eps;         /* m, range difference joining 8-neighbours, default 1.0 */
