@@ -6,6 +6,7 @@
  * falls behind, truncation. */
 #include "testutil.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,16 +15,16 @@ static const char *cap, *model;
 
 /* a small site: learn on 40 s, run on 3 s (once, before the tests fork) */
 static void make_site(void) {
-  static char c[512], m[512];
+  static char c[256], m[256];
   snprintf(c, sizeof c, "%s", tu_tmp("dmn-test.pcap"));
   snprintf(m, sizeof m, "%s", tu_tmp("dmn.model"));
-  char cmd[4096];
+  char cmd[8192];
   const char *out;
   snprintf(cmd, sizeof cmd,
            "./roadscan-sim --sensor VLP-32C --scenario light --seconds 40 --seed 41 -o %s.l --labels %s.lc && "
            "./roadscan-sim --sensor VLP-32C --scenario light --seconds 3 --seed 42 -o %s --labels %s.tc && "
-           "./roadscan-learn %s.l -o %s --frames 300",
-           c, c, c, c, c, m);
+           "./roadscan-learn %s.l -o %s --frames 300 && ./roadscan-eval %s %s.tc %s.tc --objects %s.objects",
+           c, c, c, c, c, m, c, c, c, c);
   ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
   cap = c;
   model = m;
@@ -195,6 +196,63 @@ static int count_lines(const char *s, const char *needle) {
   return n;
 }
 
+/* true instances' centroids per frame (roadscan-eval --objects) */
+typedef struct {
+  long frame;
+  float c[3];
+} truth_t;
+static truth_t truth[20000];
+static int ntruth;
+
+static float nearest_truth(long frame, const float *c) {
+  float best = 1e9f;
+  for (int i = 0; i < ntruth; i++) {
+    if (truth[i].frame != frame) continue;
+    float dx = truth[i].c[0] - c[0], dy = truth[i].c[1] - c[1], dz = truth[i].c[2] - c[2];
+    float d = sqrtf(dx * dx + dy * dy + dz * dz);
+    if (d < best) best = d;
+  }
+  return best;
+}
+
+/* Objects of 50+ returns in the JSON lines of roadscan-listen against the truth:
+ * counts those within 0.5 m and 1 m, and the worst distance. */
+static void centroids_vs_truth(const char *json, int *n, int *near, int *within1, float *worst) {
+  char path[600];
+  snprintf(path, sizeof path, "%s.objects", cap);
+  FILE *f = fopen(path, "r");
+  ck_assert_ptr_nonnull(f);
+  char line[256];
+  ntruth = 0;
+  ck_assert_ptr_nonnull(fgets(line, sizeof line, f));
+  while (fgets(line, sizeof line, f) && ntruth < 20000) {
+    unsigned inst, pts;
+    truth_t *t = &truth[ntruth];
+    if (sscanf(line, "%ld,%u,%u,%f,%f,%f", &t->frame, &inst, &pts, &t->c[0], &t->c[1], &t->c[2]) == 6) ntruth++;
+  }
+  fclose(f);
+  *n = *near = *within1 = 0;
+  *worst = 0.0f;
+  for (const char *l = json; (l = strstr(l, "{\"sensor_id\"")) != NULL; l++) {
+    const char *e = strchr(l, '\n'), *seq = strstr(l, "\"frame_seq\":"), *partial = strstr(l, "\"partial\":true");
+    if (e == NULL) e = l + strlen(l);
+    if (seq == NULL || seq > e) continue;
+    long frame = strtol(seq + 12, NULL, 10);
+    if (frame == 0 || (partial && partial < e)) continue;
+    for (const char *o = l; (o = strstr(o, "{\"id\":")) != NULL && o < e; o++) {
+      int id, pts;
+      float c[3];
+      if (sscanf(o, "{\"id\":%d,\"points\":%d,\"centroid\":[%f,%f,%f]", &id, &pts, &c[0], &c[1], &c[2]) != 5) continue;
+      if (pts < 50) continue;
+      float d = nearest_truth(frame, c);
+      (*n)++;
+      *near += d < 0.5f;
+      *within1 += d < 1.0f;
+      if (d > *worst) *worst = d;
+    }
+  }
+}
+
 START_TEST(t_udpm_in_netns) {
   char cmd[4096];
   const char *out;
@@ -230,6 +288,13 @@ START_TEST(t_udpm_in_netns) {
     snprintf(want, sizeof want, "\"frame_seq\":%ld,", i);
     ck_assert_msg(strstr(live_lists, want) != NULL, "frame %ld missing", i);
   }
+  /* the centroids received agree with the simulator's true objects (same tolerance as check_lcm) */
+  int n, near, within1;
+  float worst;
+  centroids_vs_truth(live_lists, &n, &near, &within1, &worst);
+  ck_assert_int_gt(n, 20);
+  ck_assert_msg(near >= 0.85 * n && within1 >= 0.95 * n && worst < 2.0f,
+                "%d objects: %d within 0.5 m, %d within 1 m, worst %.2f m", n, near, within1, (double)worst);
   const char *live_err = slurp(F("live.err"));
   ck_assert_msg(strstr(live_err, "gaps 0,") != NULL && strstr(live_err, "malformed 0") != NULL, "%s", live_err);
   ck_assert_int_ge(count_lines(daemon, "roadscand: last "), 2);

@@ -24,7 +24,7 @@ logger=$!
 "$BIN/roadscan-listen" --json --stats --timeout 5 >"$T/live.json" 2>"$T/live.err" &
 l=$!
 sleep 0.5
-"$BIN/roadscand" --pcap "$CAP" --speed 2 --background "$MODEL" --summary-seconds 0.5 >"$T/daemon.txt" 2>&1
+"$BIN/roadscand" --pcap "$CAP" --speed 2 --background "$MODEL" --cluster fspc-adaptive --summary-seconds 0.5 >"$T/daemon.txt" 2>&1
 echo "$?" >"$T/daemon.status"
 wait $l
 kill -INT $logger
