@@ -25,6 +25,7 @@ void rs_cluster_cfg_default(rs_cluster_cfg_t *c) {
   c->adapt_eps_rows = 1.0f;
   c->adapt_eps_min = 0.5f;
   c->adapt_eps_max = 2.5f;
+  c->adapt_seed_surfaces = 3;
   c->dbscan_eps = 1.2f;
   c->dbscan_min_pts = 15;
   c->ccl_eps = 1.0f;
@@ -54,6 +55,7 @@ int rs_cluster_init(rs_cluster_t *c, const rs_cluster_cfg_t *cfg, const rs_senso
     return RS_E_INVAL;
   c->cfg = *cfg;
   c->sensor = s;
+  c->bg_surfaces = NULL;
   c->cols = 0;
   c->overflow_total = 0;
   return RS_OK;
@@ -163,6 +165,7 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
                  rs_cluster_stats_t *st) {
   const int rows = s->meta.rows, cols = s->meta.cols;
   if (adaptive && c->cols != cols) build_adaptive(c, cols);
+  const int seed_surf = adaptive && c->bg_surfaces ? c->cfg.adapt_seed_surfaces : 0;
   /* core cells */
   for (uint32_t k = 0; k < nfg; k++) {
     uint32_t i = c->fg[k];
@@ -178,6 +181,8 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
       e = c->eps_tab[r][b];
     }
     c->core[i] = count_window(c->rr, rows, cols, r, col, hh, hw, e, mp) >= mp;
+    /* a cell the sensor sees through (several static surfaces) seeds no cluster */
+    if (seed_surf > 0 && c->bg_surfaces[i] >= seed_surf) c->core[i] = 0;
   }
   /* clusters: breadth-first over core cells; every cell enters the queue
    * once. The window scan visits only the cells still open (foreground, no

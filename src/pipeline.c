@@ -296,6 +296,9 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
   const rs_object_list_t *objs = &no_objects;
   if (p->cfg.cluster && p->cfg.cluster->cfg.method != RS_CLUSTER_NONE && (p->cfg.background || p->cfg.learn_seconds <= 0)) {
     int64_t tc = rs_now_ns();
+    const rs_bg_model_t *bgm = p->cfg.background;
+    bool geo = bgm && bgm->cols == s->meta.cols && bgm->rows == s->meta.rows;
+    p->cfg.cluster->bg_surfaces = geo ? bgm->n : NULL;
     rs_cluster_run(p->cfg.cluster, s, &cs);
     cl_ns = rs_now_ns() - tc;
     stage_time(p, &p->t_cluster, cl_ns);

@@ -196,6 +196,47 @@ START_TEST(t_adaptive_sparse) {
 }
 END_TEST
 
+START_TEST(t_see_through_cells_do_not_seed) {
+  /* a 3 x 4 object at 40 m whose two right columns lie where the static scene has 3
+   * surfaces, and a 3 x 3 group of returns entirely in such cells (foliage flicker) */
+  static uint8_t surfaces[RS_MAX_CELLS];
+  clear_map(1820);
+  memset(surfaces, 1, sizeof surfaces);
+  block(10, 12, 400, 403, 40.0f);
+  block(10, 12, 800, 802, 55.0f);
+  for (int r = 10; r <= 12; r++) {
+    for (int c = 402; c <= 403; c++) surfaces[r * 1820 + c] = 3;
+    for (int c = 800; c <= 802; c++) surfaces[r * 1820 + c] = 3;
+  }
+  rs_cluster_stats_t st;
+  run(RS_CLUSTER_FSPC_ADAPTIVE, &st); /* without the model's counts: two clusters */
+  ck_assert_uint_eq(st.clusters, 2);
+  rs_cluster_cfg_t cfg;
+  rs_cluster_cfg_default(&cfg);
+  cfg.method = RS_CLUSTER_FSPC_ADAPTIVE;
+  ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &sensor), RS_OK);
+  cl.bg_surfaces = surfaces;
+  clear_map(1820);
+  block(10, 12, 400, 403, 40.0f);
+  block(10, 12, 800, 802, 55.0f);
+  rs_cluster_run(&cl, &slot, &st);
+  ck_assert_uint_eq(st.clusters, 1); /* the flicker is noise */
+  for (int r = 10; r <= 12; r++) {
+    for (int c = 400; c <= 403; c++) ck_assert_int_eq(lab(r, c), 3); /* joined, though it seeds nothing */
+    for (int c = 800; c <= 802; c++) ck_assert_int_eq(lab(r, c), 2);
+  }
+  /* 0 turns it off */
+  cfg.adapt_seed_surfaces = 0;
+  ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &sensor), RS_OK);
+  cl.bg_surfaces = surfaces;
+  clear_map(1820);
+  block(10, 12, 400, 403, 40.0f);
+  block(10, 12, 800, 802, 55.0f);
+  rs_cluster_run(&cl, &slot, &st);
+  ck_assert_uint_eq(st.clusters, 2);
+}
+END_TEST
+
 START_TEST(t_dual_layer_and_config) {
   clear_map(COLS);
   block(4, 8, 10, 20, 10.0f);
@@ -229,6 +270,7 @@ int main(void) {
   tcase_add_test(tc, t_cap_overflow);
   tcase_add_test(tc, t_fspc_equals_dbscan);
   tcase_add_test(tc, t_adaptive_sparse);
+  tcase_add_test(tc, t_see_through_cells_do_not_seed);
   tcase_add_test(tc, t_dual_layer_and_config);
   suite_add_tcase(s, tc);
   return tu_run(s);

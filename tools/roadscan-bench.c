@@ -241,6 +241,7 @@ static int capture(const char *path, rs_model_t force, int repeat) {
     rs_cluster_cfg_t cc;
     rs_cluster_cfg_default(&cc);
     rs_cluster_init(&cluster, &cc, &s);
+    cluster.bg_surfaces = bgm.n; /* frame_stages clusters only frames of the model's geometry */
     rs_objects_init(&objects, NULL);
     rs_publish_cfg_t pc = {.url = "memq://"}; /* encoding only: nothing is sent */
     if (rs_publish_init(&publisher, &pc) != RS_OK) {

@@ -21,6 +21,10 @@
  * would fill (at least adapt_min_pts, at most min_pts), and eps to
  * 0.03 x range (0.5 to 2.5 m): a car roof seen by one laser near the pole
  * and a pedestrian at 150 m are found; cars queued 2 m apart stay apart.
+ * Cells where the static scene has several surfaces (the sensor sees
+ * through foliage, or past an edge, to what is behind) give intermittent
+ * returns that the background cannot learn; with the model's surface
+ * counts (bg_surfaces) their returns join clusters but do not seed them.
  * The same bounded cost.
  *
  * No allocation: the caller owns rs_cluster_t
@@ -56,6 +60,9 @@ typedef struct {
   float adapt_eps_rows;  /*   row spacing in radians) x range, adapt_eps_min, adapt_eps_max): 0.03, 1.0, */
   float adapt_eps_min;   /*   0.5 m, 2.5 m */
   float adapt_eps_max;
+  int adapt_seed_surfaces; /* adaptive, with bg_surfaces: a return in a cell of at least this many static
+                              surfaces (foliage and edges the sensor sees through) seeds no cluster but
+                              may join one; default 3, 0 = off */
   float dbscan_eps;      /* m, default 1.2 */
   int dbscan_min_pts;    /* default 15 */
   float ccl_eps;         /* m, range difference joining 8-neighbours, default 1.0 */
@@ -71,6 +78,7 @@ typedef struct {
 typedef struct {
   rs_cluster_cfg_t cfg;
   const rs_sensor_t *sensor;
+  const uint8_t *bg_surfaces; /* optional (adaptive): static surfaces per cell, the background model's n */
   int cols;              /* geometry the tables were built for */
   uint64_t overflow_total;
   float rr[RS_MAX_CELLS];            /* foreground range, or a large negative */
