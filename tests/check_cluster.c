@@ -196,43 +196,41 @@ START_TEST(t_adaptive_sparse) {
 }
 END_TEST
 
-START_TEST(t_see_through_cells_do_not_seed) {
-  /* a 3 x 4 object at 40 m whose two right columns lie where the static scene has 3
-   * surfaces, and a 3 x 3 group of returns entirely in such cells (foliage flicker) */
-  static uint8_t surfaces[RS_MAX_CELLS];
-  clear_map(1820);
+/* a 3 x 4 object at 40 m whose two right columns lie where the static scene has 3
+ * surfaces, and a 3 x 3 group of returns entirely in such cells (foliage flicker);
+ * clustered with the surface counts and the given adapt_seed_surfaces */
+static uint8_t surfaces[RS_MAX_CELLS];
+static void see_through_scene(int seed_surfaces, bool with_counts, rs_cluster_stats_t *st) {
   memset(surfaces, 1, sizeof surfaces);
-  block(10, 12, 400, 403, 40.0f);
-  block(10, 12, 800, 802, 55.0f);
   for (int r = 10; r <= 12; r++) {
     for (int c = 402; c <= 403; c++) surfaces[r * 1820 + c] = 3;
     for (int c = 800; c <= 802; c++) surfaces[r * 1820 + c] = 3;
   }
-  rs_cluster_stats_t st;
-  run(RS_CLUSTER_FSPC_ADAPTIVE, &st); /* without the model's counts: two clusters */
-  ck_assert_uint_eq(st.clusters, 2);
   rs_cluster_cfg_t cfg;
   rs_cluster_cfg_default(&cfg);
   cfg.method = RS_CLUSTER_FSPC_ADAPTIVE;
+  cfg.adapt_seed_surfaces = seed_surfaces;
   ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &sensor), RS_OK);
-  cl.bg_surfaces = surfaces;
+  cl.bg_surfaces = with_counts ? surfaces : NULL;
   clear_map(1820);
   block(10, 12, 400, 403, 40.0f);
   block(10, 12, 800, 802, 55.0f);
-  rs_cluster_run(&cl, &slot, &st);
+  rs_cluster_run(&cl, &slot, st);
+}
+
+START_TEST(t_see_through_cells_do_not_seed) {
+  rs_cluster_stats_t st;
+  see_through_scene(3, false, &st); /* without the model's counts: two clusters */
+  ck_assert_uint_eq(st.clusters, 2);
+  see_through_scene(3, true, &st);
   ck_assert_uint_eq(st.clusters, 1); /* the flicker is noise */
   for (int r = 10; r <= 12; r++) {
     for (int c = 400; c <= 403; c++) ck_assert_int_eq(lab(r, c), 3); /* joined, though it seeds nothing */
     for (int c = 800; c <= 802; c++) ck_assert_int_eq(lab(r, c), 2);
   }
-  /* 0 turns it off */
-  cfg.adapt_seed_surfaces = 0;
-  ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &sensor), RS_OK);
-  cl.bg_surfaces = surfaces;
-  clear_map(1820);
-  block(10, 12, 400, 403, 40.0f);
-  block(10, 12, 800, 802, 55.0f);
-  rs_cluster_run(&cl, &slot, &st);
+  see_through_scene(0, true, &st); /* 0 turns it off */
+  ck_assert_uint_eq(st.clusters, 2);
+  see_through_scene(4, true, &st); /* cells of 3 surfaces are below a threshold of 4 */
   ck_assert_uint_eq(st.clusters, 2);
 }
 END_TEST
