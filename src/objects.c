@@ -15,15 +15,6 @@
 
 #define PI 3.14159265358979323846
 
-void rs_objects_cell_xyz(const rs_sensor_t *sen, int row, int col, int cols, float range, float xyz[3]) {
-  int laser = sen->laser_of_row[row];
-  float az = (float)((col + 0.5) * 2.0 * PI / cols);
-  float xy = range * sen->cos_el[laser];
-  xyz[0] = xy * sinf(az);
-  xyz[1] = xy * cosf(az);
-  xyz[2] = range * sen->sin_el[laser] + sen->vert_offset_m[laser];
-}
-
 void rs_objects_init(rs_objects_t *o, const rs_pose_t *pose) {
   memset(o->stamp, 0xff, sizeof o->stamp);
   o->trig_cols = 0;

@@ -122,7 +122,10 @@ int rs_publish_init(rs_publish_t *p, const rs_publish_cfg_t *cfg) {
   roadscan_object_list_t empty;
   memset(&empty, 0, sizeof empty);
   empty.sensor_id = p->sensor_id;
-  empty.sensor_model = "a-model-name-of-32-characters..."; /* longer than any rs_model_name() */
+  empty.sensor_model = (char *)rs_model_name(RS_MODEL_UNKNOWN);
+  for (int mdl = RS_MODEL_UNKNOWN + 1; mdl < RS_MODEL_COUNT; mdl++) /* the longest model name */
+    if (strlen(rs_model_name((rs_model_t)mdl)) > strlen(empty.sensor_model))
+      empty.sensor_model = (char *)rs_model_name((rs_model_t)mdl);
   roadscan_object_t one;
   memset(&one, 0, sizeof one);
   int fixed = roadscan_object_list_t_encoded_size(&empty) + (int)strlen(p->channel) + 1;

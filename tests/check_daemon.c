@@ -6,7 +6,6 @@
  * falls behind, truncation. */
 #include "testutil.h"
 
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -14,20 +13,11 @@
 static const char *cap, *model;
 
 /* a small site: learn on 40 s, run on 3 s (once, before the tests fork) */
+static tu_site_t site;
 static void make_site(void) {
-  static char c[256], m[256];
-  snprintf(c, sizeof c, "%s", tu_tmp("dmn-test.pcap"));
-  snprintf(m, sizeof m, "%s", tu_tmp("dmn.model"));
-  char cmd[8192];
-  const char *out;
-  snprintf(cmd, sizeof cmd,
-           "./roadscan-sim --sensor VLP-32C --scenario light --seconds 40 --seed 41 -o %s.l --labels %s.lc && "
-           "./roadscan-sim --sensor VLP-32C --scenario light --seconds 3 --seed 42 -o %s --labels %s.tc && "
-           "./roadscan-learn %s.l -o %s --frames 300 && ./roadscan-eval %s %s.tc %s.tc --objects %s.objects",
-           c, c, c, c, c, m, c, c, c, c);
-  ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
-  cap = c;
-  model = m;
+  tu_make_site("dmn-site", 41, 3, &site);
+  cap = site.pcap;
+  model = site.model;
 }
 
 static const char *write_ini(const char *name, const char *text) {
@@ -108,7 +98,7 @@ START_TEST(t_help_covers_every_option) {
   ck_assert_int_eq(tu_exec("./roadscand --help", &out), 0);
   static const char *names[] = {"pcap", "speed", "fast", "loop", "iface", "port", "source", "model", "calibration",
                                 "rpm", "pose", "columns", "cut-azimuth", "background", "learn-seconds", "learn-out",
-                                "cluster", "window", "eps", "min-pts", "lcm-url", "channel", "stats-channel",
+                                "cluster", "window", "eps", "min-pts", "seed-surfaces", "lcm-url", "channel", "stats-channel",
                                 "sensor-id", "max-datagram", "no-publish", "budget-ms", "summary-seconds", "syslog",
                                 "frames-out", "labels-out", "quiet", "config", "help", "version"};
   for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
@@ -196,43 +186,9 @@ static int count_lines(const char *s, const char *needle) {
   return n;
 }
 
-/* true instances' centroids per frame (roadscan-eval --objects) */
-typedef struct {
-  long frame;
-  float c[3];
-} truth_t;
-static truth_t truth[20000];
-static int ntruth;
-
-static float nearest_truth(long frame, const float *c) {
-  float best = 1e9f;
-  for (int i = 0; i < ntruth; i++) {
-    if (truth[i].frame != frame) continue;
-    float dx = truth[i].c[0] - c[0], dy = truth[i].c[1] - c[1], dz = truth[i].c[2] - c[2];
-    float d = sqrtf(dx * dx + dy * dy + dz * dz);
-    if (d < best) best = d;
-  }
-  return best;
-}
-
-/* Objects of 50+ returns in the JSON lines of roadscan-listen against the truth:
- * counts those within 0.5 m and 1 m, and the worst distance. */
-static void centroids_vs_truth(const char *json, int *n, int *near, int *within1, float *worst) {
-  char path[600];
-  snprintf(path, sizeof path, "%s.objects", cap);
-  FILE *f = fopen(path, "r");
-  ck_assert_ptr_nonnull(f);
-  char line[256];
-  ntruth = 0;
-  ck_assert_ptr_nonnull(fgets(line, sizeof line, f));
-  while (fgets(line, sizeof line, f) && ntruth < 20000) {
-    unsigned inst, pts;
-    truth_t *t = &truth[ntruth];
-    if (sscanf(line, "%ld,%u,%u,%f,%f,%f", &t->frame, &inst, &pts, &t->c[0], &t->c[1], &t->c[2]) == 6) ntruth++;
-  }
-  fclose(f);
-  *n = *near = *within1 = 0;
-  *worst = 0.0f;
+/* Objects of 50+ returns in the JSON lines of roadscan-listen against the site's true objects. */
+static void centroids_vs_truth(const char *json, tu_centroids_t *t) {
+  tu_centroids_load(site.objects);
   for (const char *l = json; (l = strstr(l, "{\"sensor_id\"")) != NULL; l++) {
     const char *e = strchr(l, '\n'), *seq = strstr(l, "\"frame_seq\":"), *partial = strstr(l, "\"partial\":true");
     if (e == NULL) e = l + strlen(l);
@@ -243,12 +199,7 @@ static void centroids_vs_truth(const char *json, int *n, int *near, int *within1
       int id, pts;
       float c[3];
       if (sscanf(o, "{\"id\":%d,\"points\":%d,\"centroid\":[%f,%f,%f]", &id, &pts, &c[0], &c[1], &c[2]) != 5) continue;
-      if (pts < 50) continue;
-      float d = nearest_truth(frame, c);
-      (*n)++;
-      *near += d < 0.5f;
-      *within1 += d < 1.0f;
-      if (d > *worst) *worst = d;
+      if (pts >= 50) tu_centroid_add(t, frame, c);
     }
   }
 }
@@ -288,13 +239,10 @@ START_TEST(t_udpm_in_netns) {
     snprintf(want, sizeof want, "\"frame_seq\":%ld,", i);
     ck_assert_msg(strstr(live_lists, want) != NULL, "frame %ld missing", i);
   }
-  /* the centroids received agree with the simulator's true objects (same tolerance as check_lcm) */
-  int n, near, within1;
-  float worst;
-  centroids_vs_truth(live_lists, &n, &near, &within1, &worst);
-  ck_assert_int_gt(n, 20);
-  ck_assert_msg(near >= 0.85 * n && within1 >= 0.95 * n && worst < 2.0f,
-                "%d objects: %d within 0.5 m, %d within 1 m, worst %.2f m", n, near, within1, (double)worst);
+  /* the centroids received agree with the simulator's true objects */
+  tu_centroids_t cent = {0, 0, 0, 0.0f};
+  centroids_vs_truth(live_lists, &cent);
+  tu_centroids_check(&cent, "daemon over udpm");
   const char *live_err = slurp(F("live.err"));
   ck_assert_msg(strstr(live_err, "gaps 0,") != NULL && strstr(live_err, "malformed 0") != NULL, "%s", live_err);
   ck_assert_int_ge(count_lines(daemon, "roadscand: last "), 2);

@@ -127,11 +127,12 @@ START_TEST(test_centroid_and_extents) {
       slot.range[i] = 20.0f + 0.01f * (float)c;
       slot.label[i] = 3;
       slot.intensity[i] = (uint8_t)(c - 100);
-      float p[3];
-      rs_objects_cell_xyz(&sensor, r, c, COLS, slot.range[i], p);
-      sx += p[0];
-      sy += p[1];
-      sz += p[2];
+      /* the sensor frame of sensor.h, at the column's centre azimuth */
+      int laser = sensor.laser_of_row[r];
+      double az = (c + 0.5) * 2.0 * PI / COLS, el = sensor.elevation_deg[laser] * PI / 180.0;
+      sx += slot.range[i] * cos(el) * sin(az);
+      sy += slot.range[i] * cos(el) * cos(az);
+      sz += slot.range[i] * sin(el) + sensor.vert_offset_m[laser];
       n++;
     }
   rs_objects_init(&objs, NULL);

@@ -216,6 +216,41 @@ START_TEST(t_background_tools) {
   ck_assert_int_eq(tu_exec(cmd, &out), 0);
   ck_assert_double_ge(json_num(out, "\"static_kept\": "), 0.99);
   ck_assert_double_ge(json_num(out, "\"targets_kept\": "), 0.99);
+  /* --diagnose: with the truth as prediction nothing is missed; with no object predicted
+   * everything is, and all of it in objects that have no clustered return */
+  snprintf(cmd, sizeof cmd, "./roadscan-eval %s %s %s --diagnose --model %s", tp, tc, tc, model);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_ptr_nonnull(strstr(out, ", missed 0\n"));
+  ck_assert_ptr_nonnull(strstr(out, "beside a clustered return of the same object: 0;"));
+  const char *bys = strstr(out, "(true / false):");
+  ck_assert_ptr_nonnull(bys);
+  long tp_sum = 0;
+  for (int k = 0; k <= 4; k++) { /* no false positive, whatever the cell */
+    char key[8];
+    long tpk, fpk;
+    snprintf(key, sizeof key, " %d: ", k);
+    const char *q = strstr(bys, key);
+    ck_assert_ptr_nonnull(q);
+    ck_assert_int_eq(sscanf(q + strlen(key), "%ld / %ld", &tpk, &fpk), 2);
+    ck_assert_int_eq(fpk, 0);
+    tp_sum += tpk;
+  }
+  ck_assert_int_eq(tp_sum, strtol(strstr(out, "object returns ") + 15, NULL, 10));
+  char none[600]; /* not from tu_tmp, whose rotating buffers hold the paths of this test */
+  snprintf(none, sizeof none, "%s.none", pred);
+  f = fopen(none, "w");
+  ck_assert_ptr_nonnull(f);
+  fputs("packet,block,channel,label\n", f);
+  fclose(f);
+  snprintf(cmd, sizeof cmd, "./roadscan-eval %s %s %s --diagnose", tp, tc, none);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  const char *o = strstr(out, "object returns ");
+  ck_assert_ptr_nonnull(o);
+  long total = strtol(o + 15, NULL, 10), missed = strtol(strstr(o, "missed ") + 7, NULL, 10);
+  ck_assert_int_gt(total, 1000);
+  ck_assert_int_eq(missed, total);
+  ck_assert_ptr_nonnull(strstr(out, "beside a clustered return of the same object: 0;"));
+  ck_assert_int_eq(tu_exec("./roadscan-eval a b c --model m", &out), 2);
   /* the percentile baseline, for contrast, loses far more static returns */
   snprintf(cmd, sizeof cmd, "./roadscan-learn %s -o %s.p --frames 300 --method percentile && ./roadscand --pcap %s --fast "
            "--background %s.p --labels-out %s --quiet && ./roadscan-eval %s %s %s --json", lp, model, tp, model, pred, tp, tc, pred);

@@ -31,4 +31,25 @@ int tu_exec(const char *cmdline, const char **out);
 /* Counts lines of a text file (-1 if unreadable). */
 long tu_count_lines(const char *path);
 
+/* A simulated site (VLP-32C, light traffic): a 40 s capture (seed) to learn the
+ * background from, and a test capture of test_s seconds (seed + 1) with its
+ * truth labels and its true objects' centroids (roadscan-eval --objects). Files
+ * RS_TMP_DIR/<name>.{learn.pcap,pcap,truth.csv,model,objects.csv}. */
+typedef struct {
+  char pcap[512], truth[512], model[512], objects[512];
+} tu_site_t;
+void tu_make_site(const char *name, int seed, double test_s, tu_site_t *site);
+
+/* Objects' centroids against the site's true objects: tu_centroids_load reads
+ * the objects file, tu_centroid_add scores one object of a frame (nearest true
+ * centroid of that frame), tu_centroids_check prints the tally and asserts the
+ * tolerance the tests state: 85 % within 0.5 m, 95 % within 1 m, none beyond 2 m. */
+typedef struct {
+  int n, within_05, within_1;
+  float worst;
+} tu_centroids_t;
+void tu_centroids_load(const char *objects_csv);
+void tu_centroid_add(tu_centroids_t *t, long frame, const float c[3]);
+void tu_centroids_check(const tu_centroids_t *t, const char *what);
+
 #endif

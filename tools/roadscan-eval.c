@@ -1,18 +1,22 @@
 /* roadscan-eval - compare two point-label files over a capture.
  *
- *   roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE]
+ *   roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE] [--diagnose [--model BG]]
  *
  * Reads the capture with the project's decoder, walks its returns in
  * address order merging both label files (unlisted = 1), cuts frames where
  * a block azimuth is smaller than the previous block's (the spec's rule),
  * skips frame 0, and prints the metrics. --objects writes the centroid of
  * every true instance of every frame (frame numbers as roadscand's
- * frame_seq: 0 is the part before the first roll-over). Single-threaded. */
+ * frame_seq: 0 is the part before the first roll-over). --diagnose says
+ * where the object returns the prediction missed are, and (with the
+ * background model) where its false positives are. Single-threaded. */
+#include "roadscan/background.h"
 #include "roadscan/eval.h"
 #include "roadscan/labels.h"
 #include "roadscan/stream.h"
 
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,9 +34,27 @@ typedef struct {
   double sum[3];
 } inst_t;
 
+/* --diagnose: the returns of a frame that are true or predicted objects */
+typedef struct {
+  float az, range;
+  uint16_t row;
+  uint32_t truth, pred;
+} dpt_t;
+
+typedef struct {
+  bool on;
+  const rs_bg_model_t *model;
+  dpt_t *pts;
+  size_t n, cap;
+  bool oom;
+  uint64_t target, missed, whole[3], partial, partial_dr[4]; /* 1-4, 5-9, 10+ returns; <1.8, <3, <6, >=6 m */
+  uint64_t by_surfaces[2][RS_BG_SURFACES + 1];                /* [true object?][static surfaces of the cell] */
+} diag_t;
+
 typedef struct {
   src_t s[2];
   FILE *objects;
+  diag_t dg;
   inst_t inst[MAX_INST];
   uint32_t ninst, last;
   rs_eval_t ev;
@@ -61,8 +83,97 @@ static void add_instance(ctx_t *c, uint32_t label, const rs_point_t *p) {
   t->sum[2] += p->z;
 }
 
+static int cmp_truth(const void *a, const void *b) {
+  uint32_t x = ((const dpt_t *)a)->truth, y = ((const dpt_t *)b)->truth;
+  return (x > y) - (x < y);
+}
+
+static void diag_point(diag_t *d, const rs_point_t *p, uint32_t truth, uint32_t pred) {
+  if (truth < 3 && pred < 3) return;
+  if (d->n == d->cap) {
+    size_t nc = d->cap ? 2 * d->cap : 65536;
+    dpt_t *np = realloc(d->pts, nc * sizeof *np);
+    if (np == NULL) {
+      d->oom = true;
+      return;
+    }
+    d->pts = np;
+    d->cap = nc;
+  }
+  d->pts[d->n++] = (dpt_t){p->azimuth, p->distance, p->row, truth, pred};
+}
+
+/* One frame: missed object returns, by whether their object has a clustered return
+ * (and how far in range the nearest one, by azimuth and ring, is), and predicted
+ * object returns by the static surfaces of their cell. */
+static void diag_frame(diag_t *d) {
+  qsort(d->pts, d->n, sizeof d->pts[0], cmp_truth);
+  for (size_t i = 0; i < d->n; i++) {
+    const dpt_t *p = &d->pts[i];
+    if (p->pred >= 3 && d->model) {
+      int col = (int)(p->az * d->model->cols / 360.0f) % d->model->cols;
+      int s = p->row < d->model->rows ? d->model->n[(size_t)p->row * d->model->cols + (size_t)col] : 0;
+      d->by_surfaces[p->truth >= 3][s > RS_BG_SURFACES ? RS_BG_SURFACES : s]++;
+    }
+  }
+  for (size_t a = 0, b; a < d->n; a = b) {
+    for (b = a; b < d->n && d->pts[b].truth == d->pts[a].truth; b++) {
+    }
+    if (d->pts[a].truth < 3) continue;
+    size_t hit = 0;
+    for (size_t i = a; i < b; i++) hit += d->pts[i].pred >= 3;
+    d->target += b - a;
+    if (hit == b - a) continue;
+    d->missed += b - a - hit;
+    if (hit == 0) {
+      d->whole[b - a <= 4 ? 0 : b - a <= 9 ? 1 : 2] += b - a;
+      continue;
+    }
+    for (size_t i = a; i < b; i++) {
+      if (d->pts[i].pred >= 3) continue;
+      float best = INFINITY, dr = 0.0f;
+      for (size_t j = a; j < b; j++) {
+        if (d->pts[j].pred < 3) continue;
+        float daz = fabsf(d->pts[j].az - d->pts[i].az);
+        if (daz > 180.0f) daz = 360.0f - daz;
+        float dist = daz * 5.0f + (float)abs((int)d->pts[j].row - (int)d->pts[i].row); /* 0.2 degree ~ one ring */
+        if (dist < best) {
+          best = dist;
+          dr = fabsf(d->pts[j].range - d->pts[i].range);
+        }
+      }
+      d->partial++;
+      d->partial_dr[dr < 1.8f ? 0 : dr < 3.0f ? 1 : dr < 6.0f ? 2 : 3]++;
+    }
+  }
+  d->n = 0;
+}
+
+static void diag_print(const diag_t *d, FILE *out) {
+  if (d->oom) fprintf(out, "diagnosis: out of memory, incomplete\n");
+  fprintf(out, "diagnosis (frames 1+):\n");
+  fprintf(out, "  object returns %llu, missed %llu\n", (unsigned long long)d->target, (unsigned long long)d->missed);
+  fprintf(out, "  missed, of objects with no clustered return in the frame: objects of 1-4 returns %llu, 5-9 %llu, 10+ %llu\n",
+          (unsigned long long)d->whole[0], (unsigned long long)d->whole[1], (unsigned long long)d->whole[2]);
+  fprintf(out,
+          "  missed beside a clustered return of the same object: %llu; range difference to the nearest one (azimuth,"
+          " ring): < 1.8 m %llu, 1.8-3 m %llu, 3-6 m %llu, >= 6 m %llu\n",
+          (unsigned long long)d->partial, (unsigned long long)d->partial_dr[0], (unsigned long long)d->partial_dr[1],
+          (unsigned long long)d->partial_dr[2], (unsigned long long)d->partial_dr[3]);
+  if (d->model) {
+    fprintf(out, "  returns predicted as objects, by static surfaces of their cell (true / false):");
+    for (int k = 0; k <= RS_BG_SURFACES; k++)
+      fprintf(out, " %d: %llu / %llu", k, (unsigned long long)d->by_surfaces[1][k], (unsigned long long)d->by_surfaces[0][k]);
+    fprintf(out, "\n");
+  }
+}
+
 static void end_frame(ctx_t *c) {
   rs_eval_end_frame(&c->ev, c->frame > 0);
+  if (c->dg.on) {
+    if (c->frame > 0) diag_frame(&c->dg);
+    c->dg.n = 0;
+  }
   for (uint32_t i = 0; c->objects && i < c->ninst; i++) {
     const inst_t *t = &c->inst[i];
     if (t->n >= RS_EVAL_MIN_INSTANCE)
@@ -119,6 +230,7 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
       if (c->failed) return;
       rs_eval_point(&c->ev, t, pr, p->distance, c->frame > 0);
       if (c->objects && t >= 3) add_instance(c, t, p);
+      if (c->dg.on && c->frame > 0) diag_point(&c->dg, p, t, pr);
     }
   }
 }
@@ -126,19 +238,28 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
 int main(int argc, char **argv) {
   static const struct option opts[] = {{"json", no_argument, NULL, 'j'},
                                        {"objects", required_argument, NULL, 'o'},
+                                       {"diagnose", no_argument, NULL, 'd'},
+                                       {"model", required_argument, NULL, 'm'},
                                        {"help", no_argument, NULL, 'h'},
                                        {NULL, 0, NULL, 0}};
   bool json = false;
-  const char *objects_path = NULL;
+  const char *objects_path = NULL, *model_path = NULL;
+  bool diagnose = false;
   int o;
   while ((o = getopt_long(argc, argv, "", opts, NULL)) != -1) {
     if (o == 'j') json = true;
     else if (o == 'o') objects_path = optarg;
+    else if (o == 'd') diagnose = true;
+    else if (o == 'm') model_path = optarg;
     else if (o == 'h') {
-      printf("usage: roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE]\n"
+      printf("usage: roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE] [--diagnose [--model BG]]\n"
              "Point-label files as in specs/point-labels.md; metrics as in the FSPC paper's Table 3.\n"
              "  --objects FILE  CSV frame,instance,points,x,y,z: the centroid (sensor frame) of every true\n"
-             "                  instance of at least %d returns in every frame\n",
+             "                  instance of at least %d returns in every frame\n"
+             "  --diagnose      where the missed object returns are: in objects with no clustered return\n"
+             "                  (by size), or beside a clustered return of their object (by range difference)\n"
+             "  --model BG      with --diagnose: returns predicted as objects by the number of static\n"
+             "                  surfaces of their cell in the background model\n",
              RS_EVAL_MIN_INSTANCE);
       return 0;
     } else {
@@ -146,10 +267,24 @@ int main(int argc, char **argv) {
     }
   }
   if (argc - optind != 3) {
-    fprintf(stderr, "usage: roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE]\n");
+    fprintf(stderr, "usage: roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE] [--diagnose [--model BG]]\n");
+    return 2;
+  }
+  if (model_path && !diagnose) {
+    fprintf(stderr, "roadscan-eval: --model goes with --diagnose\n");
     return 2;
   }
   static ctx_t c;
+  static rs_bg_model_t bgm;
+  c.dg.on = diagnose;
+  if (model_path) {
+    char merr[RS_ERRMSG_SIZE];
+    if (rs_bg_load(&bgm, model_path, merr, sizeof merr) != RS_OK) {
+      fprintf(stderr, "roadscan-eval: %s\n", merr);
+      return 1;
+    }
+    c.dg.model = &bgm;
+  }
   if (objects_path) {
     c.objects = fopen(objects_path, "w");
     if (c.objects == NULL) {
@@ -200,6 +335,9 @@ int main(int argc, char **argv) {
   if (c.ev.overflow) fprintf(stderr, "roadscan-eval: warning: too many instances in a frame, instance figures incomplete\n");
   if (json) rs_eval_print_json(&c.ev.r, stdout);
   else rs_eval_print(&c.ev.r, stdout);
+  if (diagnose) diag_print(&c.dg, json ? stderr : stdout); /* JSON on stdout stays JSON */
+  free(c.dg.pts);
+  if (model_path) rs_bg_model_free(&bgm);
   rs_eval_deinit(&c.ev);
   rs_labels_close(&c.s[0].rd);
   rs_labels_close(&c.s[1].rd);

@@ -45,10 +45,24 @@ static double now_s(void) {
   return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-static void json_floats(const char *name, const float *v, int n) {
-  printf("\"%s\":[", name);
+static void json_floats(const char *prefix, const char *name, const float *v, int n) {
+  printf("\"%s%s\":[", prefix, name);
   for (int i = 0; i < n; i++) printf("%s%.4f", i ? "," : "", (double)v[i]);
   printf("]");
+}
+
+/* One frame's geometry of an object: "centroid", ... or "site_centroid", ... */
+static void json_geom(const char *prefix, const float *centroid, const float *bmin, const float *bmax, const float *oc,
+                      float len, float wid, float head) {
+  json_floats(prefix, "centroid", centroid, 3);
+  printf(",");
+  json_floats(prefix, "box_min", bmin, 3);
+  printf(",");
+  json_floats(prefix, "box_max", bmax, 3);
+  printf(",");
+  json_floats(prefix, "obb_center", oc, 2);
+  printf(",\"%sobb_length\":%.4f,\"%sobb_width\":%.4f,\"%sobb_heading\":%.5f", prefix, (double)len, prefix,
+         (double)wid, prefix, (double)head);
 }
 
 /* Frames missed since the previous list of the same sensor. */
@@ -77,30 +91,15 @@ static void print_json(const roadscan_object_list_t *m, int64_t gap) {
   for (int i = 0; i < m->num_objects; i++) {
     const roadscan_object_t *o = &m->objects[i];
     printf("%s{\"id\":%d,\"points\":%d,", i ? "," : "", o->id, o->points);
-    json_floats("centroid", o->centroid, 3);
-    printf(",");
-    json_floats("box_min", o->box_min, 3);
-    printf(",");
-    json_floats("box_max", o->box_max, 3);
-    printf(",");
-    json_floats("obb_center", o->obb_center, 2);
-    printf(",\"obb_length\":%.4f,\"obb_width\":%.4f,\"obb_heading\":%.5f,\"range_min\":%.4f,"
-           "\"azimuth_start\":%.3f,\"azimuth_end\":%.3f,\"rows\":[%d,%d],\"cols\":[%d,%d],\"intensity_mean\":%.2f,"
-           "\"t_first\":%" PRId64 ",\"t_last\":%" PRId64,
-           (double)o->obb_length, (double)o->obb_width, (double)o->obb_heading, (double)o->range_min,
-           (double)o->azimuth_start, (double)o->azimuth_end, o->row_min, o->row_max, o->col_start, o->col_end,
-           (double)o->intensity_mean, o->t_first, o->t_last);
+    json_geom("", o->centroid, o->box_min, o->box_max, o->obb_center, o->obb_length, o->obb_width, o->obb_heading);
+    printf(",\"range_min\":%.4f,\"azimuth_start\":%.3f,\"azimuth_end\":%.3f,\"rows\":[%d,%d],\"cols\":[%d,%d],"
+           "\"intensity_mean\":%.2f,\"t_first\":%" PRId64 ",\"t_last\":%" PRId64,
+           (double)o->range_min, (double)o->azimuth_start, (double)o->azimuth_end, o->row_min, o->row_max, o->col_start,
+           o->col_end, (double)o->intensity_mean, o->t_first, o->t_last);
     if (m->site_valid) {
       printf(",");
-      json_floats("site_centroid", o->site_centroid, 3);
-      printf(",");
-      json_floats("site_box_min", o->site_box_min, 3);
-      printf(",");
-      json_floats("site_box_max", o->site_box_max, 3);
-      printf(",");
-      json_floats("site_obb_center", o->site_obb_center, 2);
-      printf(",\"site_obb_length\":%.4f,\"site_obb_width\":%.4f,\"site_obb_heading\":%.5f",
-             (double)o->site_obb_length, (double)o->site_obb_width, (double)o->site_obb_heading);
+      json_geom("site_", o->site_centroid, o->site_box_min, o->site_box_max, o->site_obb_center, o->site_obb_length,
+                o->site_obb_width, o->site_obb_heading);
     }
     printf("}");
   }

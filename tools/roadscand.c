@@ -40,7 +40,7 @@ static rs_publish_t publisher;
   X(CUT, "cut-azimuth", 1, "sensor") X(BG, "background", 1, "background")                             \
   X(LEARN, "learn-seconds", 1, "background") X(LEARN_OUT, "learn-out", 1, "background")              \
   X(CLUSTER, "cluster", 1, "cluster") X(WINDOW, "window", 1, "cluster") X(EPS, "eps", 1, "cluster")     \
-  X(MINPTS, "min-pts", 1, "cluster") X(URL, "lcm-url", 1, "lcm") X(CHANNEL, "channel", 1, "lcm")       \
+  X(MINPTS, "min-pts", 1, "cluster") X(SEED_SURF, "seed-surfaces", 1, "cluster") X(URL, "lcm-url", 1, "lcm") X(CHANNEL, "channel", 1, "lcm")       \
   X(STATS, "stats-channel", 1, "lcm") X(SENSOR_ID, "sensor-id", 1, "lcm")                             \
   X(DATAGRAM, "max-datagram", 1, "lcm") X(NO_PUBLISH, "no-publish", 0, "lcm")                         \
   X(BUDGET, "budget-ms", 1, "daemon") X(SUMMARY, "summary-seconds", 1, "daemon")                      \
@@ -104,6 +104,9 @@ static void usage(FILE *out) {
           "  --eps M              FSPC range difference (default 1.8); the largest one with fspc-adaptive (2.5);\n"
           "                       DBSCAN radius with --cluster dbscan (1.2); CCL's with --cluster ccl (1.0)\n"
           "  --min-pts N          core threshold, the centre counted (default 15)\n"
+          "  --seed-surfaces N    fspc-adaptive: a return in a cell where the background has N or more static\n"
+          "                       surfaces (foliage, edges: the sensor sees through) joins clusters but does\n"
+          "                       not start one (default 3, 0 = off)\n"
           "LCM [lcm]: one object list and one statistics message per frame\n"
           "  --lcm-url URL        LCM provider (default %s; memq:// and\n"
           "                       file://PATH?mode=w also work)\n"
@@ -262,6 +265,10 @@ static int apply(int id, const char *val, const char *key, char *err, size_t n) 
   case O_MINPTS:
     if (rs_cfg_long(key, v, 1, 255, &l, err, n)) return RS_E_INVAL;
     st.ccfg.min_pts = st.ccfg.dbscan_min_pts = (int)l;
+    break;
+  case O_SEED_SURF:
+    if (rs_cfg_long(key, v, 0, 255, &l, err, n)) return RS_E_INVAL;
+    st.ccfg.adapt_seed_surfaces = (int)l;
     break;
   case O_URL: st.pub.url = v; break;
   case O_CHANNEL: st.pub.channel = v; break;

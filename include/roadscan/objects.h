@@ -103,7 +103,5 @@ _Static_assert(RS_OBJ_MAX <= UINT16_MAX, "object index fits in uint16_t");
 void rs_objects_init(rs_objects_t *o, const rs_pose_t *pose /* NULL: no site frame */);
 /* Fills `out` from the labels of `s` (layer 0 and 1). */
 void rs_objects_extract(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen, rs_object_list_t *out);
-/* A point of the map in the sensor frame (column centre azimuth). */
-void rs_objects_cell_xyz(const rs_sensor_t *sen, int row, int col, int cols, float range, float xyz[3]);
 
 #endif
