@@ -8,9 +8,9 @@
 #include "roadscan/objects.h"
 
 #include "roadscan/labels.h"
+#include "roadscan/sort.h"
 
 #include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 #define PI 3.14159265358979323846
@@ -164,7 +164,7 @@ static void fit_boxes(rs_objects_t *o, int f, rs_object_list_t *out, uint32_t no
   for (uint32_t k = 0, begin = 0; k < nobj; begin = o->start[k], k++) {
     uint32_t n = o->start[k] - begin;
     if (out->obj[k].points == 0 || n == 0) continue;
-    qsort(o->sorted + begin, n, sizeof o->sorted[0], cmp_xy);
+    rs_sort(o->sorted + begin, n, sizeof o->sorted[0], cmp_xy);
     uint32_t h = hull_of(o->sorted + begin, n, o->hull);
     rs_obj_geom_t *g = f == 0 ? &out->obj[k].sensor : &out->obj[k].site;
     if (fit_rect(o->hull, h, o->sorted + begin, n, g)) out->approx_boxes++;

@@ -7,6 +7,7 @@
 
 #include "roadscan/error.h"
 #include "roadscan/log.h"
+#include "roadscan/sort.h"
 
 #include <inttypes.h>
 #include <math.h>
@@ -194,7 +195,7 @@ static void write_labels(rs_pipeline_t *p, const rs_slot_t *s) {
       label_buf[n].label = s->label[c];
       n++;
     }
-  qsort(label_buf, n, sizeof label_buf[0], cmp_entry);
+  rs_sort(label_buf, n, sizeof label_buf[0], cmp_entry); /* qsort would malloc */
   for (size_t i = 0; i < n; i++)
     rs_labels_write(&p->labels, (uint32_t)(label_buf[i].key / 384u), (int)(label_buf[i].key / 32u % 12u),
                     (int)(label_buf[i].key % 32u), label_buf[i].label);
