@@ -226,7 +226,7 @@ START_TEST(t_background_tools) {
   ck_assert_ptr_nonnull(bys);
   long tp_sum = 0;
   for (int k = 0; k <= 4; k++) { /* no false positive, whatever the cell */
-    char key[8];
+    char key[16];
     long tpk, fpk;
     snprintf(key, sizeof key, " %d: ", k);
     const char *q = strstr(bys, key);
