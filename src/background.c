@@ -29,6 +29,7 @@ void rs_bg_params_default(rs_bg_params_t *p) {
   p->margin_share = 0.006;
   p->merge_gap_min = 0.5;
   p->merge_gap_share = 0.02;
+  p->chain_gap = 0.20;
   p->percentile = 50.0;
   p->percentile_tol = 0.3;
 }
@@ -49,6 +50,7 @@ int rs_bg_model_alloc(rs_bg_model_t *m, rs_model_t model, int rows, int cols) {
     return RS_E_NOMEM;
   }
   rs_bg_params_default(&m->params);
+  m->see_through = RS_BG_SEE_THROUGH;
   return RS_OK;
 }
 
@@ -71,27 +73,37 @@ static int match(const rs_bg_model_t *m, uint32_t cell, uint32_t cm) {
   return 0;
 }
 
+static inline uint32_t to_cm(float r) { return r >= 655.0f ? 65534u : (uint32_t)(r * 100.0f + 0.5f); }
+
 bool rs_bg_is_static(const rs_bg_model_t *m, int row, int col, float r) {
-  uint32_t cm = r >= 655.0f ? 65534u : (uint32_t)(r * 100.0f + 0.5f);
-  return match(m, (uint32_t)row * m->cols + (uint32_t)col, cm);
+  return match(m, (uint32_t)row * m->cols + (uint32_t)col, to_cm(r));
+}
+
+/* a see-through cell: does the range match a surface of the cell on either side? */
+static bool match_beside(const rs_bg_model_t *m, int row, int col, uint32_t cm) {
+  const uint32_t cols = m->cols, base = (uint32_t)row * cols;
+  const uint32_t left = base + (col > 0 ? (uint32_t)col - 1 : cols - 1);
+  const uint32_t right = base + ((uint32_t)col + 1 < cols ? (uint32_t)col + 1 : 0);
+  return match(m, left, cm) || match(m, right, cm);
 }
 
 void rs_bg_subtract(rs_bg_model_t *m, rs_slot_t *s, rs_bg_counts_t *c) {
   const int rows = s->meta.rows, cols = s->meta.cols;
+  const int see = m->see_through;
   for (int l = 0; l < RS_LAYERS; l++)
     for (int r = 0; r < rows; r++) {
       const uint32_t base = (uint32_t)l * RS_MAX_CELLS + (uint32_t)r * (uint32_t)cols;
       for (int col = 0; col < cols; col++) {
         const float range = s->range[base + (uint32_t)col];
         if (range == 0.0f) continue;
-        if (rs_bg_is_static(m, r, col, range)) {
+        const uint32_t cm = to_cm(range), cell = (uint32_t)r * (uint32_t)cols + (uint32_t)col;
+        if (match(m, cell, cm) || (see > 0 && m->n[cell] >= see && match_beside(m, r, col, cm))) {
           s->label[base + (uint32_t)col] = 1;
           c->background++;
           continue;
         }
         s->label[base + (uint32_t)col] = 2;
         c->foreground++;
-        uint32_t cell = (uint32_t)r * (uint32_t)cols + (uint32_t)col;
         uint32_t nk = m->n[cell];
         if (nk > 0) {
           uint32_t far = m->hi[cell * RS_BG_SURFACES + nk - 1];
@@ -333,6 +345,99 @@ static int find_value(const int32_t *v, int u, int32_t x) {
   return -1;
 }
 
+/* Flickering clusters of one cell less than gap apart become one (ids
+ * renumbered from 0 in range order); returns the new count. A surface seen
+ * at a grazing angle is sampled at the 0.01 degree steps of the azimuth
+ * field: its ranges come in clumps (0.17 m apart for a facade at 190 m seen
+ * 6 degrees off its plane), each flickering but too sparse to be present in
+ * most windows, yet the surface is. A vehicle does not flicker: its cluster
+ * is never joined to one beside it. */
+static int chain_clusters(const int32_t *v, int u, int16_t *label, int32_t gap, const bool *flicker) {
+  int16_t grp[MAXK];
+  int g = -1, last = -1;
+  int32_t prev = 0;
+  for (int i = 0; i < u; i++) {
+    if (label[i] < 0) continue;
+    if (label[i] != last) {
+      if (g < 0 || v[i] - prev > gap || !flicker[label[i]] || !flicker[last]) g++;
+      grp[label[i]] = (int16_t)g;
+      last = label[i];
+    }
+    prev = v[i];
+  }
+  for (int i = 0; i < u; i++)
+    if (label[i] >= 0) label[i] = grp[label[i]];
+  return g + 1;
+}
+
+/* one cell's samples, for the cluster statistics */
+typedef struct {
+  const int32_t *v;
+  const uint32_t *cnt;
+  int u;
+  const uint16_t *smp; /* [stored frame] range in cm, 0 = no return */
+  const int *order;    /* stored frames in time order */
+  const int *win;      /* time window of each, in that order */
+  int nf, nz;
+  const double *t;
+  double pair_gap_s;
+} cell_in_t;
+
+static bool flickers(const clus_t *q, uint32_t npairs, double lift) {
+  /* whether the next sample is in the cluster hardly depends on whether
+   * this one was (leaves); a vehicle stays for several frames */
+  double stay = q->pairs ? (double)q->stay / q->pairs : 1.0;
+  double base = npairs ? (double)q->second / npairs : 0.0;
+  return q->pairs >= 10 && stay - base < lift;
+}
+
+/* extent, count, time windows and consecutive pairs of every cluster and of
+ * "no return" (cl[k]); memb = cluster of every stored frame in time order.
+ * Returns the number of consecutive pairs. */
+static uint32_t cell_stats(const cell_in_t *in, const int16_t *label, int k, clus_t *cl, int16_t *memb) {
+  memset(cl, 0, sizeof(clus_t) * (size_t)(k + 1));
+  for (int j = 0; j < k; j++) {
+    cl[j].lo = INT32_MAX;
+    cl[j].hi = INT32_MIN;
+  }
+  for (int i = 0; i < in->u; i++) {
+    if (label[i] < 0) continue;
+    clus_t *q = &cl[label[i]];
+    if (in->v[i] < q->lo) q->lo = in->v[i];
+    if (in->v[i] > q->hi) q->hi = in->v[i];
+    q->count += in->cnt[i];
+  }
+  for (int i = 0; i < in->nf; i++) {
+    uint16_t x = in->smp[in->order[i]];
+    if (x == 0) memb[i] = (int16_t)k;
+    else {
+      int at = find_value(in->v, in->u, x);
+      memb[i] = (int16_t)(at < 0 ? -1 : label[at]);
+    }
+  }
+  cl[k].count = (uint32_t)(in->nf - in->nz);
+  bool seen_in_win[MAXK + 1] = {false};
+  uint32_t npairs = 0;
+  for (int i = 0; i < in->nf; i++) {
+    if (i > 0 && in->win[i] != in->win[i - 1]) memset(seen_in_win, 0, sizeof seen_in_win);
+    int m = memb[i];
+    if (m >= 0 && !seen_in_win[m]) {
+      seen_in_win[m] = true;
+      cl[m].windows++;
+    }
+    if (i + 1 < in->nf && in->t[in->order[i + 1]] - in->t[in->order[i]] <= in->pair_gap_s) {
+      npairs++;
+      if (memb[i + 1] >= 0) cl[memb[i + 1]].second++;
+      if (m >= 0) {
+        cl[m].pairs++;
+        cl[m].stay += memb[i + 1] == m;
+      }
+    }
+  }
+  return npairs;
+}
+
+
 int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz, rs_bg_model_t *out) {
   int rc = rs_bg_model_alloc(out, l->model, l->rows, l->cols);
   if (rc != RS_OK) return rc;
@@ -383,44 +488,15 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
     int k = cluster_cell(p, vals, nz, min_pts, v, cnt, label, &u, &eps);
     if (k <= 0 || k > MAXK) continue;
     clus_t cl[MAXK + 1]; /* cl[k] = "no return" */
-    memset(cl, 0, sizeof cl);
-    for (int j = 0; j < k; j++) {
-      cl[j].lo = INT32_MAX;
-      cl[j].hi = INT32_MIN;
-    }
-    for (int i = 0; i < u; i++) {
-      if (label[i] < 0) continue;
-      clus_t *q = &cl[label[i]];
-      if (v[i] < q->lo) q->lo = v[i];
-      if (v[i] > q->hi) q->hi = v[i];
-      q->count += cnt[i];
-    }
-    /* membership of every stored frame, in time order */
-    for (int i = 0; i < nf; i++) {
-      uint16_t x = smp[order[i]];
-      if (x == 0) memb[i] = (int16_t)k;
-      else {
-        int at = find_value(v, u, x);
-        memb[i] = (int16_t)(at < 0 ? -1 : label[at]);
-      }
-    }
-    cl[k].count = (uint32_t)(nf - nz);
-    bool seen_in_win[MAXK + 1] = {false};
-    uint32_t npairs = 0;
-    for (int i = 0; i < nf; i++) {
-      if (i > 0 && win[i] != win[i - 1]) memset(seen_in_win, 0, sizeof seen_in_win);
-      int m = memb[i];
-      if (m >= 0 && !seen_in_win[m]) {
-        seen_in_win[m] = true;
-        cl[m].windows++;
-      }
-      if (i + 1 < nf && l->t[order[i + 1]] - l->t[order[i]] <= p->pair_gap_s) {
-        npairs++;
-        if (memb[i + 1] >= 0) cl[memb[i + 1]].second++;
-        if (m >= 0) {
-          cl[m].pairs++;
-          cl[m].stay += memb[i + 1] == m;
-        }
+    const cell_in_t in = {v, cnt, u, smp, order, win, nf, nz, l->t, p->pair_gap_s};
+    uint32_t npairs = cell_stats(&in, label, k, cl, memb);
+    if (p->chain_gap > 0) {
+      bool fl[MAXK];
+      for (int j = 0; j < k; j++) fl[j] = flickers(&cl[j], npairs, p->flicker_lift);
+      int k2 = chain_clusters(v, u, label, (int32_t)lround(p->chain_gap * 100.0), fl);
+      if (k2 != k) {
+        k = k2;
+        npairs = cell_stats(&in, label, k, cl, memb);
       }
     }
     /* "no return" as a persistent state of the cell: sky behind */
@@ -431,13 +507,8 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
       if (j == k - 1 && !sky) {
         isbg[j] = true;
       } else {
-        /* flicker: whether the next sample is in the cluster hardly depends on
-         * whether this one was (leaves); a vehicle stays for several frames */
-        double stay = cl[j].pairs ? (double)cl[j].stay / cl[j].pairs : 1.0;
-        double base = npairs ? (double)cl[j].second / npairs : 0.0;
-        bool flicker = cl[j].pairs >= 10 && stay - base < p->flicker_lift;
         bool present = (double)cl[j].windows / nwin >= p->coverage_min;
-        isbg[j] = flicker && present;
+        isbg[j] = flickers(&cl[j], npairs, p->flicker_lift) && present;
       }
     }
     /* background intervals with margins; a surface seen at a grazing angle

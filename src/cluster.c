@@ -21,10 +21,14 @@ void rs_cluster_cfg_default(rs_cluster_cfg_t *c) {
   c->obj_h = 0.8f;
   c->adapt_share = 0.2f;
   c->adapt_min_pts = 3;
+  c->adapt_sparse_cells = 3.0f;
+  c->adapt_sparse_min_pts = 2;
+  c->adapt_min_half_w = 2;
   c->adapt_eps_share = 0.03f;
   c->adapt_eps_rows = 1.0f;
   c->adapt_eps_min = 0.5f;
   c->adapt_eps_max = 2.5f;
+  c->adapt_border_eps = 2.0f;
   c->adapt_seed_surfaces = 3;
   c->dbscan_eps = 1.2f;
   c->dbscan_min_pts = 15;
@@ -51,7 +55,8 @@ int rs_cluster_init(rs_cluster_t *c, const rs_cluster_cfg_t *cfg, const rs_senso
   if (cfg->win_h < 1 || cfg->win_h > RS_MAX_WIN_H || cfg->win_h % 2 == 0 || cfg->win_w < 1 ||
       cfg->win_w > RS_MAX_WIN_W || cfg->win_w % 2 == 0)
     return RS_E_INVAL;
-  if (!(cfg->eps > 0) || cfg->min_pts < 1 || !(cfg->adapt_eps_max >= cfg->adapt_eps_min) || !(cfg->dbscan_eps > 0) || cfg->dbscan_min_pts < 1 || !(cfg->ccl_eps > 0))
+  if (!(cfg->eps > 0) || cfg->min_pts < 1 || !(cfg->adapt_eps_max >= cfg->adapt_eps_min) || !(cfg->adapt_border_eps >= 1.0f) ||
+      cfg->adapt_min_pts < 1 || cfg->adapt_sparse_min_pts < 1 || cfg->adapt_min_half_w < 0 || !(cfg->dbscan_eps > 0) || cfg->dbscan_min_pts < 1 || !(cfg->ccl_eps > 0))
     return RS_E_INVAL;
   c->cfg = *cfg;
   c->sensor = s;
@@ -88,12 +93,14 @@ static void build_adaptive(rs_cluster_t *c, int cols) {
     for (int b = 0; b < RS_ADAPT_BINS; b++) {
       double range = b + 0.5;
       double ncol = c->cfg.obj_w / (range * daz), nrow = c->cfg.obj_h / (range * del);
-      int hw = (int)fmin(c->cfg.win_w / 2, fmax(1.0, ceil(ncol / 2.0)));
+      int hw = (int)fmin(c->cfg.win_w / 2, fmax(c->cfg.adapt_min_half_w, ceil(ncol / 2.0)));
       int hh = (int)fmin(c->cfg.win_h / 2, fmax(1.0, ceil(nrow / 2.0)));
       double cells = fmin(2 * hw + 1, fmax(1.0, ncol)) * fmin(2 * hh + 1, fmax(1.0, nrow));
       int mp = (int)lround(c->cfg.adapt_share * cells);
       if (mp > c->cfg.min_pts) mp = c->cfg.min_pts;
-      if (mp < c->cfg.adapt_min_pts) mp = c->cfg.adapt_min_pts;
+      /* where the smallest object covers only a few cells, a pair of returns side by side is one */
+      const int floor_mp = cells < c->cfg.adapt_sparse_cells ? c->cfg.adapt_sparse_min_pts : c->cfg.adapt_min_pts;
+      if (mp < floor_mp) mp = floor_mp;
       c->half_w[r][b] = (uint8_t)hw;
       c->half_h[r][b] = (uint8_t)hh;
       c->min_pts[r][b] = (uint8_t)mp;
@@ -222,6 +229,7 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
         e = c->eps_tab[r][b];
       }
       const float x = c->rr[i];
+      const float eb = adaptive ? e * c->cfg.adapt_border_eps : e; /* reach of a cell that is not a core */
       /* the window's columns as at most two segments (it may wrap) */
       int seg_a[2], seg_n[2], nseg = 0;
       if (2 * hw + 1 >= cols) {
@@ -259,7 +267,8 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
               m &= m - 1;
               const int cc = a + bit;
               const uint32_t j = base + (uint32_t)cc;
-              if (fabsf(c->rr[j] - x) >= e) continue;
+              const float d = fabsf(c->rr[j] - x);
+              if (d >= e && (d >= eb || c->core[j])) continue;
               s->label[j] = id;
               w[cc >> 6] &= ~(1ull << (cc & 63));
               if (c->core[j]) c->queue[tail++] = j;

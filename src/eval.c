@@ -111,15 +111,19 @@ void rs_eval_end_frame(rs_eval_t *e, bool counted) {
       uint32_t t = (uint32_t)(p->key >> 32), pr = (uint32_t)p->key;
       if (t == 0 || pr != 0 || p->count < RS_EVAL_MIN_INSTANCE) continue;
       e->r.instances++;
-      for (uint32_t v = 0; v < e->nused; v++) {
+      bool matched = false;
+      uint32_t best = 0; /* the instance's returns in its largest piece */
+      for (uint32_t v = 0; v < e->nused && !matched; v++) {
         const rs_eval_pair_t *q = &e->pairs[e->used[v]];
         if ((uint32_t)(q->key >> 32) != t || (uint32_t)q->key == 0) continue;
         uint32_t inter = q->count, psize = lookup(e, 0, (uint32_t)q->key);
-        if ((double)inter / (double)(p->count + psize - inter) > 0.5) {
-          e->r.matched++;
-          break;
-        }
+        if (inter > best) best = inter;
+        matched = (double)inter / (double)(p->count + psize - inter) > 0.5;
       }
+      if (matched) e->r.matched++;
+      else if (best == 0) e->r.missed++;
+      else if (2 * (uint64_t)best > p->count) e->r.merged++;
+      else e->r.split++;
     }
   }
   for (uint32_t u = 0; u < e->nused; u++) e->pairs[e->used[u]].key = 0;
@@ -152,7 +156,9 @@ void rs_eval_print(const rs_eval_result_t *r, FILE *out) {
   fprintf(out, "\nmatched instances (IoU > 0.5, >= %d points): %llu / %llu (", RS_EVAL_MIN_INSTANCE,
           (unsigned long long)r->matched, (unsigned long long)r->instances);
   pct(out, rs_eval_ratio(r->matched, r->instances));
-  fprintf(out, ")\nbackground: static returns labelled background ");
+  fprintf(out, "); not matched: merged %llu, split %llu, missed %llu", (unsigned long long)r->merged,
+          (unsigned long long)r->split, (unsigned long long)r->missed);
+  fprintf(out, "\nbackground: static returns labelled background ");
   pct(out, rs_eval_ratio(r->static_kept, r->static_true));
   fprintf(out, ", target returns kept (not background) ");
   pct(out, rs_eval_ratio(r->target_kept, r->target_true));
@@ -187,8 +193,11 @@ void rs_eval_print_json(const rs_eval_result_t *r, FILE *out) {
   jnum(out, rs_eval_ratio(r->n_tp, r->n_tp + r->n_fn));
   fprintf(out, ", \"iou\": ");
   jnum(out, rs_eval_ratio(r->n_tp, r->n_tp + r->n_fp + r->n_fn));
-  fprintf(out, "}, \"matched\": %llu, \"instances\": %llu, \"background\": {\"static_kept\": ",
-          (unsigned long long)r->matched, (unsigned long long)r->instances);
+  fprintf(out,
+          "}, \"matched\": %llu, \"instances\": %llu, \"merged\": %llu, \"split\": %llu, \"missed\": %llu, "
+          "\"background\": {\"static_kept\": ",
+          (unsigned long long)r->matched, (unsigned long long)r->instances, (unsigned long long)r->merged,
+          (unsigned long long)r->split, (unsigned long long)r->missed);
   jnum(out, rs_eval_ratio(r->static_kept, r->static_true));
   fprintf(out, ", \"targets_kept\": ");
   jnum(out, rs_eval_ratio(r->target_kept, r->target_true));

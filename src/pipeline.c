@@ -288,6 +288,7 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
   }
   uint64_t fg0 = p->bg.foreground;
   if (p->cfg.background && s->meta.cols == p->cfg.background->cols && s->meta.rows == p->cfg.background->rows) {
+    if (p->cfg.bg_see_through) p->cfg.background->see_through = p->cfg.bg_see_through < 0 ? 0 : p->cfg.bg_see_through;
     rs_bg_subtract(p->cfg.background, s, &p->bg);
     bg_ns = rs_now_ns() - t0;
     stage_time(p, &p->t_background, bg_ns);

@@ -53,8 +53,12 @@ static rs_slot_t slot;
  * ground at 12 m with a car at 9 m for 30 s out of every 60 s; row 3 sky
  * with a truck at 15 m for 30 s out of every 60 s; row 4 ground at 14 m
  * with cars passing at 10 m for 3 frames every 2 s; row 5 a grazing wall
- * whose range depends on the firing's position in the cell (40-42 m) */
-#define ROWS 6
+ * whose range depends on the firing's position in the cell (40-42 m); row 6
+ * a facade at 186-190 m seen at a grazing angle through an azimuth field of
+ * 0.01 degree steps: its ranges come in clumps 0.17 m apart, half of the
+ * firings lost at that range; row 7 the same at 20-21 m with a car standing
+ * 0.8 m in front of it for 30 s out of every 60 s */
+#define ROWS 8
 #define COLS 100
 static float truth_range(int row, int frame, uint64_t *rng) {
   double t = frame * 0.1;
@@ -69,7 +73,10 @@ static float truth_range(int row, int frame, uint64_t *rng) {
   case 2: return (float)(fmod(t, 60.0) < 30.0 ? 9.0 + noise : 12.0 + noise);
   case 3: return fmod(t, 60.0) < 30.0 ? (float)(15.0 + noise) : 0.0f;
   case 4: return (float)(fmod(t, 2.0) < 0.3 ? 10.0 + noise : 14.0 + noise);
-  default: return (float)(40.0 + 2.0 * fmod(frame * 0.843, 1.0) + noise);
+  case 5: return (float)(40.0 + 2.0 * fmod(frame * 0.843, 1.0) + noise);
+  case 6: return u < 0.5 ? 0.0f : (float)(186.0 + 0.17 * (double)((*rng >> 40) % 24) + noise);
+  default:
+    return fmod(t, 60.0) < 30.0 ? (float)(19.2 + noise) : (float)(20.0 + 0.17 * (double)((*rng >> 40) % 6) + noise);
   }
 }
 
@@ -85,7 +92,7 @@ static void make_frame(int f, uint64_t *rng) {
 
 static rs_bg_model_t model;
 
-static void learn_model(void) {
+static void learn_model_gap(double chain_gap) {
   rs_bg_learner_t l;
   ck_assert_int_eq(rs_bg_learner_init(&l, RS_MODEL_VLP16, ROWS, COLS, 1200, 5), RS_OK);
   uint64_t rng = 88172645463325252ull;
@@ -97,9 +104,12 @@ static void learn_model(void) {
   ck_assert_uint_eq(l.seen, 1800);
   rs_bg_params_t p;
   rs_bg_params_default(&p);
+  if (chain_gap >= 0) p.chain_gap = chain_gap;
   ck_assert_int_eq(rs_bg_learn(&l, &p, 10.0f, &model), RS_OK);
   rs_bg_learner_free(&l);
 }
+
+static void learn_model(void) { learn_model_gap(-1.0); }
 
 START_TEST(t_learn_hard_cases) {
   learn_model();
@@ -124,6 +134,32 @@ START_TEST(t_learn_hard_cases) {
   ck_assert(rs_bg_is_static(&model, 5, 5, 41.9f));
   ck_assert(!rs_bg_is_static(&model, 5, 5, 38.0f));
   ck_assert_int_eq(model.n[5 * COLS + 5], 1);
+  /* the clumps of the far facade are one surface, nearest to farthest */
+  ck_assert(rs_bg_is_static(&model, 6, 5, 186.0f));
+  ck_assert(rs_bg_is_static(&model, 6, 5, 188.0f));
+  ck_assert(rs_bg_is_static(&model, 6, 5, 189.9f));
+  ck_assert(!rs_bg_is_static(&model, 6, 5, 180.0f));
+  /* the near facade too, and the car standing 0.8 m in front of it is not */
+  ck_assert(rs_bg_is_static(&model, 7, 5, 20.0f));
+  ck_assert(rs_bg_is_static(&model, 7, 5, 20.85f));
+  ck_assert(!rs_bg_is_static(&model, 7, 5, 19.2f));
+  rs_bg_model_free(&model);
+}
+END_TEST
+
+/* Without chaining, a sparse clump of the far facade is present in too few
+ * windows to count as background: only the farthest clump is. With a chain
+ * gap as wide as the car's distance, the car still is not joined to the
+ * facade: it does not flicker. */
+START_TEST(t_learn_chain_gap) {
+  learn_model_gap(0.0);
+  ck_assert(!rs_bg_is_static(&model, 6, 5, 186.0f));
+  ck_assert(rs_bg_is_static(&model, 6, 5, 189.9f));
+  rs_bg_model_free(&model);
+  learn_model_gap(1.0);
+  ck_assert(rs_bg_is_static(&model, 6, 5, 186.0f));
+  ck_assert(rs_bg_is_static(&model, 7, 5, 20.0f));
+  ck_assert(!rs_bg_is_static(&model, 7, 5, 19.2f));
   rs_bg_model_free(&model);
 }
 END_TEST
@@ -148,6 +184,63 @@ START_TEST(t_subtract) {
   ck_assert_int_eq(slot.label[0 * COLS + 5], 0); /* no return: untouched */
   ck_assert_uint_eq(model.beyond[4], 1);
   rs_bg_model_free(&model);
+}
+END_TEST
+
+static void set_cell(rs_bg_model_t *m, int row, int col, int n, const uint16_t *lohi) {
+  const size_t cell = (size_t)row * m->cols + (size_t)col;
+  m->n[cell] = (uint8_t)n;
+  for (int k = 0; k < n; k++) {
+    m->lo[cell * RS_BG_SURFACES + (size_t)k] = lohi[2 * k];
+    m->hi[cell * RS_BG_SURFACES + (size_t)k] = lohi[2 * k + 1];
+  }
+}
+
+/* labels of a return of 15 m in each of the probe cells, with a given see_through */
+static void see_through_probe(rs_bg_model_t *m, int see, uint16_t out[4]) {
+  static const int probe[4][2] = {{0, 5}, {1, 5}, {2, 0}, {3, 5}};
+  m->see_through = see;
+  memset(&slot, 0, sizeof slot);
+  slot.meta.rows = ROWS;
+  slot.meta.cols = COLS;
+  for (int i = 0; i < 4; i++) slot.range[probe[i][0] * COLS + probe[i][1]] = 15.0f;
+  rs_bg_counts_t c = {0, 0, 0};
+  rs_bg_subtract(m, &slot, &c);
+  ck_assert_uint_eq(c.background + c.foreground, 4);
+  for (int i = 0; i < 4; i++) out[i] = slot.label[probe[i][0] * COLS + probe[i][1]];
+}
+
+/* Leaves at 15 m learned in the cell beside: background in a cell the sensor
+ * sees through (two surfaces), not in a cell of one surface, not from the
+ * rows above and below; the row wraps at column 0. */
+START_TEST(t_subtract_see_through) {
+  rs_bg_model_t m;
+  ck_assert_int_eq(rs_bg_model_alloc(&m, RS_MODEL_VLP16, ROWS, COLS), RS_OK);
+  ck_assert_int_eq(m.see_through, RS_BG_SEE_THROUGH);
+  const uint16_t two[4] = {900, 1000, 2000, 2100}, one[2] = {2000, 2100}, leaf[2] = {1490, 1510};
+  set_cell(&m, 0, 5, 2, two);
+  set_cell(&m, 0, 4, 1, leaf);
+  set_cell(&m, 1, 5, 1, one);
+  set_cell(&m, 1, 6, 1, leaf);
+  set_cell(&m, 2, 0, 2, two);
+  set_cell(&m, 2, COLS - 1, 1, leaf);
+  set_cell(&m, 3, 5, 2, two);
+  set_cell(&m, 2, 5, 1, leaf);
+  set_cell(&m, 4, 5, 1, leaf);
+  uint16_t l[4];
+  see_through_probe(&m, 2, l);
+  ck_assert_int_eq(l[0], 1);
+  ck_assert_int_eq(l[1], 2);
+  ck_assert_int_eq(l[2], 1);
+  ck_assert_int_eq(l[3], 2);
+  see_through_probe(&m, 3, l);
+  ck_assert_int_eq(l[0], 2);
+  ck_assert_int_eq(l[2], 2);
+  see_through_probe(&m, 0, l);
+  ck_assert_int_eq(l[0], 2);
+  see_through_probe(&m, 1, l);
+  ck_assert_int_eq(l[1], 1);
+  rs_bg_model_free(&m);
 }
 END_TEST
 
@@ -248,7 +341,9 @@ int main(void) {
   tcase_set_timeout(tc, 120);
   tcase_add_test(tc, t_dbscan1d);
   tcase_add_test(tc, t_learn_hard_cases);
+  tcase_add_test(tc, t_learn_chain_gap);
   tcase_add_test(tc, t_subtract);
+  tcase_add_test(tc, t_subtract_see_through);
   tcase_add_test(tc, t_model_file);
   tcase_add_test(tc, t_percentile_and_reservoir);
   suite_add_tcase(s, tc);

@@ -196,6 +196,76 @@ START_TEST(t_adaptive_sparse) {
 }
 END_TEST
 
+static rs_sensor_t vlp32c;
+
+static void run_adaptive(const rs_cluster_cfg_t *cfg, rs_cluster_stats_t *st) {
+  ck_assert_int_eq(rs_cluster_init(&cl, cfg, &vlp32c), RS_OK);
+  rs_cluster_run(&cl, &slot, st);
+}
+
+/* VLP-32C beyond 100 m, rows near the horizon (0.33 degrees apart): the
+ * smallest object covers fewer than 3 cells, so a pair of returns side by
+ * side is an object, even with a column lost between them; one return alone
+ * is not, nor is a pair at 20 m, where an object covers dozens of cells. */
+START_TEST(t_adaptive_far_pairs) {
+  rs_cluster_cfg_t cfg;
+  rs_cluster_cfg_default(&cfg);
+  cfg.method = RS_CLUSTER_FSPC_ADAPTIVE;
+  rs_cluster_stats_t st;
+  clear_map(1820);
+  slot.meta.rows = 32;
+  block(18, 18, 900, 901, 180.0f);  /* a pair */
+  put(18, 1000, 170.0f);            /* a pair with a missing return between */
+  put(18, 1002, 170.3f);
+  put(18, 1100, 175.0f);            /* alone */
+  block(18, 18, 1300, 1301, 20.0f); /* a pair near the pole */
+  run_adaptive(&cfg, &st);
+  ck_assert_uint_eq(st.clusters, 2);
+  ck_assert_int_ge(lab(18, 900), 3);
+  ck_assert_int_eq(lab(18, 901), lab(18, 900));
+  ck_assert_int_ge(lab(18, 1000), 3);
+  ck_assert_int_eq(lab(18, 1002), lab(18, 1000));
+  ck_assert_int_eq(lab(18, 1100), 2);
+  ck_assert_int_eq(lab(18, 1300), 2);
+  cfg.adapt_min_half_w = 1; /* the window no longer reaches over the missing return */
+  run_adaptive(&cfg, &st);
+  ck_assert_uint_eq(st.clusters, 1);
+  ck_assert_int_eq(lab(18, 1000), 2);
+  cfg.adapt_sparse_min_pts = 3; /* and pairs are not enough */
+  run_adaptive(&cfg, &st);
+  ck_assert_uint_eq(st.clusters, 0);
+}
+END_TEST
+
+/* A return 3.5 m behind the edge of an object at 150 m (eps there: 2.5 m) is
+ * not a core; it joins the object within twice eps. An object whose own
+ * cores are 3.5 m behind stays a separate cluster: core cells link within
+ * eps only. */
+START_TEST(t_adaptive_border_eps) {
+  rs_cluster_cfg_t cfg;
+  rs_cluster_cfg_default(&cfg);
+  cfg.method = RS_CLUSTER_FSPC_ADAPTIVE;
+  rs_cluster_stats_t st;
+  clear_map(1820);
+  slot.meta.rows = 32;
+  block(16, 19, 500, 505, 150.0f);
+  put(17, 506, 153.5f);
+  block(16, 19, 600, 605, 150.0f);
+  block(16, 19, 606, 611, 153.5f);
+  run_adaptive(&cfg, &st);
+  ck_assert_uint_eq(st.clusters, 3);
+  ck_assert_int_eq(lab(17, 506), lab(17, 505));
+  ck_assert_int_ne(lab(17, 606), lab(17, 605));
+  ck_assert_int_ge(lab(17, 606), 3);
+  cfg.adapt_border_eps = 1.0f;
+  run_adaptive(&cfg, &st);
+  ck_assert_uint_eq(st.clusters, 3);
+  ck_assert_int_eq(lab(17, 506), 2);
+  cfg.adapt_border_eps = 0.5f;
+  ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &vlp32c), RS_E_INVAL);
+}
+END_TEST
+
 /* a 3 x 4 object at 40 m whose two right columns lie where the static scene has 3
  * surfaces, and a 3 x 3 group of returns entirely in such cells (foliage flicker);
  * clustered with the surface counts and the given adapt_seed_surfaces */
@@ -258,6 +328,7 @@ END_TEST
 
 int main(void) {
   rs_sensor_init(&sensor, RS_MODEL_VLS128); /* 128 rows: any test row has a laser */
+  rs_sensor_init(&vlp32c, RS_MODEL_VLP32C);
   Suite *s = suite_create("cluster");
   TCase *tc = tcase_create("core");
   tcase_set_timeout(tc, 60);
@@ -268,6 +339,8 @@ int main(void) {
   tcase_add_test(tc, t_cap_overflow);
   tcase_add_test(tc, t_fspc_equals_dbscan);
   tcase_add_test(tc, t_adaptive_sparse);
+  tcase_add_test(tc, t_adaptive_far_pairs);
+  tcase_add_test(tc, t_adaptive_border_eps);
   tcase_add_test(tc, t_see_through_cells_do_not_seed);
   tcase_add_test(tc, t_dual_layer_and_config);
   suite_add_tcase(s, tc);

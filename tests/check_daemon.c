@@ -97,8 +97,8 @@ START_TEST(t_help_covers_every_option) {
   const char *out;
   ck_assert_int_eq(tu_exec("./roadscand --help", &out), 0);
   static const char *names[] = {"pcap", "speed", "fast", "loop", "iface", "port", "source", "model", "calibration",
-                                "rpm", "pose", "columns", "cut-azimuth", "background", "learn-seconds", "learn-out",
-                                "cluster", "window", "eps", "min-pts", "seed-surfaces", "lcm-url", "channel", "stats-channel",
+                                "rpm", "pose", "columns", "cut-azimuth", "background", "learn-seconds", "learn-out", "see-through",
+                                "cluster", "window", "eps", "min-pts", "seed-surfaces", "border-eps", "sparse-min-pts", "min-half-width", "lcm-url", "channel", "stats-channel",
                                 "sensor-id", "max-datagram", "no-publish", "budget-ms", "summary-seconds", "syslog",
                                 "frames-out", "labels-out", "quiet", "config", "help", "version"};
   for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {

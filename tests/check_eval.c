@@ -65,18 +65,27 @@ START_TEST(t_one_frame) {
   rs_eval_end_frame(&e, true);
   ck_assert_uint_eq(e.r.instances, 3);
   ck_assert_uint_eq(e.r.matched, 2);
+  ck_assert_uint_eq(e.r.split, 1);
   /* frame 3: one cluster swallowing two objects of 10 points: IoU 0.5 each: none matched */
   feed(10, 3, 7, 10);
   feed(10, 4, 7, 10);
   rs_eval_end_frame(&e, true);
   ck_assert_uint_eq(e.r.instances, 5);
   ck_assert_uint_eq(e.r.matched, 2);
+  ck_assert_uint_eq(e.r.merged, 2);
+  ck_assert_uint_eq(e.r.split, 1);
+  /* frame 4: an object of 12 returns all left as noise: missed */
+  feed(12, 6, 2, 10);
+  rs_eval_end_frame(&e, true);
+  ck_assert_uint_eq(e.r.instances, 6);
+  ck_assert_uint_eq(e.r.missed, 1);
+  ck_assert_uint_eq(e.r.merged + e.r.split + e.r.missed + e.r.matched, e.r.instances);
   char buf[2048];
   FILE *m = fmemopen(buf, sizeof buf, "w");
   rs_eval_print_json(&e.r, m);
   fclose(m);
   ck_assert_ptr_nonnull(strstr(buf, "\"target\": {\"precision\": "));
-  ck_assert_ptr_nonnull(strstr(buf, "\"matched\": 2, \"instances\": 5"));
+  ck_assert_ptr_nonnull(strstr(buf, "\"matched\": 2, \"instances\": 6, \"merged\": 2, \"split\": 1, \"missed\": 1"));
   rs_eval_deinit(&e);
 }
 END_TEST

@@ -49,6 +49,9 @@ typedef struct {
   bool oom;
   uint64_t target, missed, whole[3], partial, partial_dr[4]; /* 1-4, 5-9, 10+ returns; <1.8, <3, <6, >=6 m */
   uint64_t by_surfaces[2][RS_BG_SURFACES + 1];                /* [true object?][static surfaces of the cell] */
+  uint64_t fp_truth[2];        /* false object returns: static background, foliage or spurious */
+  uint64_t fp_where[4];        /* static ones against their cell's surfaces: none, in front, between, beyond */
+  uint64_t fp_range[4];        /* static ones by range: < 50, 50-100, 100-150, >= 150 m */
 } diag_t;
 
 typedef struct {
@@ -114,6 +117,16 @@ static void diag_frame(diag_t *d) {
       int col = (int)(p->az * d->model->cols / 360.0f) % d->model->cols;
       int s = p->row < d->model->rows ? d->model->n[(size_t)p->row * d->model->cols + (size_t)col] : 0;
       d->by_surfaces[p->truth >= 3][s > RS_BG_SURFACES ? RS_BG_SURFACES : s]++;
+      if (p->truth < 3) {
+        d->fp_truth[p->truth == 2]++;
+        if (p->truth != 2) {
+          const size_t cell = (size_t)p->row * d->model->cols + (size_t)col;
+          const float cm = p->range * 100.0f;
+          int w = s == 0 ? 0 : cm < d->model->lo[cell * RS_BG_SURFACES] ? 1 : cm > d->model->hi[cell * RS_BG_SURFACES + (size_t)s - 1] ? 3 : 2;
+          d->fp_where[w]++;
+          d->fp_range[p->range < 50.0f ? 0 : p->range < 100.0f ? 1 : p->range < 150.0f ? 2 : 3]++;
+        }
+      }
     }
   }
   for (size_t a = 0, b; a < d->n; a = b) {
@@ -165,6 +178,13 @@ static void diag_print(const diag_t *d, FILE *out) {
     for (int k = 0; k <= RS_BG_SURFACES; k++)
       fprintf(out, " %d: %llu / %llu", k, (unsigned long long)d->by_surfaces[1][k], (unsigned long long)d->by_surfaces[0][k]);
     fprintf(out, "\n");
+    fprintf(out, "  false object returns: static %llu (no static surface in the cell %llu, in front of the nearest %llu, between"
+                 " two %llu, beyond the farthest %llu; < 50 m %llu, 50-100 m %llu, 100-150 m %llu, >= 150 m %llu),"
+                 " foliage or spurious %llu\n",
+            (unsigned long long)d->fp_truth[0], (unsigned long long)d->fp_where[0], (unsigned long long)d->fp_where[1],
+            (unsigned long long)d->fp_where[2], (unsigned long long)d->fp_where[3], (unsigned long long)d->fp_range[0],
+            (unsigned long long)d->fp_range[1], (unsigned long long)d->fp_range[2], (unsigned long long)d->fp_range[3],
+            (unsigned long long)d->fp_truth[1]);
   }
 }
 

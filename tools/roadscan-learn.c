@@ -142,6 +142,8 @@ static void usage(FILE *out) {
           "  --percentile P         percentile method: background at this percentile (default 50)\n"
           "  --tolerance M          percentile method: minus this many metres (default 0.3)\n"
           "  --min-pts-floor N      DBSCAN minPts floor (default 10; minPts = max(floor, 1%% of samples))\n"
+          "  --chain-gap M          clusters of a cell less than M metres apart are judged as one surface\n"
+          "                         (default 0.20, 0 = off)\n"
           "  --model NAME           force the sensor model (%s)\n"
           "  --calibration FILE     per-unit calibration (ROS velodyne YAML)\n"
           "  --columns N            azimuth bins (default: from the measured rate, as the daemon)\n"
@@ -151,7 +153,7 @@ static void usage(FILE *out) {
 }
 
 int main(int argc, char **argv) {
-  enum { O_FRAMES = 256, O_SEED, O_METHOD, O_PCT, O_TOL, O_FLOOR, O_MODEL, O_CALIB, O_COLS, O_IMAGE, O_INFO, O_HELP };
+  enum { O_FRAMES = 256, O_SEED, O_METHOD, O_PCT, O_TOL, O_FLOOR, O_MODEL, O_CALIB, O_COLS, O_IMAGE, O_INFO, O_HELP, O_CHAIN };
   static const struct option opts[] = {
       {"output", required_argument, NULL, 'o'},         {"frames", required_argument, NULL, O_FRAMES},
       {"seed", required_argument, NULL, O_SEED},        {"method", required_argument, NULL, O_METHOD},
@@ -159,7 +161,8 @@ int main(int argc, char **argv) {
       {"min-pts-floor", required_argument, NULL, O_FLOOR}, {"model", required_argument, NULL, O_MODEL},
       {"calibration", required_argument, NULL, O_CALIB}, {"columns", required_argument, NULL, O_COLS},
       {"image", required_argument, NULL, O_IMAGE},      {"info", required_argument, NULL, O_INFO},
-      {"help", no_argument, NULL, O_HELP},              {NULL, 0, NULL, 0}};
+      {"chain-gap", required_argument, NULL, O_CHAIN},  {"help", no_argument, NULL, O_HELP},
+      {NULL, 0, NULL, 0}};
   const char *out = NULL, *image = NULL, *info = NULL, *calib_path = NULL;
   static learn_t L;
   L.max_frames = 1000;
@@ -195,6 +198,9 @@ int main(int argc, char **argv) {
       break;
     case O_TOL:
       if (rs_cfg_double("--tolerance", optarg, 0, 10, &params.percentile_tol, err, sizeof err)) goto bad;
+      break;
+    case O_CHAIN:
+      if (rs_cfg_double("--chain-gap", optarg, 0, 5, &params.chain_gap, err, sizeof err)) goto bad;
       break;
     case O_FLOOR:
       if (rs_cfg_long("--min-pts-floor", optarg, 2, 100000, &lv, err, sizeof err)) goto bad;

@@ -39,8 +39,11 @@ static rs_publish_t publisher;
   X(RPM, "rpm", 1, "sensor") X(POSE, "pose", 1, "sensor") X(COLS, "columns", 1, "sensor")               \
   X(CUT, "cut-azimuth", 1, "sensor") X(BG, "background", 1, "background")                             \
   X(LEARN, "learn-seconds", 1, "background") X(LEARN_OUT, "learn-out", 1, "background")              \
-  X(CLUSTER, "cluster", 1, "cluster") X(WINDOW, "window", 1, "cluster") X(EPS, "eps", 1, "cluster")     \
-  X(MINPTS, "min-pts", 1, "cluster") X(SEED_SURF, "seed-surfaces", 1, "cluster") X(URL, "lcm-url", 1, "lcm") X(CHANNEL, "channel", 1, "lcm")       \
+  X(SEE_THROUGH, "see-through", 1, "background") X(CLUSTER, "cluster", 1, "cluster")                   \
+  X(WINDOW, "window", 1, "cluster") X(EPS, "eps", 1, "cluster") X(MINPTS, "min-pts", 1, "cluster")      \
+  X(SEED_SURF, "seed-surfaces", 1, "cluster") X(BORDER_EPS, "border-eps", 1, "cluster")                 \
+  X(SPARSE_MINPTS, "sparse-min-pts", 1, "cluster") X(MIN_HALF_W, "min-half-width", 1, "cluster")         \
+  X(URL, "lcm-url", 1, "lcm") X(CHANNEL, "channel", 1, "lcm")                                          \
   X(STATS, "stats-channel", 1, "lcm") X(SENSOR_ID, "sensor-id", 1, "lcm")                             \
   X(DATAGRAM, "max-datagram", 1, "lcm") X(NO_PUBLISH, "no-publish", 0, "lcm")                         \
   X(BUDGET, "budget-ms", 1, "daemon") X(SUMMARY, "summary-seconds", 1, "daemon")                      \
@@ -98,6 +101,11 @@ static void usage(FILE *out) {
           "                       of frames, then subtract it (real-time replay drops frames while\n"
           "                       it learns; --fast does not)\n"
           "  --learn-out MODEL    save the model learned online\n"
+          "  --see-through N      a return in a cell where the background has N or more static surfaces\n"
+          "                       (foliage, edges) is also background when its range lies in a static\n"
+          "                       surface of the cell beside it in the same row (default 2, 0 = off)\n",
+          rs_model_names());
+  fprintf(out,
           "Clustering of the foreground [cluster]\n"
           "  --cluster METHOD     fspc (default with a background), fspc-adaptive, dbscan, ccl, none\n"
           "  --window HxW         FSPC window, odd numbers (default 5x11)\n"
@@ -107,6 +115,12 @@ static void usage(FILE *out) {
           "  --seed-surfaces N    fspc-adaptive: a return in a cell where the background has N or more static\n"
           "                       surfaces (foliage, edges: the sensor sees through) joins clusters but does\n"
           "                       not start one (default 3, 0 = off)\n"
+          "  --border-eps F       fspc-adaptive: a return that is not a core joins a cluster within F times\n"
+          "                       eps of a core return of it (core to core: eps; default 2, at least 1)\n"
+          "  --sparse-min-pts N   fspc-adaptive: lowest minPts where the smallest object covers fewer than\n"
+          "                       3 cells (far away; default 2: a pair of returns; 3 = as elsewhere)\n"
+          "  --min-half-width N   fspc-adaptive: the window reaches at least N columns either side\n"
+          "                       (default 2: beyond 120 m returns go missing)\n"
           "LCM [lcm]: one object list and one statistics message per frame\n"
           "  --lcm-url URL        LCM provider (default %s; memq:// and\n"
           "                       file://PATH?mode=w also work)\n"
@@ -128,7 +142,7 @@ static void usage(FILE *out) {
           "SIGINT/SIGTERM stop cleanly and print the summary. Exit status: 0 done (input errors are\n"
           "counted in the summary), 1 fatal error (including an LCM URL that cannot publish), 2 bad\n"
           "usage or configuration.\n",
-          rs_model_names(), RS_PUB_DEFAULT_URL, RS_PUB_DEFAULT_CHANNEL, RS_PUB_DEFAULT_STATS, RS_PUB_DATAGRAM_MAX,
+          RS_PUB_DEFAULT_URL, RS_PUB_DEFAULT_CHANNEL, RS_PUB_DEFAULT_STATS, RS_PUB_DATAGRAM_MAX,
           RS_PUB_DATAGRAM_MIN);
 }
 
@@ -269,6 +283,22 @@ static int apply(int id, const char *val, const char *key, char *err, size_t n) 
   case O_SEED_SURF:
     if (rs_cfg_long(key, v, 0, 255, &l, err, n)) return RS_E_INVAL;
     st.ccfg.adapt_seed_surfaces = (int)l;
+    break;
+  case O_BORDER_EPS:
+    if (rs_cfg_double(key, v, 1.0, 10.0, &d, err, n)) return RS_E_INVAL;
+    st.ccfg.adapt_border_eps = (float)d;
+    break;
+  case O_SPARSE_MINPTS:
+    if (rs_cfg_long(key, v, 1, 255, &l, err, n)) return RS_E_INVAL;
+    st.ccfg.adapt_sparse_min_pts = (int)l;
+    break;
+  case O_MIN_HALF_W:
+    if (rs_cfg_long(key, v, 0, RS_MAX_WIN_W / 2, &l, err, n)) return RS_E_INVAL;
+    st.ccfg.adapt_min_half_w = (int)l;
+    break;
+  case O_SEE_THROUGH:
+    if (rs_cfg_long(key, v, 0, RS_BG_SURFACES, &l, err, n)) return RS_E_INVAL;
+    st.cfg.bg_see_through = l == 0 ? -1 : (int)l;
     break;
   case O_URL: st.pub.url = v; break;
   case O_CHANNEL: st.pub.channel = v; break;

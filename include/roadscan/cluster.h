@@ -17,14 +17,20 @@
  * window reads, whatever the scene.
  *
  * Adaptive FSPC: per laser row and 1 m range bin, the window shrinks to what
- * an obj_w x obj_h object would cover, minPts to adapt_share of the cells it
- * would fill (at least adapt_min_pts, at most min_pts), and eps to
+ * an obj_w x obj_h object would cover (at least adapt_min_half_w columns
+ * either side), minPts to adapt_share of the cells it would fill (at least
+ * adapt_min_pts, or adapt_sparse_min_pts where it fills fewer than
+ * adapt_sparse_cells, at most min_pts), and eps to
  * 0.03 x range (0.5 to 2.5 m): a car roof seen by one laser near the pole
  * and a pedestrian at 150 m are found; cars queued 2 m apart stay apart.
  * Cells where the static scene has several surfaces (the sensor sees
  * through foliage, or past an edge, to what is behind) give intermittent
  * returns that the background cannot learn; with the model's surface
  * counts (bg_surfaces) their returns join clusters but do not seed them.
+ * A cell that is not a core joins a cluster within adapt_border_eps x eps
+ * of one of its core cells (core cells link within eps, so clusters do not
+ * merge through it): the side of a car seen almost along the line of sight
+ * at 150 m spreads over metres of range from one column to the next.
  * The same bounded cost.
  *
  * No allocation: the caller owns rs_cluster_t
@@ -56,10 +62,16 @@ typedef struct {
   float obj_w, obj_h;    /* adaptive: the smallest object to find (m), default 0.5 x 0.8 */
   float adapt_share;     /* adaptive: minPts = share x expected cells, default 0.2 */
   int adapt_min_pts;     /* adaptive: lowest minPts, default 3 */
+  float adapt_sparse_cells; /* adaptive: where the smallest object would cover fewer cells than this */
+  int adapt_sparse_min_pts; /*   (default 3), the lowest minPts is this instead (default 2: a pair) */
+  int adapt_min_half_w;  /* adaptive: the window reaches at least this many columns either side (default
+                            2: returns go missing beyond 120 m, a neighbour may be two columns away) */
   float adapt_eps_share; /* adaptive: eps = clamp(max(share, adapt_eps_rows x the sensor's median */
   float adapt_eps_rows;  /*   row spacing in radians) x range, adapt_eps_min, adapt_eps_max): 0.03, 1.0, */
   float adapt_eps_min;   /*   0.5 m, 2.5 m */
   float adapt_eps_max;
+  float adapt_border_eps; /* adaptive: a cell that is not a core joins a core cell's cluster within this
+                             many times the core's eps (core to core: eps); default 2 */
   int adapt_seed_surfaces; /* adaptive, with bg_surfaces: a return in a cell of at least this many static
                               surfaces (foliage and edges the sensor sees through) seeds no cluster but
                               may join one; default 3, 0 = off */

@@ -24,6 +24,9 @@ typedef struct {
   uint64_t foliage_true, foliage_background;/* true 2, predicted 1 */
   uint64_t band_true[RS_EVAL_BANDS], band_hit[RS_EVAL_BANDS];
   uint64_t instances, matched;
+  uint64_t merged, split, missed;           /* instances not matched: over half of it in one cluster that
+                                               holds as much else (merged); no cluster holds over half of it
+                                               (split); no return of it in a cluster (missed) */
 } rs_eval_result_t;
 
 typedef struct {

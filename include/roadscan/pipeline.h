@@ -38,6 +38,7 @@ typedef struct {
   FILE *frames_out;            /* optional CSV, one line per frame */
   const char *labels_out;      /* optional point-label file of the pipeline's decisions */
   rs_bg_model_t *background;   /* optional static-scene model (processing thread) */
+  int bg_see_through;          /* 0: the model's own see_through (RS_BG_SEE_THROUGH); N > 0: N; < 0: off */
   double learn_seconds;        /* > 0 and no model: learn from the first seconds, then subtract */
   const char *learn_out;       /* where the learned model is saved */
   rs_cluster_t *cluster;       /* optional: clustering work area, configured (processing thread) */
