@@ -236,6 +236,10 @@ START_TEST(t_background_tools) {
     tp_sum += tpk;
   }
   ck_assert_int_eq(tp_sum, strtol(strstr(out, "object returns ") + 15, NULL, 10));
+  ck_assert_ptr_nonnull(strstr(out, "not matched: merged 0, split 0, missed 0\n"));
+  ck_assert_ptr_nonnull(strstr(out, "merged instances: with another object 0, with non-object returns only 0;"));
+  ck_assert_ptr_nonnull(strstr(out, "false object returns: static 0 ("));
+  ck_assert_ptr_nonnull(strstr(out, "foliage or spurious 0\n"));
   char none[600]; /* not from tu_tmp, whose rotating buffers hold the paths of this test */
   snprintf(none, sizeof none, "%s.none", pred);
   f = fopen(none, "w");
@@ -249,6 +253,14 @@ START_TEST(t_background_tools) {
   long total = strtol(o + 15, NULL, 10), missed = strtol(strstr(o, "missed ") + 7, NULL, 10);
   ck_assert_int_gt(total, 1000);
   ck_assert_int_eq(missed, total);
+  /* every instance unmatched, and counted as missed */
+  const char *mi = strstr(out, "): 0 / ");
+  ck_assert_ptr_nonnull(mi);
+  long inst = strtol(mi + 7, NULL, 10);
+  ck_assert_int_gt(inst, 10);
+  char want[96];
+  snprintf(want, sizeof want, "not matched: merged 0, split 0, missed %ld\n", inst);
+  ck_assert_ptr_nonnull(strstr(out, want));
   ck_assert_ptr_nonnull(strstr(out, "beside a clustered return of the same object: 0;"));
   ck_assert_int_eq(tu_exec("./roadscan-eval a b c --model m", &out), 2);
   /* the percentile baseline, for contrast, loses far more static returns */

@@ -52,6 +52,8 @@ typedef struct {
   uint64_t fp_truth[2];        /* false object returns: static background, foliage or spurious */
   uint64_t fp_where[4];        /* static ones against their cell's surfaces: none, in front, between, beyond */
   uint64_t fp_range[4];        /* static ones by range: < 50, 50-100, 100-150, >= 150 m */
+  uint64_t merged[2];          /* merged instances (>= 10 returns): with another object, with non-objects */
+  uint64_t merged_range[4];    /* ... by the instance's mean range: < 20, 20-50, 50-100, >= 100 m */
 } diag_t;
 
 typedef struct {
@@ -106,6 +108,36 @@ static void diag_point(diag_t *d, const rs_point_t *p, uint32_t truth, uint32_t 
   d->pts[d->n++] = (dpt_t){p->azimuth, p->distance, p->row, truth, pred};
 }
 
+/* A true instance pts[a, b): when over half of it lies in one cluster that
+ * holds as much else (IoU <= 0.5, as roadscan-eval counts "merged"), what
+ * else: another object's returns, or only non-object returns. */
+static void diag_merge(diag_t *d, size_t a, size_t b) {
+  uint32_t best = 0, inter = 0;
+  double range = 0.0;
+  for (size_t i = a; i < b; i++) {
+    range += d->pts[i].range;
+    if (d->pts[i].pred < 3) continue;
+    uint32_t c = 0;
+    for (size_t j = a; j < b; j++) c += d->pts[j].pred == d->pts[i].pred;
+    if (c > inter) {
+      inter = c;
+      best = d->pts[i].pred;
+    }
+  }
+  const uint32_t n = (uint32_t)(b - a);
+  if (2 * inter <= n) return;
+  uint32_t size = 0, other_obj = 0;
+  for (size_t j = 0; j < d->n; j++) {
+    if (d->pts[j].pred != best) continue;
+    size++;
+    other_obj += d->pts[j].truth >= 3 && (j < a || j >= b);
+  }
+  if ((double)inter / (double)(n + size - inter) > 0.5) return;
+  d->merged[other_obj == 0]++;
+  range /= (double)n;
+  d->merged_range[range < 20 ? 0 : range < 50 ? 1 : range < 100 ? 2 : 3]++;
+}
+
 /* One frame: missed object returns, by whether their object has a clustered return
  * (and how far in range the nearest one, by azimuth and ring, is), and predicted
  * object returns by the static surfaces of their cell. */
@@ -133,6 +165,7 @@ static void diag_frame(diag_t *d) {
     for (b = a; b < d->n && d->pts[b].truth == d->pts[a].truth; b++) {
     }
     if (d->pts[a].truth < 3) continue;
+    if (b - a >= RS_EVAL_MIN_INSTANCE) diag_merge(d, a, b);
     size_t hit = 0;
     for (size_t i = a; i < b; i++) hit += d->pts[i].pred >= 3;
     d->target += b - a;
@@ -173,6 +206,12 @@ static void diag_print(const diag_t *d, FILE *out) {
           " ring): < 1.8 m %llu, 1.8-3 m %llu, 3-6 m %llu, >= 6 m %llu\n",
           (unsigned long long)d->partial, (unsigned long long)d->partial_dr[0], (unsigned long long)d->partial_dr[1],
           (unsigned long long)d->partial_dr[2], (unsigned long long)d->partial_dr[3]);
+  fprintf(out,
+          "  merged instances: with another object %llu, with non-object returns only %llu; by mean range < 20 m "
+          "%llu, 20-50 m %llu, 50-100 m %llu, >= 100 m %llu\n",
+          (unsigned long long)d->merged[0], (unsigned long long)d->merged[1], (unsigned long long)d->merged_range[0],
+          (unsigned long long)d->merged_range[1], (unsigned long long)d->merged_range[2],
+          (unsigned long long)d->merged_range[3]);
   if (d->model) {
     fprintf(out, "  returns predicted as objects, by static surfaces of their cell (true / false):");
     for (int k = 0; k <= RS_BG_SURFACES; k++)
@@ -277,9 +316,11 @@ int main(int argc, char **argv) {
              "  --objects FILE  CSV frame,instance,points,x,y,z: the centroid (sensor frame) of every true\n"
              "                  instance of at least %d returns in every frame\n"
              "  --diagnose      where the missed object returns are: in objects with no clustered return\n"
-             "                  (by size), or beside a clustered return of their object (by range difference)\n"
+             "                  (by size), or beside a clustered return of their object (by range difference);\n"
+             "                  merged instances (with another object or not, by range)\n"
              "  --model BG      with --diagnose: returns predicted as objects by the number of static\n"
-             "                  surfaces of their cell in the background model\n",
+             "                  surfaces of their cell in the background model; the false ones by truth\n"
+             "                  class, place against their cell's surfaces, and range\n",
              RS_EVAL_MIN_INSTANCE);
       return 0;
     } else {
