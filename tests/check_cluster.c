@@ -198,6 +198,14 @@ END_TEST
 
 static rs_sensor_t vlp32c;
 
+/* default adaptive settings and an empty VLP-32C map (32 rows x 1820 columns) */
+static void adaptive_vlp32c(rs_cluster_cfg_t *cfg) {
+  rs_cluster_cfg_default(cfg);
+  cfg->method = RS_CLUSTER_FSPC_ADAPTIVE;
+  clear_map(1820);
+  slot.meta.rows = 32;
+}
+
 static void run_adaptive(const rs_cluster_cfg_t *cfg, rs_cluster_stats_t *st) {
   ck_assert_int_eq(rs_cluster_init(&cl, cfg, &vlp32c), RS_OK);
   rs_cluster_run(&cl, &slot, st);
@@ -209,11 +217,8 @@ static void run_adaptive(const rs_cluster_cfg_t *cfg, rs_cluster_stats_t *st) {
  * is not, nor is a pair at 20 m, where an object covers dozens of cells. */
 START_TEST(t_adaptive_far_pairs) {
   rs_cluster_cfg_t cfg;
-  rs_cluster_cfg_default(&cfg);
-  cfg.method = RS_CLUSTER_FSPC_ADAPTIVE;
   rs_cluster_stats_t st;
-  clear_map(1820);
-  slot.meta.rows = 32;
+  adaptive_vlp32c(&cfg);
   block(18, 18, 900, 901, 180.0f);  /* a pair */
   put(18, 1000, 170.0f);            /* a pair with a missing return between */
   put(18, 1002, 170.3f);
@@ -243,11 +248,8 @@ END_TEST
  * eps only. */
 START_TEST(t_adaptive_border_eps) {
   rs_cluster_cfg_t cfg;
-  rs_cluster_cfg_default(&cfg);
-  cfg.method = RS_CLUSTER_FSPC_ADAPTIVE;
   rs_cluster_stats_t st;
-  clear_map(1820);
-  slot.meta.rows = 32;
+  adaptive_vlp32c(&cfg);
   block(16, 19, 500, 505, 150.0f);
   put(17, 506, 153.5f);
   block(16, 19, 600, 605, 150.0f);
