@@ -150,18 +150,20 @@ static inline uint64_t row_bits(const uint64_t *w, int a, int n) {
 }
 
 static void prepare(rs_cluster_t *c, rs_slot_t *s, uint32_t *nfg) {
-  const uint32_t cells = (uint32_t)s->meta.rows * s->meta.cols;
+  const uint32_t rows = s->meta.rows, cols = s->meta.cols;
   uint32_t n = 0;
-  for (uint32_t i = 0; i < cells; i++) {
-    const float r = s->range[i];
-    const bool fg = r > 0.0f && s->label[i] != 1;
-    c->rr[i] = fg ? r : NEG;
-    c->core[i] = 0;
-    if (fg) {
-      c->fg[n++] = i;
-      s->label[i] = 2;
+  for (uint32_t y = 0, i = 0; y < rows; y++)
+    for (uint32_t x = 0; x < cols; x++, i++) {
+      const float r = s->range[i];
+      const bool fg = r > 0.0f && s->label[i] != 1;
+      c->rr[i] = fg ? r : NEG;
+      c->core[i] = 0;
+      if (fg) {
+        c->fg[n] = i;
+        c->fgrc[n++] = y << 16 | x;
+        s->label[i] = 2;
+      }
     }
-  }
   *nfg = n;
 }
 
@@ -175,8 +177,8 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
   const int seed_surf = adaptive && c->bg_surfaces ? c->cfg.adapt_seed_surfaces : 0;
   /* core cells */
   for (uint32_t k = 0; k < nfg; k++) {
-    uint32_t i = c->fg[k];
-    int r = (int)(i / (uint32_t)cols), col = (int)(i % (uint32_t)cols);
+    const uint32_t i = c->fg[k];
+    const int r = (int)(c->fgrc[k] >> 16), col = (int)(c->fgrc[k] & 0xffff);
     int hh = hh0, hw = hw0;
     uint32_t mp = (uint32_t)min_pts;
     float e = eps;
@@ -197,8 +199,7 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
   const int wpr = (cols + 63) / 64;
   memset(c->open, 0, sizeof(uint64_t) * (size_t)rows * (size_t)wpr);
   for (uint32_t k = 0; k < nfg; k++) {
-    uint32_t i = c->fg[k];
-    uint32_t r = i / (uint32_t)cols, col = i % (uint32_t)cols;
+    const uint32_t r = c->fgrc[k] >> 16, col = c->fgrc[k] & 0xffff;
     c->open[r * (uint32_t)wpr + (col >> 6)] |= 1ull << (col & 63);
   }
   uint32_t ncl = 0;
@@ -211,15 +212,16 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
     }
     const uint16_t id = (uint16_t)(3 + ncl++);
     uint32_t head = 0, tail = 0;
-    c->queue[tail++] = seed;
+    c->queue[tail++] = c->fgrc[k];
     s->label[seed] = id;
     {
-      uint32_t sr = seed / (uint32_t)cols, sc = seed % (uint32_t)cols;
+      const uint32_t sr = c->fgrc[k] >> 16, sc = c->fgrc[k] & 0xffff;
       c->open[sr * (uint32_t)wpr + (sc >> 6)] &= ~(1ull << (sc & 63));
     }
     while (head < tail) {
-      uint32_t i = c->queue[head++];
-      int r = (int)(i / (uint32_t)cols), col = (int)(i % (uint32_t)cols);
+      const int r = (int)(c->queue[head] >> 16), col = (int)(c->queue[head] & 0xffff);
+      head++;
+      const uint32_t i = (uint32_t)r * (uint32_t)cols + (uint32_t)col;
       int hh = hh0, hw = hw0;
       float e = eps;
       if (adaptive) {
@@ -271,7 +273,7 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
               if (d >= e && (d >= eb || c->core[j])) continue;
               s->label[j] = id;
               w[cc >> 6] &= ~(1ull << (cc & 63));
-              if (c->core[j]) c->queue[tail++] = j;
+              if (c->core[j]) c->queue[tail++] = (uint32_t)y << 16 | (uint32_t)cc;
             }
           }
         }

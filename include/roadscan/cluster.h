@@ -95,8 +95,9 @@ typedef struct {
   uint64_t overflow_total;
   float rr[RS_MAX_CELLS];            /* foreground range, or a large negative */
   uint8_t core[RS_MAX_CELLS];
-  uint32_t fg[RS_MAX_CELLS];
-  uint32_t queue[RS_MAX_CELLS];
+  uint32_t fg[RS_MAX_CELLS];         /* foreground cell indices */
+  uint32_t fgrc[RS_MAX_CELLS];       /* the same as row << 16 | column (no division in the loops) */
+  uint32_t queue[RS_MAX_CELLS];      /* FSPC: row << 16 | column; DBSCAN: point numbers */
   uint64_t open[RS_MAX_ROWS * RS_ROW_WORDS];    /* foreground cells not in a cluster yet, per row */
   uint8_t half_w[RS_MAX_ROWS][RS_ADAPT_BINS];   /* adaptive window half-width */
   uint8_t half_h[RS_MAX_ROWS][RS_ADAPT_BINS];   /* adaptive window half-height */
