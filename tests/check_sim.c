@@ -318,6 +318,23 @@ START_TEST(t_background_tools) {
   ck_assert_ptr_nonnull(strstr(out, "objects (fspc)"));
   ck_assert_ptr_nonnull(strstr(out, "lcm encode"));
   ck_assert_ptr_null(strstr(out, "lcm encode failed"));
+  /* --best-of: the same frames and foreground counts, each method run 3 times per frame */
+  char csv3[600];
+  snprintf(csv3, sizeof csv3, "%s.3", csv);
+  snprintf(cmd, sizeof cmd, "./roadscan-bench %s --model %s --csv %s --best-of 3", tp, model, csv3);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_int_eq(tu_count_lines(csv3), tu_count_lines(csv));
+  FILE *f1 = fopen(csv, "r"), *f3 = fopen(csv3, "r");
+  char l1[256], l3[256];
+  while (fgets(l1, sizeof l1, f1) && fgets(l3, sizeof l3, f3)) {
+    const char *c1 = strchr(strchr(l1, ',') + 1, ','), *c3 = strchr(strchr(l3, ',') + 1, ',');
+    ck_assert_int_eq((int)(c1 - l1), (int)(c3 - l3)); /* frame,foreground equal */
+    ck_assert_int_eq(strncmp(l1, l3, (size_t)(c1 - l1)), 0);
+  }
+  fclose(f1);
+  fclose(f3);
+  ck_assert_int_eq(tu_exec("./roadscan-bench x --best-of 0", &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "--best-of: 0 is out of range"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --cluster kmeans", &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "'kmeans' is not fspc"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --window 4x11", &out), 2);

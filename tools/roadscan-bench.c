@@ -62,6 +62,7 @@ static int push(pkts_t *p, const uint8_t *payload, double ts) {
 typedef struct {
   FILE *csv;
   bool with_model;
+  int best_of;          /* each clustering method runs this many times per frame; the fastest counts */
   int64_t dec_ns, asm_ns; /* of the frame being assembled */
   uint64_t frames;
   double fg_sum;
@@ -84,9 +85,13 @@ static void frame_stages(rs_slot_t *s) {
   rs_cluster_stats_t cs = {0, 0, 0, 0, 0};
   for (int k = 0; k < 4; k++) {
     cluster.cfg.method = ms[k];
-    a = rs_now_ns();
-    rs_cluster_run(&cluster, s, &cs);
-    t[ST_FSPC + k] = rs_now_ns() - a;
+    t[ST_FSPC + k] = INT64_MAX;
+    for (int rep = 0; rep < sg.best_of; rep++) { /* the same input each time: labels are reset */
+      a = rs_now_ns();
+      rs_cluster_run(&cluster, s, &cs);
+      const int64_t dt = rs_now_ns() - a;
+      if (dt < t[ST_FSPC + k]) t[ST_FSPC + k] = dt;
+    }
     if (k == 0) {
       /* the objects of FSPC's clusters, and their list encoded as the daemon would */
       a = rs_now_ns();
@@ -286,16 +291,18 @@ static int capture(const char *path, rs_model_t force, int repeat) {
 }
 
 int main(int argc, char **argv) {
-  enum { O_SECONDS = 256, O_MODEL, O_SENSOR, O_CSV, O_REPEAT, O_HELP };
+  enum { O_SECONDS = 256, O_MODEL, O_SENSOR, O_CSV, O_REPEAT, O_BEST, O_HELP };
   static const struct option opts[] = {{"seconds", required_argument, NULL, O_SECONDS},
                                        {"model", required_argument, NULL, O_MODEL},
                                        {"sensor", required_argument, NULL, O_SENSOR},
                                        {"csv", required_argument, NULL, O_CSV},
                                        {"repeat", required_argument, NULL, O_REPEAT},
+                                       {"best-of", required_argument, NULL, O_BEST},
                                        {"help", no_argument, NULL, O_HELP},
                                        {NULL, 0, NULL, 0}};
   double seconds = 1.0;
   long repeat = 5;
+  sg.best_of = 1;
   rs_model_t force = RS_MODEL_UNKNOWN;
   char err[RS_ERRMSG_SIZE];
   int c;
@@ -307,6 +314,12 @@ int main(int argc, char **argv) {
     case O_REPEAT:
       if (rs_cfg_long("--repeat", optarg, 1, 1000, &repeat, err, sizeof err)) goto bad;
       break;
+    case O_BEST: {
+      long b;
+      if (rs_cfg_long("--best-of", optarg, 1, 100, &b, err, sizeof err)) goto bad;
+      sg.best_of = (int)b;
+      break;
+    }
     case O_MODEL:
       if (rs_bg_load(&bgm, optarg, err, sizeof err) != RS_OK) goto bad;
       sg.with_model = true;
@@ -328,9 +341,11 @@ int main(int argc, char **argv) {
     case O_HELP:
       printf("usage: roadscan-bench [--seconds S]   (synthetic packets of every model: decode + assembly)\n"
              "       roadscan-bench CAPTURE [--sensor NAME] [--repeat N]   (decode + assembly)\n"
-             "       roadscan-bench CAPTURE --model MODEL [--csv FILE]\n"
+             "       roadscan-bench CAPTURE --model MODEL [--csv FILE] [--best-of N]\n"
              "         every frame: decode, assembly, background, FSPC, FSPC-adaptive, DBSCAN, CCL;\n"
-             "         median, p99, max per stage and the ratios; --csv writes the per-frame rows\n");
+             "         median, p99, max per stage and the ratios; --csv writes the per-frame rows;\n"
+             "         --best-of N runs each clustering method N times per frame and counts the\n"
+             "         fastest (steadier figures on a shared machine; default 1)\n");
       return 0;
     default: return 2;
     }
