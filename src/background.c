@@ -437,7 +437,6 @@ static uint32_t cell_stats(const cell_in_t *in, const int16_t *label, int k, clu
   return npairs;
 }
 
-
 int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz, rs_bg_model_t *out) {
   int rc = rs_bg_model_alloc(out, l->model, l->rows, l->cols);
   if (rc != RS_OK) return rc;

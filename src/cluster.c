@@ -56,7 +56,8 @@ int rs_cluster_init(rs_cluster_t *c, const rs_cluster_cfg_t *cfg, const rs_senso
       cfg->win_w > RS_MAX_WIN_W || cfg->win_w % 2 == 0)
     return RS_E_INVAL;
   if (!(cfg->eps > 0) || cfg->min_pts < 1 || !(cfg->adapt_eps_max >= cfg->adapt_eps_min) || !(cfg->adapt_border_eps >= 1.0f) ||
-      cfg->adapt_min_pts < 1 || cfg->adapt_sparse_min_pts < 1 || cfg->adapt_min_half_w < 0 || !(cfg->dbscan_eps > 0) || cfg->dbscan_min_pts < 1 || !(cfg->ccl_eps > 0))
+      cfg->adapt_min_pts < 1 || cfg->adapt_sparse_min_pts < 1 || !(cfg->adapt_sparse_cells >= 0.0f) ||
+      cfg->adapt_min_half_w < 0 || !(cfg->dbscan_eps > 0) || cfg->dbscan_min_pts < 1 || !(cfg->ccl_eps > 0))
     return RS_E_INVAL;
   c->cfg = *cfg;
   c->sensor = s;
@@ -312,8 +313,8 @@ static void dbscan(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, rs_cluster_stats
   const float eps = c->cfg.dbscan_eps;
   for (int b = 0; b < RS_GRID_BUCKETS; b++) c->heads[b] = -1;
   for (uint32_t k = 0; k < nfg; k++) {
-    uint32_t i = c->fg[k];
-    int r = (int)(i / (uint32_t)cols), col = (int)(i % (uint32_t)cols);
+    const uint32_t i = c->fg[k];
+    const int r = (int)(c->fgrc[k] >> 16), col = (int)(c->fgrc[k] & 0xffff);
     int laser = sen->laser_of_row[r];
     float range = c->rr[i], az = (float)((col + 0.5) * 2.0 * 3.14159265358979323846 / cols);
     float xy = range * sen->cos_el[laser];

@@ -23,9 +23,15 @@ const char *rs_pipeline_csv_header(void) {
          "first_packet,last_packet,layer0_cells,layer1_cells,min_range,max_range,process_us";
 }
 
+/* the configured see-through threshold, on a model as it becomes the one in use */
+static void apply_see_through(const rs_pipeline_t *p, rs_bg_model_t *m) {
+  if (m && p->cfg.bg_see_through) m->see_through = p->cfg.bg_see_through < 0 ? 0 : p->cfg.bg_see_through;
+}
+
 int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *slots, int nslots) {
   memset(p, 0, sizeof *p);
   p->cfg = *cfg;
+  apply_see_through(p, p->cfg.background);
   p->slots = slots;
   p->cur = -1;
   atomic_init(&p->stop, false);
@@ -237,6 +243,7 @@ static void learn_frame(rs_pipeline_t *p, const rs_slot_t *s) {
   }
   p->have_learned = true;
   p->cfg.background = &p->learned;
+  apply_see_through(p, p->cfg.background);
   char err[RS_ERRMSG_SIZE];
   if (p->cfg.learn_out && rs_bg_save(&p->learned, p->cfg.learn_out, err, sizeof err) != RS_OK)
     rs_log(RS_LOG_ERR, "%s", err);
@@ -288,7 +295,6 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
   }
   uint64_t fg0 = p->bg.foreground;
   if (p->cfg.background && s->meta.cols == p->cfg.background->cols && s->meta.rows == p->cfg.background->rows) {
-    if (p->cfg.bg_see_through) p->cfg.background->see_through = p->cfg.bg_see_through < 0 ? 0 : p->cfg.bg_see_through;
     rs_bg_subtract(p->cfg.background, s, &p->bg);
     bg_ns = rs_now_ns() - t0;
     stage_time(p, &p->t_background, bg_ns);

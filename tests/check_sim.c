@@ -178,6 +178,14 @@ START_TEST(t_bad_options) {
 }
 END_TEST
 
+/* N of the summary's "background: N returns background" */
+static long bg_returns(const char *out) {
+  const char *q = strstr(out, " returns background");
+  ck_assert_ptr_nonnull(q);
+  while (q > out && q[-1] >= '0' && q[-1] <= '9') q--;
+  return strtol(q, NULL, 10);
+}
+
 static double json_num(const char *out, const char *key) {
   const char *p = strstr(out, key);
   ck_assert_msg(p != NULL, "no %s in %s", key, out);
@@ -268,11 +276,22 @@ START_TEST(t_background_tools) {
            "--background %s.p --labels-out %s --quiet && ./roadscan-eval %s %s %s --json", lp, model, tp, model, pred, tp, tc, pred);
   ck_assert_int_eq(tu_exec(cmd, &out), 0);
   ck_assert_double_lt(json_num(out, "\"static_kept\": "), 0.99);
+  /* --see-through 0 labels fewer returns background (foliage beside learned leaves stays
+   * foreground), with a model file and with one learned online */
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s", tp, model);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  const long bg_on = bg_returns(out);
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s --see-through 0", tp, model);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_int_lt(bg_returns(out), bg_on);
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --learn-seconds 20 --see-through 0", lp);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  const long learned_off = bg_returns(out);
   /* online: learn from the first 20 s, save, then subtract */
   snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --learn-seconds 20 --learn-out %s.online", lp, model);
   ck_assert_int_eq(tu_exec(cmd, &out), 0);
   ck_assert_ptr_nonnull(strstr(out, "background learned from 200 frames"));
-  ck_assert_ptr_nonnull(strstr(out, "returns background"));
+  ck_assert_int_gt(bg_returns(out), learned_off);
   snprintf(cmd, sizeof cmd, "./roadscan-learn --info %s.online", model);
   ck_assert_int_eq(tu_exec(cmd, &out), 0);
   /* a corrupted model is refused with the reason */
