@@ -29,12 +29,12 @@ if ip route get 239.255.76.67 >/dev/null 2>&1; then
   build/bin/roadscan-listen --timeout 3 > out/objects.txt &
   listener=$!
   sleep 0.3
-  build/bin/roadscand --pcap out/rush.pcap --background out/site.bg --cluster fspc-adaptive --pose "0 0 3 0 0 0"
+  build/bin/roadscand --pcap out/rush.pcap --background out/site.bg --pose "0 0 3 0 0 0"
   wait $listener || true
 else
   echo "(no multicast route on this host: publishing to an LCM log file instead)"
   rm -f "$PWD/out/objects.lcmlog"
-  build/bin/roadscand --pcap out/rush.pcap --background out/site.bg --cluster fspc-adaptive --pose "0 0 3 0 0 0" \
+  build/bin/roadscand --pcap out/rush.pcap --background out/site.bg --pose "0 0 3 0 0 0" \
     --lcm-url "file://$PWD/out/objects.lcmlog?mode=w"
   build/bin/roadscan-listen --log out/objects.lcmlog > out/objects.txt
 fi

@@ -167,7 +167,8 @@ out:
   return rc;
 }
 
-int rs_calib_apply(const rs_calib_t *c, rs_sensor_t *s, char *err, size_t n) {
+int rs_calib_apply(const rs_calib_t *c, rs_sensor_t *s, char *err, size_t n, char *warn, size_t wn) {
+  if (warn && wn) warn[0] = '\0';
   if (c->lasers != s->lasers) {
     snprintf(err, n, "calibration has %d lasers but the sensor (%s) has %d", c->lasers, s->info->name, s->lasers);
     return RS_E_CALIB;
@@ -178,7 +179,14 @@ int rs_calib_apply(const rs_calib_t *c, rs_sensor_t *s, char *err, size_t n) {
     s->dist_correction_m[i] = c->dist_correction_m[i];
     s->vert_offset_m[i] = c->vert_offset_m[i];
   }
-  if (c->dist_res_m > 0.0f) s->dist_res_m = c->dist_res_m;
+  /* every supported model's packet format fixes the distance unit (the
+   * manuals: 2 mm VLP-16, Puck Hi-Res, HDL-32E; 4 mm VLP-32C, VLS-128);
+   * files as shipped sometimes say otherwise (tier4/nebula's VLS128.yaml:
+   * 0.007), and honouring them scales every range */
+  if (c->dist_res_m > 0.0f && fabsf(c->dist_res_m - s->info->dist_res_m) > 1e-6f && warn && wn)
+    snprintf(warn, wn, "distance_resolution %.4g m ignored: the %s packet format fixes it at %.4g m", (double)c->dist_res_m,
+             s->info->name, (double)s->info->dist_res_m);
+  s->dist_res_m = s->info->dist_res_m;
   s->calibrated = true;
   rs_sensor_finish(s);
   return RS_OK;

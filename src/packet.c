@@ -232,13 +232,6 @@ void rs_detect_init(rs_detect_t *d, rs_model_t forced) {
     snprintf(d->reason, sizeof d->reason, "model forced to %s", rs_model_name(forced));
 }
 
-/* expected packet duration in µs for a model and mode */
-static double packet_us(rs_model_t m, bool dual) {
-  const rs_model_info_t *mi = rs_model_info(m);
-  int nb = (mi->blocks_per_cycle > 1 && dual) ? 8 : RS_BLOCKS;
-  return (double)group_count(mi, dual, nb) * rs_model_group_us(mi);
-}
-
 static int decide(rs_detect_t *d, rs_model_t m, const char *why) {
   d->decided = m;
   snprintf(d->reason, sizeof d->reason, "product byte 0x%02X: %s%s%s", d->product, rs_model_name(m),
@@ -261,30 +254,62 @@ static void twin_score(rs_detect_t *d, const uint8_t *p) {
   }
 }
 
-#define TWIN_MIN_PAIRS 64
+/* Firing timing of the pair (previous packet, this one): the duration of one
+ * block group is the azimuth step per group x time / azimuth between the
+ * packets' first blocks. Votes for the model it fits within 10 %. */
+static void timing_score(rs_detect_t *d, const uint8_t *p) {
+  const bool dual = p[OFF_MODE] == RS_MODE_DUAL;
+  const int groups = dual ? 6 : 12, per = RS_BLOCKS / groups;
+  const uint32_t ts = le32(p + OFF_TIMESTAMP);
+  const uint16_t az0 = le16(p + 2), azl = le16(p + (groups - 1) * per * RS_BLOCK_SIZE + 2);
+  if (d->have_last) {
+    double dt = (double)((ts + 3600000000u - d->last_ts) % 3600000000u);
+    double da = (double)((az0 + 36000u - d->last_az) % 36000u);
+    double step = (double)((azl + 36000u - az0) % 36000u) / (groups - 1);
+    /* adjacent-ish packets only (under 50 ms apart, under half a turn) */
+    if (dt > 0 && dt < 50000 && da > 0 && da < 18000 && step > 0) {
+      double group_us = step * dt / da;
+      double v = rs_model_group_us(rs_model_info(RS_MODEL_VLP16)), h = rs_model_group_us(rs_model_info(RS_MODEL_HDL32E));
+      if (fabs(group_us - v) < 0.1 * v) d->timing_vlp16++;
+      else if (fabs(group_us - h) < 0.1 * h) d->timing_claimed++;
+    }
+  }
+  d->last_ts = ts;
+  d->last_az = az0;
+  d->have_last = true;
+}
 
 static int decide_hdl_or_vlp16(rs_detect_t *d, bool final) {
-  char why[120];
-  if (d->twin_pairs >= TWIN_MIN_PAIRS) {
-    double share = (double)d->twin_close / d->twin_pairs;
-    if (share > 0.6) {
-      snprintf(why, sizeof why, "overridden: records i and i+16 repeat in %.0f%% of %d pairs (VLP-16 structure)",
-               share * 100.0, d->twin_pairs);
+  char why[160];
+  const int tv = d->timing_vlp16, th = d->timing_claimed, pairs = d->twin_pairs;
+  const double share = pairs ? (double)d->twin_close / pairs : 0.5;
+  const bool twin_known = pairs >= 256;
+  if (d->packets >= RS_DETECT_MIN_PACKETS) {
+    /* timing agrees over several pairs, and repetition does not contradict it */
+    if (tv >= 3 && tv >= 4 * th && (!twin_known || share >= 0.35)) {
+      snprintf(why, sizeof why, "overridden: VLP-16 firing timing in %d of %d packet pairs, records i and i+16 repeat in %.0f%% of %d pairs",
+               tv, tv + th, share * 100.0, pairs);
       return decide(d, RS_MODEL_VLP16, why);
     }
-    snprintf(why, sizeof why, "confirmed: records i and i+16 repeat in only %.0f%% of %d pairs", share * 100.0,
-             d->twin_pairs);
-    return decide(d, RS_MODEL_HDL32E, why);
-  }
-  if (d->timing_vlp16 + d->timing_claimed >= 3 || final) {
-    if (d->timing_vlp16 > d->timing_claimed) {
-      snprintf(why, sizeof why, "overridden: packet spacing matches VLP-16 timing (%d of %d)", d->timing_vlp16,
-               d->timing_vlp16 + d->timing_claimed);
-      return decide(d, RS_MODEL_VLP16, why);
+    if (th >= 3 && th >= 4 * tv && (!twin_known || share < 0.6)) {
+      snprintf(why, sizeof why, "confirmed: HDL-32E firing timing in %d of %d packet pairs, records i and i+16 repeat in %.0f%% of %d pairs",
+               th, tv + th, share * 100.0, pairs);
+      return decide(d, RS_MODEL_HDL32E, why);
     }
-    return decide(d, RS_MODEL_HDL32E, final ? "(not enough evidence to override)" : "confirmed by packet spacing");
+    /* no usable timestamps: repetition alone, over many pairs */
+    if (tv + th < 3 && pairs >= 512 && (share >= 0.7 || share <= 0.3)) {
+      bool v = share >= 0.7;
+      snprintf(why, sizeof why, "%s: records i and i+16 repeat in %.0f%% of %d pairs (no usable timestamps)",
+               v ? "overridden" : "confirmed", share * 100.0, pairs);
+      return decide(d, v ? RS_MODEL_VLP16 : RS_MODEL_HDL32E, why);
+    }
   }
-  return RS_MODEL_UNKNOWN;
+  if (!final) return RS_MODEL_UNKNOWN;
+  /* out of patience: the weight of evidence (timing first), said to be unsure */
+  bool v = tv != th ? tv > th : (pairs >= 64 ? share > 0.5 : false);
+  snprintf(why, sizeof why, "%s, unsure after %d packets: timing VLP-16 %d / HDL-32E %d pairs, records repeat in %.0f%% of %d",
+           v ? "overridden" : "kept", d->packets, tv, th, share * 100.0, pairs);
+  return decide(d, v ? RS_MODEL_VLP16 : RS_MODEL_HDL32E, why);
 }
 
 int rs_detect_feed(rs_detect_t *d, const uint8_t *p, size_t len) {
@@ -301,18 +326,8 @@ int rs_detect_feed(rs_detect_t *d, const uint8_t *p, size_t len) {
   }
   d->packets++;
   if (claimed != RS_MODEL_HDL32E) return decide(d, claimed, "");
-
   twin_score(d, p);
-  uint32_t ts = le32(p + OFF_TIMESTAMP);
-  if (d->have_last_ts) {
-    double dt = (double)((ts + 3600000000u - d->last_ts) % 3600000000u);
-    bool dual = p[OFF_MODE] == RS_MODE_DUAL;
-    double v = packet_us(RS_MODEL_VLP16, dual), h = packet_us(RS_MODEL_HDL32E, dual);
-    if (fabs(dt - v) < 0.1 * v) d->timing_vlp16++;
-    else if (fabs(dt - h) < 0.1 * h) d->timing_claimed++;
-  }
-  d->last_ts = ts;
-  d->have_last_ts = true;
+  timing_score(d, p);
   return decide_hdl_or_vlp16(d, d->packets >= RS_DETECT_MAX_PACKETS);
 }
 

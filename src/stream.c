@@ -53,11 +53,13 @@ void rs_stream_print_errors(const rs_stream_counters_t *n, FILE *out) {
 static int make_sensor(rs_stream_t *st, rs_model_t m) {
   rs_sensor_init(&st->sensor, m);
   if (st->cfg.calib) {
-    int rc = rs_calib_apply(st->cfg.calib, &st->sensor, st->err, sizeof st->err);
+    char warn[RS_ERRMSG_SIZE];
+    int rc = rs_calib_apply(st->cfg.calib, &st->sensor, st->err, sizeof st->err, warn, sizeof warn);
     if (rc != RS_OK) {
       st->failed = true;
       return rc;
     }
+    if (warn[0] && st->cfg.log) fprintf(st->cfg.log, "roadscan: calibration: %s\n", warn);
   }
   st->sensor_ready = true;
   if (st->cfg.log) fprintf(st->cfg.log, "roadscan: sensor %s (%s)%s\n", rs_model_name(m),

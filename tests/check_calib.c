@@ -47,14 +47,16 @@ START_TEST(t_good_file) {
   ck_assert_int_eq(c.ignored_fields, 0);
   rs_sensor_t s;
   rs_sensor_init(&s, RS_MODEL_VLP16);
-  ck_assert_int_eq(rs_calib_apply(&c, &s, err, sizeof err), RS_OK);
+  char warn[RS_ERRMSG_SIZE];
+  ck_assert_int_eq(rs_calib_apply(&c, &s, err, sizeof err, warn, sizeof warn), RS_OK);
+  ck_assert_str_eq(warn, ""); /* 2 mm is the VLP-16's own unit */
   ck_assert(s.calibrated);
   ck_assert_float_eq_tol(s.dist_correction_m[3], 0.05, 1e-6);
   ck_assert_float_eq_tol(s.vert_offset_m[3], 0.01, 1e-6);
   ck_assert_float_eq_tol(s.elevation_deg[3], 3.0 + 0.001 * 180.0 / 3.14159265358979, 1e-4);
   /* a 16-laser file does not fit a 32-laser sensor */
   rs_sensor_init(&s, RS_MODEL_VLP32C);
-  ck_assert_int_eq(rs_calib_apply(&c, &s, err, sizeof err), RS_E_CALIB);
+  ck_assert_int_eq(rs_calib_apply(&c, &s, err, sizeof err, NULL, 0), RS_E_CALIB);
   ck_assert_ptr_nonnull(strstr(err, "16 lasers"));
 }
 END_TEST
@@ -97,12 +99,43 @@ START_TEST(t_ignored_terms) {
 }
 END_TEST
 
+/* A file as tier4/nebula ships it for the VLS-128 says distance_resolution
+ * 0.007; the packet format fixes 4 mm: the value is ignored, with a warning
+ * naming it, and ranges decode at 4 mm per unit. */
+START_TEST(t_fixed_resolution) {
+  static char buf[16384];
+  int n = snprintf(buf, sizeof buf, "num_lasers: 128\ndistance_resolution: 0.007\nlasers:\n");
+  for (int i = 0; i < 128; i++)
+    n += snprintf(buf + n, sizeof buf - (size_t)n, "- {laser_id: %d, rot_correction: 0.0, vert_correction: %.6f}\n", i,
+                  (-25.0 + i * 0.3) * 3.14159265358979 / 180.0);
+  rs_calib_t c;
+  ck_assert_int_eq(rs_calib_load_yaml(write_file("vls128.yaml", buf), &c, err, sizeof err), RS_OK);
+  ck_assert_float_eq_tol(c.dist_res_m, 0.007, 1e-9); /* read as written */
+  rs_sensor_t s;
+  rs_sensor_init(&s, RS_MODEL_VLS128);
+  char warn[RS_ERRMSG_SIZE];
+  ck_assert_int_eq(rs_calib_apply(&c, &s, err, sizeof err, warn, sizeof warn), RS_OK);
+  ck_assert_float_eq_tol(s.dist_res_m, 0.004, 1e-9);
+  ck_assert_msg(strstr(warn, "distance_resolution") && strstr(warn, "ignored") && strstr(warn, "VLS-128"), "warning: %s",
+                warn);
+  /* the same file's resolution on a VLP-16-sized file: 2 mm stays */
+  const char *p = vlp16_yaml("res7.yaml", -1, -1, NULL);
+  ck_assert_int_eq(rs_calib_load_yaml(p, &c, err, sizeof err), RS_OK);
+  c.dist_res_m = 0.007f;
+  rs_sensor_init(&s, RS_MODEL_VLP16);
+  ck_assert_int_eq(rs_calib_apply(&c, &s, err, sizeof err, warn, sizeof warn), RS_OK);
+  ck_assert_float_eq_tol(s.dist_res_m, 0.002, 1e-9);
+  ck_assert_ptr_nonnull(strstr(warn, "0.002"));
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("calib");
   TCase *tc = tcase_create("core");
   tcase_add_test(tc, t_good_file);
   tcase_add_test(tc, t_bad_files);
   tcase_add_test(tc, t_ignored_terms);
+  tcase_add_test(tc, t_fixed_resolution);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

@@ -217,9 +217,12 @@ START_TEST(t_roundtrip) {
 }
 END_TEST
 
-static void hdl_like(uint8_t *p, uint32_t ts, bool twins, uint8_t product) {
-  tu_empty_packet(p, 1000, 80, 0x37, product);
-  tu_tail(p, ts, 0x37, product);
+/* packet k of a 0x21 stream: block azimuths step `step` (0.01 deg) from
+ * k * 12 * step, sensor timestamps `spacing` us apart; records i and i+16
+ * repeat (twins) or not */
+static void stream_packet(uint8_t *p, int k, int step, uint32_t spacing, bool twins) {
+  tu_empty_packet(p, (uint16_t)((k * 12 * step) % 36000), (uint16_t)step, 0x37, 0x21);
+  tu_tail(p, 1000u + (uint32_t)k * spacing, 0x37, 0x21);
   for (int b = 0; b < 12; b++)
     for (int i = 0; i < 16; i++) {
       tu_record(p, b, i, (uint16_t)(3000 + 100 * i), 1);
@@ -227,35 +230,61 @@ static void hdl_like(uint8_t *p, uint32_t ts, bool twins, uint8_t product) {
     }
 }
 
+/* feeds packets until a decision (or n packets); returns it and the count */
+static int feed_until(rs_detect_t *d, int n, int step, uint32_t spacing, bool (*twins)(int), int *used) {
+  int r = RS_MODEL_UNKNOWN, k = 0;
+  for (; k < n && r == RS_MODEL_UNKNOWN; k++) {
+    stream_packet(pkt, k, step, spacing, twins(k));
+    r = rs_detect_feed(d, pkt, 1206);
+  }
+  if (used) *used = k;
+  return r;
+}
+static bool always(int k) { (void)k; return true; }
+static bool never(int k) { (void)k; return false; }
+static bool first_unlucky(int k) { return k > 0; }
+static bool half(int k) { return k % 2 == 0; }
+
 START_TEST(t_detect) {
   rs_detect_t d;
-  /* early VLP-16 firmware reports 0x21: records i and i+16 repeat */
+  int used;
+  /* early VLP-16 firmware reports 0x21: VLP-16 timing (110.6 us per block at
+   * 20 Hz: 80 x 0.01 deg per block, 1327 us per packet), records repeat */
   rs_detect_init(&d, RS_MODEL_UNKNOWN);
-  hdl_like(pkt, 1000, true, 0x21);
-  ck_assert_int_eq(rs_detect_feed(&d, pkt, 1206), RS_MODEL_VLP16);
-  ck_assert_ptr_nonnull(strstr(d.reason, "VLP-16"));
-  /* a genuine HDL-32E */
+  ck_assert_int_eq(feed_until(&d, 40, 80, 1327, always, &used), RS_MODEL_VLP16);
+  ck_assert_int_ge(used, RS_DETECT_MIN_PACKETS); /* never one packet */
+  ck_assert_ptr_nonnull(strstr(d.reason, "VLP-16 firing timing"));
+  /* the same at 5 Hz with packets lost in between: the ratio still fits */
   rs_detect_init(&d, RS_MODEL_UNKNOWN);
-  hdl_like(pkt, 1000, false, 0x21);
-  ck_assert_int_eq(rs_detect_feed(&d, pkt, 1206), RS_MODEL_HDL32E);
-  /* no returns: the packet spacing decides (1327 us = VLP-16) */
-  rs_detect_init(&d, RS_MODEL_UNKNOWN);
-  int r = 0;
-  for (int i = 0; i < 4 && r == 0; i++) {
-    tu_empty_packet(pkt, (uint16_t)(i * 960), 80, 0x37, 0x21);
-    tu_tail(pkt, 1000u + (uint32_t)i * 1327u, 0x37, 0x21);
+  int r = RS_MODEL_UNKNOWN;
+  for (int k = 0; k < 60 && r == RS_MODEL_UNKNOWN; k += 3) {
+    stream_packet(pkt, k, 20, 1327, true);
     r = rs_detect_feed(&d, pkt, 1206);
   }
   ck_assert_int_eq(r, RS_MODEL_VLP16);
+  /* a genuine HDL-32E: 46.08 us per block (20 x 0.01 deg at 12 Hz: 553 us per packet) */
   rs_detect_init(&d, RS_MODEL_UNKNOWN);
-  r = 0;
-  for (int i = 0; i < 4 && r == 0; i++) {
-    tu_empty_packet(pkt, (uint16_t)(i * 240), 20, 0x37, 0x21);
-    tu_tail(pkt, 1000u + (uint32_t)i * 553u, 0x37, 0x21);
-    r = rs_detect_feed(&d, pkt, 1206);
-  }
-  ck_assert_int_eq(r, RS_MODEL_HDL32E);
-  /* undecided at end of input: the product byte stands */
+  ck_assert_int_eq(feed_until(&d, 40, 20, 553, never, &used), RS_MODEL_HDL32E);
+  ck_assert_int_ge(used, RS_DETECT_MIN_PACKETS);
+  /* one unlucky first packet (no repetition) does not decide */
+  rs_detect_init(&d, RS_MODEL_UNKNOWN);
+  ck_assert_int_eq(feed_until(&d, 40, 80, 1327, first_unlucky, NULL), RS_MODEL_VLP16);
+  /* no usable timestamps (all the same): repetition alone over many pairs */
+  rs_detect_init(&d, RS_MODEL_UNKNOWN);
+  ck_assert_int_eq(feed_until(&d, 40, 80, 0, always, &used), RS_MODEL_VLP16);
+  ck_assert_ptr_nonnull(strstr(d.reason, "no usable timestamps"));
+  rs_detect_init(&d, RS_MODEL_UNKNOWN);
+  ck_assert_int_eq(feed_until(&d, 40, 20, 0, never, NULL), RS_MODEL_HDL32E);
+  /* cues that disagree (HDL-32E timing, VLP-16 repetition) keep it open up
+   * to the pre-buffer's end, then timing decides and the reason says unsure */
+  rs_detect_init(&d, RS_MODEL_UNKNOWN);
+  ck_assert_int_eq(feed_until(&d, RS_DETECT_MAX_PACKETS, 20, 553, always, &used), RS_MODEL_HDL32E);
+  ck_assert_int_eq(used, RS_DETECT_MAX_PACKETS);
+  ck_assert_ptr_nonnull(strstr(d.reason, "unsure"));
+  /* half the packets repeat, timing says VLP-16: VLP-16 */
+  rs_detect_init(&d, RS_MODEL_UNKNOWN);
+  ck_assert_int_eq(feed_until(&d, 40, 80, 1327, half, NULL), RS_MODEL_VLP16);
+  /* undecided at end of input: the evidence decides, or the product byte */
   rs_detect_init(&d, RS_MODEL_UNKNOWN);
   tu_empty_packet(pkt, 0, 20, 0x37, 0x21);
   ck_assert_int_eq(rs_detect_feed(&d, pkt, 1206), RS_MODEL_UNKNOWN);

@@ -2,7 +2,8 @@
  * folder is absent): the sensor is identified, frames are cut where the
  * block azimuth field rolls over (counted here independently, straight
  * from the file), points per frame are steady, and consecutive frames of
- * the static sensors see the same scene. */
+ * the static sensors see the same scene; the model is identified from any
+ * starting packet (a capture can start anywhere). */
 #include "roadscan/error.h"
 #include "roadscan/frame.h"
 #include "roadscan/stream.h"
@@ -154,6 +155,57 @@ START_TEST(t_capture) {
 }
 END_TEST
 
+/* The data payloads of a capture (Ethernet/IPv4/UDP at fixed offsets). */
+static uint8_t (*payloads)[1206];
+static int read_payloads(const char *path) {
+  char eb[PCAP_ERRBUF_SIZE];
+  pcap_t *p = pcap_open_offline(path, eb);
+  ck_assert_ptr_nonnull(p);
+  struct pcap_pkthdr *h;
+  const u_char *d;
+  int n = 0, cap = 4096;
+  payloads = malloc((size_t)cap * sizeof *payloads);
+  ck_assert_ptr_nonnull(payloads);
+  while (pcap_next_ex(p, &h, &d) == 1 && n < cap) {
+    if (h->caplen != 1248 || d[23] != 17 || ((d[36] << 8) | d[37]) != 2368) continue;
+    memcpy(payloads[n++], d + 42, 1206);
+  }
+  pcap_close(p);
+  return n;
+}
+
+/* Both captures whose product byte is 0x21 (an early VLP-16 and an HDL-32E),
+ * started at every data packet: the detector names the right model every
+ * time, from at least RS_DETECT_MIN_PACKETS packets. */
+START_TEST(t_detect_any_start) {
+  static const struct {
+    const char *file;
+    rs_model_t model;
+  } c[] = {{"vlp-16-test-90deg-1-50-frames.pcap", RS_MODEL_VLP16}, {"monterey-first-100-packets.pcap", RS_MODEL_HDL32E}};
+  for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+    char path[1024];
+    snprintf(path, sizeof path, "%s/%s", tu_shared_data(), c[i].file);
+    int n = read_payloads(path), wrong = 0, starts = 0, most = 0;
+    ck_assert_int_gt(n, 100);
+    for (int k = 0; k + RS_DETECT_MAX_PACKETS <= n; k++, starts++) {
+      rs_detect_t d;
+      rs_detect_init(&d, RS_MODEL_UNKNOWN);
+      int r = RS_MODEL_UNKNOWN, used = 0;
+      for (int j = k; j < n && r == RS_MODEL_UNKNOWN; j++, used++) r = rs_detect_feed(&d, payloads[j], 1206);
+      if (r != (int)c[i].model) {
+        if (wrong++ == 0) fprintf(stderr, "%s from packet %d: %s (%s)\n", c[i].file, k, rs_model_name((rs_model_t)r), d.reason);
+      }
+      ck_assert_int_ge(used, RS_DETECT_MIN_PACKETS);
+      if (used > most) most = used;
+    }
+    fprintf(stderr, "%s: %s from all %d starting packets (%d wrong), decided within %d packets\n", c[i].file,
+            rs_model_name(c[i].model), starts, wrong, most);
+    ck_assert_int_eq(wrong, 0);
+    free(payloads);
+  }
+}
+END_TEST
+
 int main(void) {
   if (tu_shared_data() == NULL) {
     fprintf(stderr, "check_realdata: %s not present, real-capture tests skipped\n", RS_SHARED_DATA);
@@ -163,6 +215,7 @@ int main(void) {
   TCase *tc = tcase_create("captures");
   tcase_set_timeout(tc, 120);
   tcase_add_loop_test(tc, t_capture, 0, (int)(sizeof caps / sizeof caps[0]));
+  tcase_add_test(tc, t_detect_any_start);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

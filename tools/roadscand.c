@@ -107,7 +107,8 @@ static void usage(FILE *out) {
           rs_model_names());
   fprintf(out,
           "Clustering of the foreground [cluster]\n"
-          "  --cluster METHOD     fspc (default with a background), fspc-adaptive, dbscan, ccl, none\n"
+          "  --cluster METHOD     fspc-adaptive (default with a background: the best on held-out\n"
+          "                       captures, docs/results.md), fspc (the paper's), dbscan, ccl, none\n"
           "  --window HxW         FSPC window, odd numbers (default 5x11)\n"
           "  --eps M              FSPC range difference (default 1.8); the largest one with fspc-adaptive (2.5);\n"
           "                       DBSCAN radius with --cluster dbscan (1.2); CCL's with --cluster ccl (1.0)\n"
@@ -452,7 +453,7 @@ int main(int argc, char **argv) {
     }
     cfg->background = &bgmodel;
   }
-  if (!st.cluster_set) st.ccfg.method = (st.bg_path || cfg->learn_seconds > 0) ? RS_CLUSTER_FSPC : RS_CLUSTER_NONE;
+  if (!st.cluster_set) st.ccfg.method = (st.bg_path || cfg->learn_seconds > 0) ? RS_CLUSTER_FSPC_ADAPTIVE : RS_CLUSTER_NONE;
   if (st.eps > 0) {
     if (st.ccfg.method == RS_CLUSTER_DBSCAN) st.ccfg.dbscan_eps = (float)st.eps;
     else if (st.ccfg.method == RS_CLUSTER_CCL) st.ccfg.ccl_eps = (float)st.eps;

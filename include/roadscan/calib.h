@@ -21,7 +21,10 @@ typedef struct {
 
 /* RS_OK, or RS_E_NOENT / RS_E_CALIB with a message naming the problem. */
 int rs_calib_load_yaml(const char *path, rs_calib_t *c, char *err, size_t errlen);
-/* Applies to a sensor of the same laser count (RS_E_CALIB otherwise). */
-int rs_calib_apply(const rs_calib_t *c, rs_sensor_t *s, char *err, size_t errlen);
+/* Applies to a sensor of the same laser count (RS_E_CALIB otherwise).
+ * Values the packet format fixes (the distance unit) are the model's
+ * whatever the file says; when the file disagrees, `warn` (optional) names
+ * the value ignored, else it is set to "". */
+int rs_calib_apply(const rs_calib_t *c, rs_sensor_t *s, char *err, size_t errlen, char *warn, size_t warnlen);
 
 #endif

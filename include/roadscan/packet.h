@@ -91,22 +91,41 @@ void rs_packet_encode(const rs_model_info_t *mi, const rs_encode_t *in, uint8_t 
 /* Bank (0..3) a VLS-128 block of `block` index carries in the given mode. */
 int rs_vls128_bank_of_block(int block, bool dual);
 
-/* ---- model detection ---- */
+/* ---- model detection ----
+ *
+ * Every product byte but 0x21 names its model. 0x21 is the HDL-32E's, and
+ * also what early VLP-16 firmware sends; the two are told apart by the
+ * packets' structure, never by one packet:
+ *  - firing timing: the duration of one block's firing group, from two
+ *    packets' sensor timestamps and block azimuths (step per block x time
+ *    between the packets / azimuth between them): 110.6 us for a VLP-16
+ *    (two firing cycles per block), 46.08 us for an HDL-32E, whatever the
+ *    rotation rate and however many packets were lost between them;
+ *  - repetition: a VLP-16 block fires the same 16 lasers twice, so records
+ *    i and i+16 measure nearly the same range (a share well above half of
+ *    the pairs over several packets; one packet at an edge can fall to 20 %);
+ *    an HDL-32E's records i and i+16 are lasers 10-20 degrees apart.
+ * The decision waits for at least RS_DETECT_MIN_PACKETS packets and for the
+ * cues to agree; while they do not, the evidence keeps accumulating up to
+ * RS_DETECT_MAX_PACKETS, where the weight of evidence decides and the reason
+ * says it was unsure. */
 
 typedef struct {
   rs_model_t forced;       /* != UNKNOWN: no detection, always this model */
   rs_model_t decided;      /* UNKNOWN until decided */
   uint8_t product;         /* product byte of the stream */
   uint8_t mode;
-  int packets;             /* valid packets seen while undeciding */
+  int packets;             /* valid packets seen while undecided */
   int twin_pairs, twin_close;
-  int timing_vlp16, timing_claimed;
-  bool have_last_ts;
-  uint32_t last_ts;
-  char reason[160];        /* why the decision was made */
+  int timing_vlp16, timing_claimed; /* packet pairs whose firing timing fits each model */
+  bool have_last;
+  uint32_t last_ts;        /* sensor timestamp (us past the hour) and first block azimuth */
+  uint16_t last_az;        /* of the previous packet */
+  char reason[200];        /* why the decision was made */
 } rs_detect_t;
 
-#define RS_DETECT_MAX_PACKETS 16
+#define RS_DETECT_MIN_PACKETS 6
+#define RS_DETECT_MAX_PACKETS 32
 
 void rs_detect_init(rs_detect_t *d, rs_model_t forced);
 /* Feeds one data packet that passed rs_packet_check. Returns the decided
