@@ -6,11 +6,13 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 jobs=$(nproc)
-# PyPI's lcm for the Python example's test (skipped, and said so, without it)
-if [ ! -x build/pyvenv/bin/python ] || ! build/pyvenv/bin/python -c 'import lcm' 2>/dev/null; then
+# PyPI's lcm for the Python example's test, velodyne-decoder and scipy for the
+# decoder cross-check (each skipped, and said so, without them)
+if [ ! -x build/pyvenv/bin/python ] || ! build/pyvenv/bin/python -c 'import lcm, velodyne_decoder, scipy' 2>/dev/null; then
   mkdir -p build
-  python3 -m venv build/pyvenv && build/pyvenv/bin/pip install -q --disable-pip-version-check lcm ||
-    echo "== note: no PyPI lcm; the Python example's test will be skipped"
+  { [ -x build/pyvenv/bin/python ] || python3 -m venv build/pyvenv; } &&
+    build/pyvenv/bin/pip install -q --disable-pip-version-check lcm velodyne-decoder scipy ||
+    echo "== note: PyPI packages missing; the Python example's test or the decoder cross-check will be skipped"
 fi
 export RS_PYTHON=$PWD/build/pyvenv/bin/python
 run() { # name dir ctest-args cmake-args...

@@ -11,16 +11,18 @@
 
 #include <getopt.h>
 #include <math.h>
+#include <limits.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 typedef struct {
-  uint64_t want;
+  uint64_t want;         /* UINT64_MAX: every frame (--frame all) */
   uint64_t frame;        /* frame of the current block */
   int cut_cd;
   int32_t last_rel;
   rs_point_t *pts;
+  uint32_t *fr;          /* frame of each point */
   size_t n, cap;
   bool done, oom;
 } export_t;
@@ -39,22 +41,25 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
   int pi = 0;
   for (int b = 0; b < pkt->blocks; b++) {
     if (!behind && rs_frame_rollover(e->cut_cd, &e->last_rel, pkt->block_azimuth[b])) e->frame++;
-    if (e->frame > e->want) {
+    if (e->want != UINT64_MAX && e->frame > e->want) {
       e->done = true;
       return;
     }
     for (; pi < pkt->n_points && pkt->points[pi].block == b; pi++) {
-      if (e->frame != e->want) continue;
+      if (e->want != UINT64_MAX && e->frame != e->want) continue;
       if (e->n == e->cap) {
         size_t nc = e->cap ? e->cap * 2 : 65536;
         rs_point_t *np = realloc(e->pts, nc * sizeof *np);
-        if (np == NULL) {
+        if (np) e->pts = np;
+        uint32_t *nf = np ? realloc(e->fr, nc * sizeof *nf) : NULL;
+        if (nf == NULL) {
           e->oom = e->done = true;
           return;
         }
-        e->pts = np;
+        e->fr = nf;
         e->cap = nc;
       }
+      e->fr[e->n] = (uint32_t)e->frame;
       e->pts[e->n++] = pkt->points[pi];
     }
   }
@@ -63,7 +68,8 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
 static void usage(FILE *out) {
   fprintf(out,
           "usage: roadscan-export CAPTURE --frame N -o OUT.pcd [--csv] [options]\n"
-          "  --frame N            frame number (0 = the partial frame before the first roll-over)\n"
+          "  --frame N            frame number (0 = the partial frame before the first roll-over);\n"
+          "                       'all': every point of the capture, with its frame (CSV column 'frame')\n"
           "  -o, --output FILE    output file (PCD v0.7 ASCII, or CSV with --csv)\n"
           "  --csv                write CSV instead of PCD\n"
           "  --model NAME         force the sensor model (%s)\n"
@@ -99,7 +105,8 @@ int main(int argc, char **argv) {
   while ((c = getopt_long(argc, argv, "o:", opts, NULL)) != -1) {
     switch (c) {
     case O_FRAME:
-      if (rs_cfg_long("--frame", optarg, 0, 100000000L, &frame, err, sizeof err)) goto bad;
+      if (strcmp(optarg, "all") == 0) frame = LONG_MAX;
+      else if (rs_cfg_long("--frame", optarg, 0, 100000000L, &frame, err, sizeof err)) goto bad;
       break;
     case 'o': out_path = optarg; break;
     case O_CSV: csv = true; break;
@@ -137,7 +144,8 @@ int main(int argc, char **argv) {
     fprintf(stderr, "roadscan-export: %s\n", stream.err);
     return 1;
   }
-  export_t e = {.want = (uint64_t)frame, .cut_cd = (int)lround(cut * 100.0) % 36000, .last_rel = -1};
+  const bool all = frame == LONG_MAX;
+  export_t e = {.want = all ? UINT64_MAX : (uint64_t)frame, .cut_cd = (int)lround(cut * 100.0) % 36000, .last_rel = -1};
   int rc = rs_stream_replay_file(&stream, argv[optind], on_packet, &e, &e.done, err, sizeof err);
   if (rc == RS_E_NOENT || rc == RS_E_FORMAT || rc == RS_E_LINKTYPE || rc == RS_E_CALIB) {
     fprintf(stderr, "roadscan-export: %s\n", err);
@@ -148,20 +156,22 @@ int main(int argc, char **argv) {
     fprintf(stderr, "roadscan-export: out of memory\n");
     return 1;
   }
-  if (e.frame < e.want || (e.n == 0 && !e.done)) {
+  if (!all && (e.frame < e.want || (e.n == 0 && !e.done))) {
     fprintf(stderr, "roadscan-export: the capture has %llu frames (0..%llu); frame %ld does not exist\n",
             (unsigned long long)(e.frame + 1), (unsigned long long)e.frame, frame);
     free(e.pts);
+    free(e.fr);
     return 1;
   }
   FILE *out = fopen(out_path, "w");
   if (out == NULL) {
     fprintf(stderr, "roadscan-export: %s: cannot write\n", out_path);
     free(e.pts);
+    free(e.fr);
     return 1;
   }
   if (csv) {
-    fprintf(out, "x,y,z,intensity,ring,azimuth,distance,return_type,laser,packet_block,channel\n");
+    fprintf(out, "x,y,z,intensity,ring,azimuth,distance,return_type,laser,packet_block,channel%s\n", all ? ",frame" : "");
   } else {
     fprintf(out,
             "# .PCD v0.7 - Point Cloud Data file format (roadscan-export)\n"
@@ -173,16 +183,18 @@ int main(int argc, char **argv) {
   for (size_t i = 0; i < e.n; i++) {
     const rs_point_t *p = &e.pts[i];
     if (csv)
-      fprintf(out, "%.4f,%.4f,%.4f,%u,%u,%.3f,%.3f,%u,%u,%u,%u\n", (double)p->x, (double)p->y, (double)p->z,
-              p->intensity, p->row, (double)p->azimuth, (double)p->distance, p->return_type, p->laser, p->block,
-              p->channel);
+      fprintf(out, all ? "%.4f,%.4f,%.4f,%u,%u,%.3f,%.3f,%u,%u,%u,%u,%u\n" : "%.4f,%.4f,%.4f,%u,%u,%.3f,%.3f,%u,%u,%u,%u\n",
+              (double)p->x, (double)p->y, (double)p->z, p->intensity, p->row, (double)p->azimuth, (double)p->distance,
+              p->return_type, p->laser, p->block, p->channel, e.fr[i]);
     else
       fprintf(out, "%.4f %.4f %.4f %u %u %.3f %.3f %u\n", (double)p->x, (double)p->y, (double)p->z, p->intensity,
               p->row, (double)p->azimuth, (double)p->distance, p->return_type);
   }
   int bad_close = fclose(out) != 0;
-  fprintf(stderr, "roadscan-export: frame %ld: %zu points -> %s\n", frame, e.n, out_path);
+  if (all) fprintf(stderr, "roadscan-export: %llu frames: %zu points -> %s\n", (unsigned long long)(e.frame + 1), e.n, out_path);
+  else fprintf(stderr, "roadscan-export: frame %ld: %zu points -> %s\n", frame, e.n, out_path);
   free(e.pts);
+  free(e.fr);
   return bad_close ? 1 : 0;
 bad:
   fprintf(stderr, "roadscan-export: %s\n", err);
