@@ -75,12 +75,13 @@ static void open_slot(rs_asm_t *a, rs_slot_t *slot) {
   a->counted_packet = false;
 }
 
-static void count_packet(rs_asm_t *a, rs_slot_t *slot, const rs_packet_t *pkt, uint32_t index, double ts) {
+static void count_packet(rs_asm_t *a, rs_slot_t *slot, const rs_packet_t *pkt, uint32_t index, double ts, uint16_t az) {
   if (a->counted_packet) return;
   rs_frame_meta_t *m = &slot->meta;
   if (m->packets == 0) {
     m->t_first = ts;
     m->first_packet = index;
+    m->first_azimuth = az;
   }
   m->t_last = ts;
   m->last_packet = index;
@@ -227,7 +228,7 @@ rs_asm_result_t rs_asm_feed(rs_asm_t *a, rs_slot_t *slot, const rs_packet_t *pkt
       }
     }
     if (b == start) {
-      count_packet(a, slot, pkt, index, cap_ts);
+      count_packet(a, slot, pkt, index, cap_ts, az);
       slot->meta.missing_packets += a->pending_missing;
       a->missing_packets += a->pending_missing;
       a->pending_missing = 0;

@@ -30,6 +30,7 @@
 #define MAX_PRIMS 4096
 #define ROUTES 16
 #define AMBER_S 3.0
+#define RS_SCENE_LEAF 2 /* truth label of leaves, rain and dust */
 #define ALLRED_S 2.0
 
 /* ---- random numbers (xoroshiro128+) ---- */
@@ -78,9 +79,14 @@ static void defaults(rs_scene_cfg_t *c) {
   c->cyclist_share = 0.05;
   c->green_s = 25.0;
   c->warmup_s = 60.0;
-  c->range_noise = 0.015;
-  c->dropout = 0.002;
+  c->range_noise = 0.012;
+  c->noise_tail = 0.005;
+  c->dropout = 0.012;
   c->spurious = 0.0002;
+  c->beam_samples = 9;
+  c->mix_depth = 0.6;
+  c->rpm_offset = -0.0005;
+  c->rpm_jitter = 0.0005;
 }
 
 bool rs_scene_preset(const char *name, rs_scene_cfg_t *c) {
@@ -108,6 +114,7 @@ bool rs_scene_preset(const char *name, rs_scene_cfg_t *c) {
     c->range_noise = 0.05;
     c->dropout = 0.03;
     c->spurious = 0.01;
+    c->attenuation = 5.0;
     c->packet_loss = 0.05;
     c->foliage_hit = 0.45;
   } else {
@@ -133,14 +140,19 @@ static const knob_t knobs[] = {
     KNOB(objects_max_range, 0.0, 400.0),  KNOB(warmup_s, 0.0, 600.0),
     KNOB(range_noise, 0.0, 1.0),          KNOB(dropout, 0.0, 1.0),
     KNOB(spurious, 0.0, 0.5),             KNOB(packet_loss, 0.0, 0.9),
-    KNOB(max_range, 0.0, 400.0),          {"trees_per_leg", offsetof(rs_scene_cfg_t, trees_per_leg), 0, 40, true},
+    KNOB(max_range, 0.0, 400.0),          KNOB(noise_tail, 0.0, 0.5),
+    KNOB(attenuation, 0.0, 100.0),        KNOB(beam_div_h, 0.0, 20.0),
+    KNOB(beam_div_v, 0.0, 20.0),          KNOB(mix_depth, 0.0, 5.0),
+    KNOB(rpm_offset, -0.05, 0.05),        KNOB(rpm_jitter, 0.0, 0.01),
+    {"beam_samples", offsetof(rs_scene_cfg_t, beam_samples), 1, 9, true},
+    {"trees_per_leg", offsetof(rs_scene_cfg_t, trees_per_leg), 0, 40, true},
     {"site_seed", offsetof(rs_scene_cfg_t, site_seed), 0, 2147483647.0, true},
 };
 
 const char *rs_scene_keys(void) {
   return "site_seed pole_height pole_x pole_y leg_length trees_per_leg foliage_hit vehicles_per_min pedestrians_per_min "
-         "cyclist_share green_s objects_min_range objects_max_range warmup_s range_noise dropout spurious "
-         "packet_loss max_range";
+         "cyclist_share green_s objects_min_range objects_max_range warmup_s range_noise noise_tail dropout spurious "
+         "attenuation packet_loss max_range beam_div_h beam_div_v beam_samples mix_depth rpm_offset rpm_jitter";
 }
 
 int rs_scene_set(rs_scene_cfg_t *cfg, const char *key, const char *value, char *err, size_t n) {
@@ -212,10 +224,12 @@ typedef struct {
   double dmin;         /* no part is nearer than this */
 } cand_t;
 
+/* the static scene along one firing direction, footprint included: the
+ * nearer and the farther return (r2 = 0: one), with their intensities */
 typedef struct {
-  float range;      /* first static surface, 0 = none */
-  float fol;        /* first canopy entry when nearer, else 0 */
-  uint8_t intensity;
+  float r1, r2;     /* 0 = none */
+  float fol;        /* first canopy entry when nearer than r1, else 0 */
+  uint8_t i1, i2;
   uint8_t fol_p;    /* leaf chance, 0..255 */
 } st_cell_t;
 
@@ -350,27 +364,6 @@ static void build_routes(rs_scene_t *sc) {
 
 /* ---- ray tests (origin o, direction d; return t > 0 or INFINITY) ---- */
 
-static double hit_box(const float *a, const double *o, const double *d) {
-  double tmin = 1e-6, tmax = INFINITY;
-  for (int k = 0; k < 3; k++) {
-    double lo = a[k], hi = a[k + 3];
-    if (fabs(d[k]) < 1e-12) {
-      if (o[k] < lo || o[k] > hi) return INFINITY;
-      continue;
-    }
-    double t1 = (lo - o[k]) / d[k], t2 = (hi - o[k]) / d[k];
-    if (t1 > t2) {
-      double t = t1;
-      t1 = t2;
-      t2 = t;
-    }
-    if (t1 > tmin) tmin = t1;
-    if (t2 < tmax) tmax = t2;
-    if (tmin > tmax) return INFINITY;
-  }
-  return tmin;
-}
-
 static double hit_cyl(double cx, double cy, double r, double z0, double z1, const double *o, const double *d) {
   double px = o[0] - cx, py = o[1] - cy;
   double A = d[0] * d[0] + d[1] * d[1];
@@ -466,6 +459,13 @@ static void build_buckets(rs_scene_t *sc) {
     }
 }
 
+static void dir_el(double el_deg, double az_deg, double *d) {
+  double a = az_deg * D2R, e = el_deg * D2R, ce = cos(e);
+  d[0] = ce * sin(a);
+  d[1] = ce * cos(a);
+  d[2] = sin(e);
+}
+
 static void dir_of(const rs_scene_t *sc, int laser, double az, double *d) {
   double a = az * D2R, ce = sc->sensor->cos_el[laser];
   d[0] = ce * sin(a);
@@ -473,24 +473,64 @@ static void dir_of(const rs_scene_t *sc, int laser, double az, double *d) {
   d[2] = sc->sensor->sin_el[laser];
 }
 
-/* first static surface and first canopy on a ray */
-static void static_cast(const rs_scene_t *sc, int laser, double az, float *range, uint8_t *inten, float *fol,
-                        uint8_t *folp) {
-  double o[3] = {sc->ox, sc->oy, sc->oz}, d[3];
-  dir_of(sc, laser, az, d);
-  double best = INFINITY, fbest = INFINITY;
+/* a box face hit: which axis the entry face is normal to */
+static double hit_box_axis(const float *a, const double *o, const double *d, int *axis) {
+  double tmin = 1e-6, tmax = INFINITY;
+  *axis = 2;
+  for (int k = 0; k < 3; k++) {
+    double lo = a[k], hi = a[k + 3];
+    if (fabs(d[k]) < 1e-12) {
+      if (o[k] < lo || o[k] > hi) return INFINITY;
+      continue;
+    }
+    double t1 = (lo - o[k]) / d[k], t2 = (hi - o[k]) / d[k];
+    if (t1 > t2) {
+      double t = t1;
+      t1 = t2;
+      t2 = t;
+    }
+    if (t1 > tmin) {
+      tmin = t1;
+      *axis = k;
+    }
+    if (t2 < tmax) tmax = t2;
+    if (tmin > tmax) return INFINITY;
+  }
+  return tmin;
+}
+
+/* one ray against the static scene: the first surface (range, reflectivity,
+ * cosine of the incidence angle) and the first canopy */
+typedef struct {
+  double t, cosi, fol;
+  uint8_t refl, fol_p;
+} st_hit_t;
+
+static void static_hit(const rs_scene_t *sc, const double *d, double az, st_hit_t *h) {
+  const double o[3] = {sc->ox, sc->oy, sc->oz};
+  double best = INFINITY, fbest = INFINITY, cosi = 1.0;
   uint8_t bint = 0, fp = 0;
   if (d[2] < 0) {
     best = -o[2] / d[2];
     bint = 12;
+    cosi = -d[2];
   }
   int b = (int)az % 360;
   for (int k = sc->bucket_start[b]; k < sc->bucket_start[b + 1]; k++) {
     const prim_t *p = &sc->prims[sc->bucket_items[k]];
-    double t, ex;
+    double t, ex, c = 1.0;
+    int axis;
     switch (p->kind) {
-    case P_BOX: t = hit_box(p->a, o, d); break;
-    case P_CYL: t = hit_cyl(p->a[0], p->a[1], p->a[2], p->a[3], p->a[4], o, d); break;
+    case P_BOX:
+      t = hit_box_axis(p->a, o, d, &axis);
+      c = fabs(d[axis]);
+      break;
+    case P_CYL: {
+      t = hit_cyl(p->a[0], p->a[1], p->a[2], p->a[3], p->a[4], o, d);
+      double px = o[0] + t * d[0] - p->a[0], py = o[1] + t * d[1] - p->a[1], n = hypot(px, py);
+      c = n > 1e-9 ? fabs(px * d[0] + py * d[1]) / n : 1.0;
+      break;
+    }
     default:
       t = hit_sphere(p->a, o, d, &ex);
       if (t < fbest) {
@@ -502,12 +542,136 @@ static void static_cast(const rs_scene_t *sc, int laser, double az, float *range
     if (t < best) {
       best = t;
       bint = p->intensity;
+      cosi = c;
     }
   }
-  *range = isfinite(best) ? (float)best : 0.0f;
-  *inten = bint;
-  *fol = (isfinite(fbest) && fbest < best) ? (float)fbest : 0.0f;
-  *folp = *fol > 0 ? fp : 0;
+  h->t = isfinite(best) ? best : 0.0;
+  h->refl = bint;
+  h->cosi = cosi;
+  h->fol = (isfinite(fbest) && fbest < best) ? fbest : 0.0;
+  h->fol_p = h->fol > 0 ? fp : 0;
+}
+
+/* ---- the beam: footprint and returns ----
+ * A firing lights a footprint beam_div_h x beam_div_v wide, sampled by up to
+ * 3 x 3 rays (weights of a Gaussian profile). The surfaces it meets form
+ * returns: hits closer in range than mix_depth are one return at their
+ * energy-weighted range (the mixed range of a beam split across a small
+ * depth step), farther apart they are separate returns. A return's
+ * intensity is the reflectivity its part of the footprint sends back
+ * (reflectivity x (0.3 + 0.7 cos incidence) x the share of the footprint):
+ * the strongest return is the brightest, the last the farthest. */
+typedef struct {
+  double r, w, refl, cosi;
+  uint16_t label;
+} sub_hit_t;
+
+typedef struct {
+  double r, inten;
+  uint16_t label;
+} beam_ret_t;
+
+static const double sub_off[3] = {-0.3, 0.0, 0.3};    /* of the divergence */
+static const double sub_w[3] = {0.27, 0.46, 0.27};   /* Gaussian profile, normalised */
+
+/* groups sub-hits (sorted by range here) into returns; out[0] nearer, out[1]
+ * farther (the brightest and the last when there are more); returns count */
+static int form_returns(sub_hit_t *h, int n, double mix_depth, beam_ret_t out[2]) {
+  for (int i = 1; i < n; i++)
+    for (int j = i; j > 0 && h[j].r < h[j - 1].r; j--) {
+      sub_hit_t t = h[j];
+      h[j] = h[j - 1];
+      h[j - 1] = t;
+    }
+  beam_ret_t g[9];
+  int ng = 0;
+  for (int i = 0; i < n;) {
+    double sw = 0, swr = 0, si = 0, best_w = -1;
+    uint16_t label = h[i].label;
+    int j = i;
+    for (; j < n && h[j].r - h[i].r <= mix_depth; j++) {
+      double e = h[j].w * h[j].refl * (0.3 + 0.7 * h[j].cosi);
+      sw += h[j].w;
+      swr += h[j].w * h[j].r;
+      si += e;
+      if (h[j].w > best_w) {
+        best_w = h[j].w;
+        label = h[j].label;
+      }
+    }
+    g[ng].r = swr / sw;
+    g[ng].inten = si;
+    g[ng].label = label;
+    ng++;
+    i = j;
+  }
+  if (ng == 0) return 0;
+  int strongest = 0;
+  for (int k = 1; k < ng; k++)
+    if (g[k].inten > g[strongest].inten) strongest = k;
+  out[0] = g[strongest];
+  if (strongest == ng - 1) {
+    /* the last is the strongest: the second return is the brightest other one */
+    if (ng == 1) return 1;
+    int second = 0;
+    for (int k = 1; k < ng - 1; k++)
+      if (g[k].inten > g[second].inten) second = k;
+    out[0] = g[second];
+    out[1] = g[ng - 1];
+    return 2;
+  }
+  out[1] = g[ng - 1];
+  return 2;
+}
+
+static int beam_grid(const rs_scene_t *sc, int *nh, int *nv) {
+  *nh = sc->cfg.beam_samples >= 3 ? 3 : 1;
+  *nv = sc->cfg.beam_samples >= 9 ? 3 : 1;
+  return *nh * *nv;
+}
+
+static uint8_t clamp_u8(double v) { return (uint8_t)(v < 1 ? 1 : (v > 255 ? 255 : lround(v))); }
+
+/* the static returns of a firing of `laser` at azimuth az */
+static void beam_static(const rs_scene_t *sc, int laser, double az, st_cell_t *c) {
+  int nh, nv;
+  beam_grid(sc, &nh, &nv);
+  const double el = sc->sensor->elevation_deg[laser];
+  const double dh = sc->cfg.beam_div_h * 1e-3 / D2R, dv = sc->cfg.beam_div_v * 1e-3 / D2R; /* degrees */
+  sub_hit_t h[9];
+  int n = 0;
+  double wsum = 0, fol = 0;
+  uint8_t fol_p = 0;
+  for (int i = 0; i < nh; i++)
+    for (int j = 0; j < nv; j++) {
+      const double u = nh == 1 ? 0 : sub_off[i], v = nv == 1 ? 0 : sub_off[j];
+      const double w = (nh == 1 ? 1 : sub_w[i]) * (nv == 1 ? 1 : sub_w[j]);
+      const double a = az + u * dh;
+      double d[3];
+      dir_el(el + v * dv, a, d);
+      st_hit_t sh;
+      static_hit(sc, d, fmod(a + 360.0, 360.0), &sh);
+      wsum += w;
+      if (u == 0 && v == 0) {
+        fol = sh.fol;
+        fol_p = sh.fol_p;
+      }
+      if (sh.t <= 0) continue;
+      h[n++] = (sub_hit_t){sh.t, w, sh.refl, sh.cosi, 1};
+    }
+  beam_ret_t r[2];
+  int nr = form_returns(h, n, sc->cfg.mix_depth, r);
+  memset(c, 0, sizeof *c);
+  if (nr >= 1) {
+    c->r1 = (float)r[0].r;
+    c->i1 = clamp_u8(r[0].inten / wsum);
+  }
+  if (nr >= 2) {
+    c->r2 = (float)r[1].r;
+    c->i2 = clamp_u8(r[1].inten / wsum);
+  }
+  c->fol = (c->r1 == 0 || fol < c->r1) ? (float)fol : 0.0f;
+  c->fol_p = c->fol > 0 ? fol_p : 0;
 }
 
 /* Row k: a block whose azimuth field reads k (0.01 degree); column: the
@@ -525,8 +689,7 @@ static void build_table(rs_scene_t *sc) {
       float t;
       rs_sensor_record(s, slot / RS_RECORDS, slot % RS_RECORDS, &laser, &t);
       double az = fmod(k * 0.01 + s->azimuth_offset_deg[laser] + sc->deg_per_us * t + 720.0, 360.0);
-      st_cell_t *c = &sc->st[(size_t)k * (size_t)n + (size_t)slot];
-      static_cast(sc, laser, az, &c->range, &c->intensity, &c->fol, &c->fol_p);
+      beam_static(sc, laser, az, &sc->st[(size_t)k * (size_t)n + (size_t)slot]);
     }
 }
 
@@ -543,6 +706,11 @@ static rs_scene_t *alloc_scene(const rs_scene_cfg_t *cfg, const rs_sensor_t *s) 
   if (sc == NULL) return NULL;
   sc->cfg = *cfg;
   if (sc->cfg.max_range <= 0) sc->cfg.max_range = default_max_range(s->info->model);
+  /* the VLS-128 manual's figures (Table F-1); the other models' manuals give
+   * none as detailed, and their optics are of the same family */
+  if (sc->cfg.beam_div_h <= 0) sc->cfg.beam_div_h = 3.0;
+  if (sc->cfg.beam_div_v <= 0) sc->cfg.beam_div_v = 1.5;
+  if (sc->cfg.beam_samples < 1) sc->cfg.beam_samples = 1;
   sc->sensor = s;
   sc->ox = cfg->pole_x;
   sc->oy = cfg->pole_y;
@@ -589,6 +757,11 @@ void rs_scene_add_box(rs_scene_t *sc, double cx, double cy, double z0, double l,
     a->v0 = yaw; /* and v0 the heading (radians, from +x) */
     return;
   }
+}
+
+void rs_scene_set_intensity(rs_scene_t *sc, uint16_t label, uint8_t intensity) {
+  for (int i = 0; i < sc->agent_hwm; i++)
+    if (sc->agents[i].active && sc->agents[i].id == label) sc->agents[i].intensity = intensity;
 }
 
 rs_scene_t *rs_scene_create(const rs_scene_cfg_t *cfg, const rs_sensor_t *s, double hz, uint64_t seed) {
@@ -877,52 +1050,84 @@ void rs_scene_prepare(rs_scene_t *sc, double t, double az_from, double az_to) {
   }
 }
 
-static double hit_cand(const cand_t *c, const double *o, const double *d) {
-  if (c->cyl) return hit_cyl(c->cx, c->cy, c->hw, 0.0, c->h, o, d);
+/* an object along a ray: distance and the cosine of the incidence angle */
+static double hit_cand(const cand_t *c, const double *o, const double *d, double *cosi) {
+  if (c->cyl) {
+    double t = hit_cyl(c->cx, c->cy, c->hw, 0.0, c->h, o, d);
+    double px = o[0] + t * d[0] - c->cx, py = o[1] + t * d[1] - c->cy, n = hypot(px, py);
+    *cosi = isfinite(t) && n > 1e-9 ? fabs(px * d[0] + py * d[1]) / n : 1.0;
+    return t;
+  }
   /* into the box frame */
   double px = o[0] - c->cx, py = o[1] - c->cy;
   double lo[3] = {px * c->c + py * c->s, -px * c->s + py * c->c, o[2]};
   double ld[3] = {d[0] * c->c + d[1] * c->s, -d[0] * c->s + d[1] * c->c, d[2]};
   float a[6] = {(float)-c->hl, (float)-c->hw, (float)c->z0, (float)c->hl, (float)c->hw, (float)c->h};
-  return hit_box(a, lo, ld);
+  int axis;
+  double t = hit_box_axis(a, lo, ld, &axis);
+  *cosi = fabs(ld[axis]);
+  return t;
+}
+
+/* the nearest candidate object on a ray (INFINITY: none) */
+static double nearest_object(rs_scene_t *sc, int k0, int k1, bool bucketed, double az, const double *o,
+                             const double *d, double limit, const cand_t **hit, double *cosi) {
+  double best = INFINITY;
+  for (int kk = k0; kk < k1; kk++) {
+    const cand_t *ck = &sc->cand[bucketed ? sc->bitems[kk] : kk];
+    double da = az - ck->az0;
+    if (da < 0) da += 360.0;
+    if (da > ck->aw || ck->dmin > best || ck->dmin > limit) continue;
+    double c, t = hit_cand(ck, o, d, &c);
+    if (t < best) {
+      best = t;
+      *hit = ck;
+      *cosi = c;
+    }
+  }
+  return best;
+}
+
+/* detection, noise and intensity of one return; false: lost */
+static bool sense(const rs_scene_t *sc, rs_hit_t *h, rs_rng_t *rng) {
+  const double r = h->range, mr = sc->cfg.max_range;
+  /* the range a surface of this intensity is seen to half the time: the
+   * model's maximum for intensity 15, shorter for darker surfaces (returned
+   * power ~ intensity / r^2), at most 10 % beyond it for brighter ones, less
+   * in rain or dust; nothing beyond the maximum */
+  double reach = mr * fmin(1.1, sqrt(fmax(h->intensity, 1) / 15.0));
+  if (sc->cfg.attenuation > 0) reach *= exp(-0.5 * sc->cfg.attenuation * 1e-3 * r);
+  double p = r > mr ? 0.0 : 1.0 / (1.0 + exp((r - reach) / (0.06 * reach)));
+  if (rs_rng_uniform(rng) >= p * (1.0 - sc->cfg.dropout)) return false;
+  double sd = sc->cfg.range_noise * (0.5 + r / 40.0) * (0.85 + 2.0 / fmax(h->intensity, 5));
+  if (sc->cfg.noise_tail > 0 && rs_rng_uniform(rng) < sc->cfg.noise_tail) sd *= 5.0;
+  double v = r + sd * rs_rng_normal(rng);
+  h->range = (float)(v < 0.5 ? 0.5 : v);
+  h->intensity = clamp_u8(h->intensity + rs_rng_normal(rng) * 3.0);
+  return true;
 }
 
 void rs_scene_cast(rs_scene_t *sc, int slot, int block_az, int laser, double az, rs_rng_t *rng, rs_ray_t *out) {
   while (az >= 360.0) az -= 360.0;
   while (az < 0.0) az += 360.0;
-  double o[3] = {sc->ox, sc->oy, sc->oz}, d[3] = {0, 0, 0};
-  bool have_dir = false;
+  const double o[3] = {sc->ox, sc->oy, sc->oz};
+  double d[3];
+  dir_of(sc, laser, az, d);
   const bool table = sc->st != NULL && block_az >= 0 && block_az < AZ_STEPS && slot >= 0 && slot < sc->slots;
-  if (!table) {
-    dir_of(sc, laser, az, d);
-    have_dir = true;
-  }
-  rs_hit_t first = {0, 0, 0}, second = {0, 0, 0};
+  /* the static scene along this firing (footprint included) */
+  st_cell_t stc;
   if (table) {
-    const st_cell_t *cell = &sc->st[(size_t)block_az * (size_t)sc->slots + (size_t)slot];
-    first.range = cell->range;
-    first.intensity = cell->intensity;
-    first.label = first.range > 0 ? 1 : 0;
-    float fr = cell->fol;
-    if (fr > 0 && rs_rng_uniform(rng) * 255.0 < cell->fol_p * sc->wind) {
-      /* a leaf somewhere in the first metre of the canopy; the surface behind
-       * is the second return */
-      float lr = fr + (float)(rs_rng_uniform(rng) * 1.0);
-      if (first.range == 0 || lr < first.range - 0.3f) {
-        second = first;
-        first.range = lr;
-        first.intensity = 30;
-        first.label = 2;
-      }
+    stc = sc->st[(size_t)block_az * (size_t)sc->slots + (size_t)slot];
+  } else {
+    memset(&stc, 0, sizeof stc);
+    if (d[2] < 0) {
+      stc.r1 = (float)(-o[2] / d[2]);
+      stc.i1 = clamp_u8(12 * (0.3 + 0.7 * -d[2]));
     }
-  } else if (d[2] < 0) {
-    first.range = (float)(-o[2] / d[2]);
-    first.intensity = 12;
-    first.label = 1;
   }
-  /* objects occlude what is behind them */
-  double best = INFINITY;
-  const cand_t *bc = NULL;
+  rs_hit_t ret[2] = {{stc.r1, stc.i1, (uint16_t)(stc.r1 > 0)}, {stc.r2, stc.i2, (uint16_t)(stc.r2 > 0)}};
+  /* objects occlude what is behind them; across the footprint (three rays
+   * side by side) an object's edge mixes with what is behind it */
   int k0 = 0, k1 = sc->ncand;
   bool bucketed = false;
   if (sc->nwin > 0) {
@@ -933,63 +1138,65 @@ void rs_scene_cast(rs_scene_t *sc, int slot, int block_az, int laser, double az,
       bucketed = true;
     }
   }
-  for (int kk = k0; kk < k1; kk++) {
-    const cand_t *ck = &sc->cand[bucketed ? sc->bitems[kk] : kk];
-    double da = az - ck->az0;
-    if (da < 0) da += 360.0;
-    if (da > ck->aw || ck->dmin > best || (first.range > 0 && first.label != 2 && ck->dmin > first.range)) continue;
-    if (!have_dir) {
-      dir_of(sc, laser, az, d);
-      have_dir = true;
+  if (k1 > k0) {
+    const double limit = stc.r1 > 0 ? fmax(stc.r1, stc.r2) : INFINITY;
+    const int nh = sc->cfg.beam_samples >= 3 ? 3 : 1;
+    const double dh = sc->cfg.beam_div_h * 1e-3 / D2R;
+    sub_hit_t h[3];
+    int n = 0, objects = 0;
+    for (int i = 0; i < nh; i++) {
+      const double u = nh == 1 ? 0 : sub_off[i], w = nh == 1 ? 1 : sub_w[i];
+      double ds[3];
+      if (u == 0) memcpy(ds, d, sizeof ds);
+      else dir_of(sc, laser, az + u * dh, ds);
+      const cand_t *c = NULL;
+      double cosi = 1.0, t = nearest_object(sc, k0, k1, bucketed, az, o, ds, limit, &c, &cosi);
+      if (c && (stc.r1 == 0 || t < stc.r1)) {
+        h[n++] = (sub_hit_t){t, w, c->intensity, cosi, c->id};
+        objects++;
+      } else if (stc.r1 > 0) {
+        /* the static scene's brighter return stands for this part of the footprint */
+        bool two = stc.r2 > 0 && stc.i2 > stc.i1;
+        h[n++] = (sub_hit_t){two ? stc.r2 : stc.r1, w, 2.0 * (two ? stc.i2 : stc.i1), 1.0, 1};
+      }
     }
-    double t = hit_cand(ck, o, d);
-    if (t < best) {
-      best = t;
-      bc = ck;
+    if (objects > 0) {
+      beam_ret_t r[2];
+      int nr = form_returns(h, n, sc->cfg.mix_depth, r);
+      memset(ret, 0, sizeof ret);
+      for (int k = 0; k < nr; k++)
+        ret[k] = (rs_hit_t){(float)r[k].r, clamp_u8(r[k].inten), r[k].label};
     }
   }
-  if (bc) {
-    rs_hit_t obj = {(float)best, bc->intensity, bc->id};
-    if (first.range == 0 || best < first.range) {
-      first = obj;
-      second.range = 0;
-    } else if (first.label == 2 && (second.range == 0 || best < second.range)) {
-      second = obj;
+  /* leaves: a ray through a canopy returns a leaf in its first metre with
+   * probability fol_p x wind; what is behind is the second return */
+  if (stc.fol > 0 && rs_rng_uniform(rng) * 255.0 < stc.fol_p * sc->wind) {
+    float lr = stc.fol + (float)rs_rng_uniform(rng);
+    if (ret[0].range == 0 || lr < ret[0].range - 0.3f) {
+      ret[1] = ret[0];
+      ret[0] = (rs_hit_t){lr, 30, RS_SCENE_LEAF};
     }
   }
-  /* sensor effects */
-  rs_hit_t *hs[2] = {&first, &second};
-  for (int k = 0; k < 2; k++) {
-    rs_hit_t *h = hs[k];
-    if (h->range == 0) continue;
-    double r = h->range, mr = sc->cfg.max_range;
-    bool lost = r > mr || rs_rng_uniform(rng) < sc->cfg.dropout;
-    if (!lost && r > 0.6 * mr) lost = rs_rng_uniform(rng) > 1.0 - 0.6 * (r - 0.6 * mr) / (0.4 * mr);
-    if (lost) {
-      h->range = 0;
-      continue;
-    }
-    r += sc->cfg.range_noise * rs_rng_normal(rng);
-    if (r < 0.5) r = 0.5;
-    h->range = (float)r;
-    int in = (int)h->intensity + (int)(rs_rng_normal(rng) * 3.0) - (int)(r * 0.1);
-    h->intensity = (uint8_t)(in < 1 ? 1 : (in > 255 ? 255 : in));
-  }
-  if (first.range == 0 && second.range != 0) {
-    first = second;
-    second.range = 0;
+  /* sensor effects: detection, noise, intensity */
+  for (int k = 0; k < 2; k++)
+    if (ret[k].range > 0 && !sense(sc, &ret[k], rng)) ret[k].range = 0;
+  if (ret[0].range == 0 && ret[1].range != 0) {
+    ret[0] = ret[1];
+    ret[1].range = 0;
   }
   if (sc->cfg.spurious > 0 && rs_rng_uniform(rng) < sc->cfg.spurious) {
-    /* rain or dust in front of whatever the beam would have hit */
-    double far = first.range > 0 ? fmin(30.0, first.range - 0.5) : 30.0;
+    /* rain or dust in front of whatever the beam would have hit: drops and
+     * dust near the sensor return most (exponential, mean 8 m), up to 30 m */
+    double far = ret[0].range > 0 ? fmin(30.0, ret[0].range - 0.5) : 30.0;
+    /* inverse CDF of the exponential truncated to [1, far] */
+    double r = 1.0 - 8.0 * log(1.0 - rs_rng_uniform(rng) * (1.0 - exp(-(far - 1.0) / 8.0)));
     if (far > 1.0) {
-      second = first;
-      first.range = (float)(1.0 + (far - 1.0) * rs_rng_uniform(rng));
-      first.intensity = (uint8_t)(2 + 10 * rs_rng_uniform(rng));
-      first.label = 2;
+      ret[1] = ret[0];
+      ret[0] = (rs_hit_t){(float)r, (uint8_t)(2 + 10 * rs_rng_uniform(rng)), RS_SCENE_LEAF};
     }
   }
-  if (second.range == 0) second.label = 0;
-  out->first = first;
-  out->second = second;
+  if (ret[1].range == 0) ret[1].label = 0;
+  if (ret[0].range == 0) ret[0].label = 0;
+  out->first = ret[0];
+  out->second = ret[1];
 }

@@ -1,5 +1,7 @@
 /* check_scene - ray casting against hand-computed ranges (ground, a box
- * at a known place, occlusion), scene knobs, presets, determinism. */
+ * at a known place, occlusion), the beam's physics (footprint, mixed and
+ * separate returns at depth edges, noise growing with range, detection
+ * falling with intensity and range), scene knobs, presets, determinism. */
 #include "roadscan/error.h"
 #include "roadscan/scene.h"
 #include "testutil.h"
@@ -13,6 +15,7 @@ static rs_scene_cfg_t quiet_cfg(void) {
   rs_scene_cfg_t c;
   rs_scene_preset("light", &c);
   c.range_noise = 0;
+  c.noise_tail = 0;
   c.dropout = 0;
   c.spurious = 0;
   c.pole_x = -11.5;
@@ -85,8 +88,26 @@ START_TEST(t_effects) {
     sum += d;
     sum2 += d * d;
   }
+  /* sd = range_noise x (0.5 + r / 40) x (0.85 + 2 / intensity); the ground
+   * (reflectivity 12) seen 25 degrees down returns 12 x (0.3 + 0.7 sin 25) = 7 */
+  const double want = 0.05 * (0.5 + truth / 40.0) * (0.85 + 2.0 / 7.0);
   ck_assert_double_eq_tol(sum / N, 0.0, 0.002);
-  ck_assert_double_eq_tol(sqrt(sum2 / N), 0.05, 0.003);
+  ck_assert_double_eq_tol(sqrt(sum2 / N), want, 0.04 * want);
+  rs_scene_destroy(sc);
+  /* farther, noisier: laser 15 (-4 deg) meets the ground 71.7 m away */
+  sc = rs_scene_create_empty(&c, &s);
+  rs_scene_prepare(sc, 0.0, 0.0, 359.9);
+  double far2 = 0, far_truth = 5.0 / sin(4 * D2R);
+  int nfar = 0;
+  for (int i = 0; i < N; i++) {
+    rs_ray_t r;
+    rs_scene_cast(sc, -1, -1, 15, 100.0, &rng, &r);
+    if (r.first.range == 0) continue;
+    far2 += (r.first.range - far_truth) * (r.first.range - far_truth);
+    nfar++;
+  }
+  ck_assert_int_gt(nfar, N / 4);
+  ck_assert_double_gt(sqrt(far2 / nfar), 1.8 * want);
   rs_scene_destroy(sc);
   /* dropouts and spurious returns at their rates */
   c = quiet_cfg();
@@ -106,6 +127,88 @@ START_TEST(t_effects) {
   ck_assert_int_ge(spur, N * 0.05 * 0.8);
   ck_assert_int_le(spur, N * 0.05 * 1.2);
   rs_scene_destroy(sc);
+}
+END_TEST
+
+/* The beam has a footprint (3 x 1.5 mrad): at a depth edge the return
+ * depends on how much of it each surface fills. */
+START_TEST(t_beam) {
+  static rs_sensor_t s;
+  rs_sensor_init(&s, RS_MODEL_VLP32C);
+  rs_scene_cfg_t c = quiet_cfg();
+  rs_rng_t rng;
+  rs_rng_seed(&rng, 5);
+  rs_ray_t r;
+  /* a box whose south face is 19 m north of the sensor, its west edge at
+   * x = -11.5 (straight north of the sensor): level laser 5 at azimuths
+   * around 0 sweeps across that edge, with nothing behind */
+  rs_scene_t *sc = rs_scene_create_empty(&c, &s);
+  rs_scene_add_box(sc, -9.5, 8.5, 0.0, 4.0, 2.0, 6.0, 0.0, 42);
+  rs_scene_prepare(sc, 0.0, 350.0, 10.0);
+  double div = 3.0e-3 / D2R; /* degrees */
+  rs_scene_cast(sc, -1, -1, 5, 1.0, &rng, &r); /* well inside */
+  ck_assert_float_eq_tol(r.first.range, 19.0 / cos(1.0 * D2R), 1e-3);
+  const int inside = r.first.intensity;
+  /* the centre ray misses by a fifth of the divergence, a side ray hits:
+   * the box is seen, dimmer (part of the footprint) */
+  rs_scene_cast(sc, -1, -1, 5, 360.0 - 0.2 * div, &rng, &r);
+  ck_assert_int_eq(r.first.label, 42);
+  ck_assert_int_lt(r.first.intensity, inside);
+  /* the same direction gives the same return (the edge repeats) */
+  rs_ray_t r2;
+  rs_scene_cast(sc, -1, -1, 5, 360.0 - 0.2 * div, &rng, &r2);
+  ck_assert_float_eq(r.first.range, r2.first.range);
+  /* well outside the footprint: nothing */
+  rs_scene_cast(sc, -1, -1, 5, 360.0 - div, &rng, &r);
+  ck_assert_float_eq_tol(r.first.range, 0.0, 1e-9);
+  rs_scene_destroy(sc);
+  /* two boxes side by side, faces 0.4 m apart in depth (less than the
+   * mixing depth): across the seam the range lies between the two */
+  sc = rs_scene_create_empty(&c, &s);
+  rs_scene_add_box(sc, -13.5, 8.5, 0.0, 4.0, 2.0, 6.0, 0.0, 42);  /* face y = 7.5: 19 m */
+  rs_scene_add_box(sc, -9.5, 8.9, 0.0, 4.0, 2.0, 6.0, 0.0, 43);   /* face y = 7.9: 19.4 m */
+  rs_scene_prepare(sc, 0.0, 350.0, 10.0);
+  int mixed = 0;
+  for (double a = -div; a <= div; a += div / 20) {
+    rs_scene_cast(sc, -1, -1, 5, fmod(a + 360.0, 360.0), &rng, &r);
+    double flat = r.first.range * cos(a * D2R);
+    if (flat > 19.02 && flat < 19.38) mixed++;
+    ck_assert_float_eq_tol(r.second.range, 0.0, 1e-9); /* one return */
+  }
+  ck_assert_int_gt(mixed, 2);
+  rs_scene_destroy(sc);
+  /* 6 m apart: two returns at the edge, the brighter one strongest */
+  sc = rs_scene_create_empty(&c, &s);
+  rs_scene_add_box(sc, -13.5, 8.5, 0.0, 4.0, 2.0, 6.0, 0.0, 42);  /* 19 m */
+  rs_scene_add_box(sc, -9.5, 14.5, 0.0, 4.0, 2.0, 6.0, 0.0, 43);  /* 25 m */
+  rs_scene_prepare(sc, 0.0, 350.0, 10.0);
+  rs_scene_cast(sc, -1, -1, 5, 360.0 - 0.2 * div, &rng, &r); /* mostly on the near box */
+  ck_assert_float_eq_tol(r.first.range, 19.0, 0.01);
+  ck_assert_float_eq_tol(r.second.range, 25.0, 0.01);
+  ck_assert_int_gt(r.first.intensity, r.second.intensity);
+  rs_scene_cast(sc, -1, -1, 5, 0.2 * div, &rng, &r); /* mostly on the far one */
+  ck_assert_float_eq_tol(r.first.range, 19.0, 0.01);
+  ck_assert_float_eq_tol(r.second.range, 25.0, 0.01);
+  ck_assert_int_lt(r.first.intensity, r.second.intensity);
+  rs_scene_destroy(sc);
+  /* detection falls with range and intensity: a bright and a dark box at
+   * 90 m (VLP-16: 100 m for intensity 15 and brighter) */
+  static rs_sensor_t s16;
+  rs_sensor_init(&s16, RS_MODEL_VLP16);
+  int seen[2] = {0, 0};
+  for (int k = 0; k < 2; k++) {
+    sc = rs_scene_create_empty(&c, &s16);
+    rs_scene_add_box(sc, -11.5, 79.5, 0.0, 4.0, 2.0, 8.0, 0.0, 42); /* face y = 78.5: 90 m */
+    rs_scene_set_intensity(sc, 42, k == 0 ? 100 : 3);
+    rs_scene_prepare(sc, 0.0, 350.0, 10.0);
+    for (int i = 0; i < 2000; i++) {
+      rs_scene_cast(sc, -1, -1, 1, 0.0, &rng, &r); /* laser 1: +1 degree */
+      seen[k] += r.first.label == 42;
+    }
+    rs_scene_destroy(sc);
+  }
+  ck_assert_int_gt(seen[0], 1800);
+  ck_assert_int_lt(seen[1], 100);
 }
 END_TEST
 
@@ -177,6 +280,7 @@ int main(void) {
   tcase_set_timeout(tc, 120);
   tcase_add_test(tc, t_ground_and_box);
   tcase_add_test(tc, t_effects);
+  tcase_add_test(tc, t_beam);
   tcase_add_test(tc, t_knobs);
   tcase_add_test(tc, t_traffic_queues);
   suite_add_tcase(s, tc);

@@ -9,7 +9,7 @@
 #include "roadscan/background.h"
 #include "roadscan/calib.h"
 #include "roadscan/config.h"
-#include "roadscan/stream.h"
+#include "roadscan/framer.h"
 #include "roadscan/timing.h"
 
 #include <getopt.h>
@@ -22,14 +22,11 @@
 #define MEMORY_BUDGET (384ull * 1024 * 1024) /* VLS-128 learning stays under 512 MB */
 
 static rs_slot_t slots[2];
-static rs_stream_t stream;
+static rs_framer_t framer;
 static rs_calib_t calib;
 
 typedef struct {
-  rs_asm_t as;
   rs_asm_cfg_t acfg;
-  bool ready;
-  int cur;
   rs_bg_learner_t lr;
   bool lr_ready;
   int max_frames;
@@ -38,7 +35,9 @@ typedef struct {
   int rc;
 } learn_t;
 
-static void on_frame(learn_t *L, const rs_slot_t *s) {
+static void on_frame(void *user, rs_slot_t *s) {
+  learn_t *L = user;
+  if (L->rc != RS_OK) return;
   L->frames++;
   if (s->meta.partial) return;
   if (!L->lr_ready) {
@@ -52,22 +51,6 @@ static void on_frame(learn_t *L, const rs_slot_t *s) {
     L->lr_ready = true;
   }
   rs_bg_learner_add(&L->lr, s);
-}
-
-static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double ts) {
-  learn_t *L = user;
-  if (L->rc != RS_OK) return;
-  if (!L->ready) {
-    L->rc = rs_asm_init(&L->as, &L->acfg, &stream.sensor);
-    if (L->rc != RS_OK) return;
-    L->ready = true;
-  }
-  for (int i = 0; i <= RS_BLOCKS; i++) {
-    if (rs_asm_feed(&L->as, &slots[L->cur], pkt, index, ts) == RS_ASM_CONSUMED) break;
-    on_frame(L, &slots[L->cur]);
-    L->cur ^= 1;
-  }
-  stream.rate_hint = L->as.rate;
 }
 
 static void print_info(const rs_bg_model_t *m, FILE *out) {
@@ -254,12 +237,12 @@ int main(int argc, char **argv) {
     }
     scfg.calib = &calib;
   }
-  if (rs_stream_init(&stream, &scfg) != RS_OK) {
-    fprintf(stderr, "roadscan-learn: %s\n", stream.err);
+  if (rs_framer_init(&framer, &scfg, &L.acfg, slots, on_frame, &L) != RS_OK) {
+    fprintf(stderr, "roadscan-learn: %s\n", framer.stream.err);
     return 1;
   }
   int64_t t0 = rs_now_ns();
-  int rc = rs_stream_replay_file(&stream, argv[optind], on_packet, &L, NULL, err, sizeof err);
+  int rc = rs_framer_replay_file(&framer, argv[optind], err, sizeof err);
   if (rc != RS_OK) fprintf(stderr, "roadscan-learn: %s\n", err);
   if (rc == RS_E_NOENT || rc == RS_E_FORMAT || rc == RS_E_LINKTYPE || rc == RS_E_CALIB) return 1;
   if (L.rc != RS_OK || !L.lr_ready || L.lr.nframes < 10) {
@@ -268,7 +251,7 @@ int main(int argc, char **argv) {
     return 1;
   }
   int64_t t1 = rs_now_ns();
-  rc = rs_bg_learn(&L.lr, &params, (float)rs_hz_from_rate(L.as.rate), &m);
+  rc = rs_bg_learn(&L.lr, &params, (float)rs_hz_from_rate(framer.as.rate), &m);
   int64_t t2 = rs_now_ns();
   if (rc != RS_OK) {
     fprintf(stderr, "roadscan-learn: learning failed: %s\n", rs_strerror(rc));

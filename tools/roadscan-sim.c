@@ -216,10 +216,20 @@ int main(int argc, char **argv) {
   uint32_t cur_turn = 0;
   double last_az = -1;
   rs_ray_t rays[RS_RECORDS];
+  /* the motor: the nominal rate x (1 + offset + a slow wander, 2 s
+   * correlation); the firing clock stays exact, so where the firings fall
+   * drifts from turn to turn as on a real sensor */
+  rs_rng_t motor;
+  rs_rng_seed(&motor, (uint64_t)seed * 104729u + 3u);
+  const double ar = exp(-packet_us * 1e-6 / 2.0), ar_sd = scfg.rpm_jitter * sqrt(1.0 - ar * ar);
+  double jitter = scfg.rpm_jitter * rs_rng_normal(&motor), phase = 0.0;
   for (uint64_t k = 0; k < npackets; k++) {
     double t_pkt = (double)k * packet_us; /* µs */
-    double az0 = deg_per_us * t_pkt;
-    double az_end = deg_per_us * (t_pkt + packet_us);
+    const double rate = deg_per_us * (1.0 + scfg.rpm_offset + jitter); /* degrees per µs */
+    double az0 = phase;
+    double az_end = phase + rate * packet_us;
+    phase = fmod(az_end, 360.0);
+    jitter = ar * jitter + ar_sd * rs_rng_normal(&motor);
     if (last_az >= 0 && fmod(az0, 360.0) < last_az) {
       if (turns < MAX_TURNS) turn_points[turns++] = cur_turn;
       cur_turn = 0;
@@ -233,8 +243,7 @@ int main(int argc, char **argv) {
     enc.timestamp_us = (uint32_t)fmod(t0 * 1e6 + t_pkt, 3600e6);
     for (int b = 0; b < RS_BLOCKS; b++) {
       int g = vls ? (dual ? 0 : b / 4) : (dual ? b / 2 : b);
-      double tg = t_pkt + g * group_us;
-      double azg = deg_per_us * tg;
+      double azg = az0 + rate * g * group_us;
       enc.block_azimuth[b] = (uint16_t)((long)llround(fmod(azg, 360.0) * 100.0) % 36000);
       if (b >= nb) continue;
       int bank = vls ? rs_vls128_bank_of_block(b, dual) : 0;
@@ -244,7 +253,7 @@ int main(int argc, char **argv) {
           int laser;
           float tf;
           rs_sensor_record(&sensor, bank, ch, &laser, &tf);
-          double az = (double)enc.block_azimuth[b] / 100.0 + sensor.azimuth_offset_deg[laser] + deg_per_us * tf;
+          double az = (double)enc.block_azimuth[b] / 100.0 + sensor.azimuth_offset_deg[laser] + rate * tf;
           rs_scene_cast(sc, bank * RS_RECORDS + ch, enc.block_azimuth[b], laser, az, &fx, &rays[ch]);
         }
       }

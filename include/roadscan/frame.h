@@ -48,6 +48,7 @@ typedef struct {
   float rate_hz;            /* rotation rate measured over the frame */
   double t_first, t_last;   /* capture time (s) of the first and last packet */
   uint32_t first_packet, last_packet;
+  uint16_t first_azimuth;   /* azimuth field of the frame's first block (0.01 degree): where the firings fell this turn */
   uint32_t packets;         /* packets that contributed blocks (a straddling one counts in both) */
   uint32_t points;          /* returns written to the map (both layers) */
   uint32_t columns;         /* columns holding at least one return */

@@ -41,12 +41,21 @@ typedef struct {
   double objects_min_range;  /* far preset: objects only between these distances */
   double objects_max_range;  /* from the centre (0 = anywhere) */
   double warmup_s;           /* traffic simulated before the capture starts, default 60 */
-  /* sensor effects */
-  double range_noise;        /* m (sd), default 0.015 */
-  double dropout;            /* per return, default 0.002 */
+  /* sensor effects (physics: see docs/simulator.md, measured against real captures) */
+  double range_noise;        /* m, sd at 20 m on a surface of intensity 20: default 0.012;
+                                sd = range_noise x (0.5 + r / 40 m) x (0.85 + 2 / max(intensity, 5)) */
+  double noise_tail;         /* share of returns whose noise is 5 times wider (default 0.005) */
+  double dropout;            /* per return, default 0.012 */
   double spurious;           /* per ray (rain, dust), default 0.0002 */
+  double attenuation;        /* rain/dust extinction, 1/km (two-way), default 0 */
   double packet_loss;        /* per packet, default 0 */
-  double max_range;          /* m, default from the model */
+  double max_range;          /* m, default from the model: a bright surface is detected up to it */
+  double beam_div_h, beam_div_v; /* beam divergence, mrad (full angle); default from the model */
+  int beam_samples;          /* rays cast across the footprint: 1 (a thin beam) or 9 (default) */
+  double mix_depth;          /* m: surfaces closer than this in one footprint return one mixed range
+                                (default 0.6); farther apart, the strongest (or the last) wins */
+  double rpm_offset;         /* the motor's rate against the nominal, fraction (default -0.0005) */
+  double rpm_jitter;         /* sd of its slow wander (2 s correlation), fraction (default 0.0005) */
 } rs_scene_cfg_t;
 
 /* light, rush, far, storm; false for an unknown name */
@@ -55,16 +64,17 @@ bool rs_scene_preset(const char *name, rs_scene_cfg_t *cfg);
 int rs_scene_set(rs_scene_cfg_t *cfg, const char *key, const char *value, char *err, size_t n);
 const char *rs_scene_keys(void);
 
-/* one surface on a ray */
+/* one return on a ray */
 typedef struct {
   float range;      /* 0 = none */
   uint8_t intensity;
-  uint16_t label;   /* 1 static, 2 foliage/spurious, >= 3 object id */
+  uint16_t label;   /* 1 static, 2 foliage/spurious, >= 3 object id (of most of the footprint) */
 } rs_hit_t;
 
 typedef struct {
   rs_hit_t first;   /* nearest return */
-  rs_hit_t second;  /* a farther return when the first is partial (leaves, dust) */
+  rs_hit_t second;  /* a farther return when the first is partial (leaves, dust, a depth edge
+                       across the footprint); the brighter of the two is the strongest */
 } rs_ray_t;
 
 typedef struct rs_scene rs_scene_t;
@@ -92,6 +102,8 @@ void rs_scene_new_turn(rs_scene_t *sc);
 rs_scene_t *rs_scene_create_empty(const rs_scene_cfg_t *cfg, const rs_sensor_t *s);
 void rs_scene_add_box(rs_scene_t *sc, double cx, double cy, double z0, double l, double w, double h, double yaw,
                       uint16_t label);
+/* Test hook: the reflectivity (intensity 0..255) of an added box. */
+void rs_scene_set_intensity(rs_scene_t *sc, uint16_t label, uint8_t intensity);
 /* Sensor origin in the world. */
 void rs_scene_origin(const rs_scene_t *sc, double *x, double *y, double *z);
 
