@@ -30,6 +30,13 @@ void rs_bg_params_default(rs_bg_params_t *p) {
   p->merge_gap_min = 0.5;
   p->merge_gap_share = 0.02;
   p->chain_gap = 0.20;
+  p->support = true;
+  p->support_tol_min = 0.3;
+  p->support_tol_share = 0.03;
+  p->connect_min = 0.5;
+  p->solid_share = 0.8;
+  p->margin_samples = 4.0;
+  p->connect_share = 0.05;
   p->percentile = 50.0;
   p->percentile_tol = 0.3;
 }
@@ -42,26 +49,27 @@ int rs_bg_model_alloc(rs_bg_model_t *m, rs_model_t model, int rows, int cols) {
   m->rows = (uint16_t)rows;
   m->cols = (uint16_t)cols;
   m->n = calloc(cells, 1);
+  m->solid = calloc(cells, 1);
   m->lo = calloc(cells * RS_BG_SURFACES, sizeof(uint16_t));
   m->hi = calloc(cells * RS_BG_SURFACES, sizeof(uint16_t));
-  m->beyond = calloc(cells, sizeof(uint32_t));
-  if (!m->n || !m->lo || !m->hi || !m->beyond) {
+  if (!m->n || !m->solid || !m->lo || !m->hi) {
     rs_bg_model_free(m);
     return RS_E_NOMEM;
   }
   rs_bg_params_default(&m->params);
   m->see_through = RS_BG_SEE_THROUGH;
+  m->beyond_static = true;
   return RS_OK;
 }
 
 void rs_bg_model_free(rs_bg_model_t *m) {
   free(m->n);
+  free(m->solid);
+  m->solid = NULL;
   free(m->lo);
   free(m->hi);
-  free(m->beyond);
   m->n = NULL;
   m->lo = m->hi = NULL;
-  m->beyond = NULL;
 }
 
 /* ---- subtraction ---- */
@@ -87,7 +95,7 @@ static bool match_beside(const rs_bg_model_t *m, int row, int col, uint32_t cm) 
   return match(m, left, cm) || match(m, right, cm);
 }
 
-void rs_bg_subtract(rs_bg_model_t *m, rs_slot_t *s, rs_bg_counts_t *c) {
+void rs_bg_subtract(const rs_bg_model_t *m, rs_slot_t *s, rs_bg_counts_t *c) {
   const int rows = s->meta.rows, cols = s->meta.cols;
   const int see = m->see_through;
   for (int l = 0; l < RS_LAYERS; l++)
@@ -97,21 +105,31 @@ void rs_bg_subtract(rs_bg_model_t *m, rs_slot_t *s, rs_bg_counts_t *c) {
         const float range = s->range[base + (uint32_t)col];
         if (range == 0.0f) continue;
         const uint32_t cm = to_cm(range), cell = (uint32_t)r * (uint32_t)cols + (uint32_t)col;
-        if (match(m, cell, cm) || (see > 0 && m->n[cell] >= see && match_beside(m, r, col, cm))) {
-          s->label[base + (uint32_t)col] = 1;
+        if (match(m, cell, cm) || (see > 0 && (m->n[cell] >= see || m->n[cell] == 0) && match_beside(m, r, col, cm))) {
+          s->label[base + (uint32_t)col] = RS_LABEL_BACKGROUND;
           c->background++;
           continue;
         }
-        s->label[base + (uint32_t)col] = 2;
-        c->foreground++;
-        uint32_t nk = m->n[cell];
+        /* beyond the farthest surface: a surface has gone, or the sensor
+         * moved (counted). Behind a solid surface (seen in most frames)
+         * nothing moves: background. Behind one the sensor sees through (a
+         * canopy) only just behind it (max(0.3 m, 3 %): the surface seen
+         * from a slightly different place); farther, it can be a vehicle. */
+        const uint32_t nk = m->n[cell];
         if (nk > 0) {
-          uint32_t far = m->hi[cell * RS_BG_SURFACES + nk - 1];
-          if (far != BEYOND && range * 100.0f > (float)far) {
-            m->beyond[cell]++;
+          const uint32_t far = m->hi[cell * RS_BG_SURFACES + nk - 1];
+          if (far != BEYOND && cm > far) {
+            if (c->beyond_cells) c->beyond_cells[cell]++;
             c->beyond++;
+            if (m->beyond_static && (m->solid[cell] || cm - far <= (far < 1000u ? 30u : far * 3u / 100u))) {
+              s->label[base + (uint32_t)col] = RS_LABEL_BACKGROUND;
+              c->background++;
+              continue;
+            }
           }
         }
+        s->label[base + (uint32_t)col] = RS_LABEL_NOISE;
+        c->foreground++;
       }
     }
 }
@@ -211,7 +229,7 @@ static double intra1d(const int32_t *v, const uint32_t *c, int u, const int16_t 
     run_n += c[i];
     run_s += (double)c[i] * v[i];
   }
-  return pairs > 0 ? dist / pairs : INFINITY;
+  return pairs > 0 ? dist / pairs : 0.0; /* one value: no spread */
 }
 
 /* ---- learning ---- */
@@ -275,12 +293,6 @@ void rs_bg_learner_add(rs_bg_learner_t *l, const rs_slot_t *s) {
 
 static int cmp_i32(const void *a, const void *b) {
   int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
-  return (x > y) - (x < y);
-}
-
-static const double *g_t;
-static int cmp_by_time(const void *a, const void *b) {
-  double x = g_t[*(const int *)a], y = g_t[*(const int *)b];
   return (x > y) - (x < y);
 }
 
@@ -437,6 +449,50 @@ static uint32_t cell_stats(const cell_in_t *in, const int16_t *label, int k, clu
   return npairs;
 }
 
+/* frames in time order */
+typedef struct {
+  double t;
+  int i;
+} tidx_t;
+static int cmp_tidx(const void *a, const void *b) {
+  const tidx_t *x = a, *y = b;
+  return (x->t > y->t) - (x->t < y->t) + (x->t == y->t) * ((x->i > y->i) - (x->i < y->i));
+}
+
+int rs_bg_min_pts(const rs_bg_params_t *p, int nframes) {
+  /* 1 % of the samples, at least the floor; a short capture brings the
+   * floor down to a tenth of its frames, never below 2 (below 6 frames, a
+   * single return makes a surface: there is nothing else to go by) */
+  int floor_ = p->min_pts_floor;
+  if (floor_ > nframes / 10) floor_ = nframes / 10;
+  if (floor_ < 2) floor_ = nframes < 6 ? 1 : 2;
+  return (int)fmax(floor_, ceil(p->min_pts_share * nframes));
+}
+
+/* A cell's clusters after the first pass (at most CAND per cell, the
+ * farthest ones): range extent (cm), the share of frames in which it is
+ * seen, and whether it is background so far. */
+#define CAND 12
+_Static_assert(CAND <= 16, "the support pass keeps a 16-bit mask per cell");
+typedef struct {
+  int32_t lo, hi;
+  uint16_t seen;    /* share of frames, x 10000 */
+  uint8_t bg;       /* 1 background, 0 not (yet) */
+  uint8_t farthest; /* the cell's static surface by the first rule */
+  uint8_t stays;    /* seen to stay for several frames (enough pairs, no flicker): something standing */
+} cand_t;
+
+/* support from a neighbour: one of its background clusters, seen in at least
+ * half of the frames, holds the middle of [lo, hi] within tol */
+static bool supported(const cand_t *c, const uint8_t *nc, size_t cell, int32_t lo, int32_t hi, int32_t tol) {
+  const int32_t mid = lo + (hi - lo) / 2;
+  for (int k = 0; k < nc[cell]; k++) {
+    const cand_t *q = &c[cell * CAND + (size_t)k];
+    if (q->bg && q->seen >= 5000 && mid >= q->lo - tol && mid <= q->hi + tol) return true;
+  }
+  return false;
+}
+
 int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz, rs_bg_model_t *out) {
   int rc = rs_bg_model_alloc(out, l->model, l->rows, l->cols);
   if (rc != RS_OK) return rc;
@@ -446,34 +502,40 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
   out->created = (uint64_t)time(NULL);
   const int nf = l->nframes;
   if (nf < 2) return RS_OK;
+  const size_t cells = (size_t)l->rows * (size_t)l->cols;
+  tidx_t *ti = malloc(sizeof(tidx_t) * (size_t)nf);
   int *order = malloc(sizeof(int) * (size_t)nf);
   int *win = malloc(sizeof(int) * (size_t)nf);
   int32_t *vals = malloc(sizeof(int32_t) * (size_t)nf), *v = malloc(sizeof(int32_t) * (size_t)nf);
   uint32_t *cnt = malloc(sizeof(uint32_t) * (size_t)nf);
   int16_t *label = malloc(sizeof(int16_t) * (size_t)nf);
   int16_t *memb = malloc(sizeof(int16_t) * (size_t)nf);
-  if (!order || !win || !vals || !v || !cnt || !label || !memb) {
+  cand_t *cand = p->method == RS_BG_PERCENTILE ? NULL : calloc(cells * CAND, sizeof(cand_t));
+  uint8_t *ncand = calloc(cells, 1);
+  uint16_t *ilo = malloc(cells * RS_BG_SURFACES * sizeof(uint16_t)), *ihi = malloc(cells * RS_BG_SURFACES * sizeof(uint16_t));
+  if (!ti || !order || !win || !vals || !v || !cnt || !label || !memb || (!cand && p->method != RS_BG_PERCENTILE) ||
+      !ncand || !ilo || !ihi) {
     rc = RS_E_NOMEM;
     goto done;
   }
-  for (int i = 0; i < nf; i++) order[i] = i;
-  g_t = l->t;
-  qsort(order, (size_t)nf, sizeof order[0], cmp_by_time);
+  for (int i = 0; i < nf; i++) ti[i] = (tidx_t){l->t[i], i};
+  qsort(ti, (size_t)nf, sizeof ti[0], cmp_tidx);
+  for (int i = 0; i < nf; i++) order[i] = ti[i].i;
   const double t0 = l->t[order[0]];
   for (int i = 0; i < nf; i++) win[i] = (int)floor((l->t[order[i]] - t0) / p->window_s);
   int nwin = 1;
   for (int i = 1; i < nf; i++) nwin += win[i] != win[i - 1];
-  const uint32_t min_pts = (uint32_t)fmax(p->min_pts_floor, ceil(p->min_pts_share * nf));
+  const uint32_t min_pts = (uint32_t)rs_bg_min_pts(p, nf);
 
-  const size_t cells = (size_t)l->rows * (size_t)l->cols;
+  /* pass 1: every cell's clusters, decided by the cell's own samples */
   for (size_t cell = 0; cell < cells; cell++) {
     const uint16_t *smp = l->samples + cell * (size_t)l->max_frames;
     int nz = 0;
     for (int f = 0; f < nf; f++)
       if (smp[f]) vals[nz++] = smp[f];
     if ((uint32_t)nz < min_pts) continue;
-    uint16_t *lo = out->lo + cell * RS_BG_SURFACES, *hi = out->hi + cell * RS_BG_SURFACES;
     if (p->method == RS_BG_PERCENTILE) {
+      uint16_t *lo = out->lo + cell * RS_BG_SURFACES, *hi = out->hi + cell * RS_BG_SURFACES;
       qsort(vals, (size_t)nz, sizeof vals[0], cmp_i32);
       int idx = (int)floor(p->percentile / 100.0 * (nz - 1));
       int32_t b = vals[idx] - (int32_t)lround(p->percentile_tol * 100);
@@ -500,44 +562,127 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
     }
     /* "no return" as a persistent state of the cell: sky behind */
     bool sky = cl[k].count >= min_pts && cl[k].pairs >= 10 && (double)cl[k].stay / cl[k].pairs >= p->persist_max;
-    /* decide every cluster, nearest first */
-    bool isbg[MAXK];
+    /* decide every cluster, nearest first: the farthest is the static
+     * surface (unless sky); a nearer one is background when it flickers and
+     * is present throughout the capture (most windows). Consecutive
+     * background clusters close together are one entry (leaves of a canopy
+     * come out as many clusters); the farthest CAND entries are kept. */
+    cand_t cc[MAXK];
+    bool bg[MAXK], fl[MAXK];
     for (int j = 0; j < k; j++) {
-      if (j == k - 1 && !sky) {
-        isbg[j] = true;
-      } else {
-        bool present = (double)cl[j].windows / nwin >= p->coverage_min;
-        isbg[j] = flickers(&cl[j], npairs, p->flicker_lift) && present;
+      fl[j] = flickers(&cl[j], npairs, p->flicker_lift);
+      bg[j] = (j == k - 1 && !sky) || (fl[j] && (double)cl[j].windows / nwin >= p->coverage_min);
+    }
+    /* a flickering cluster just in front of a background one is the same
+     * surface, sampled two ways from turn to turn (a grazing surface whose
+     * footprint splits into a near and a far return of about the same
+     * strength): background, present in most windows or not (traffic may
+     * hide it) */
+    /* likewise a cluster just in front of a farthest one that flickers and
+     * returns less often: the farther return is the occasional one of the
+     * two (a vehicle standing in front of the road leaves the road to return
+     * steadily, not at random) */
+    for (int j = k - 2; j >= 0; j--) {
+      const int32_t gap_max = (int32_t)lround(100.0 * fmax(p->merge_gap_min, p->merge_gap_share * cl[j].lo / 100.0));
+      const bool weak_far = j == k - 2 && fl[j + 1] && cl[j + 1].count < cl[j].count;
+      if (!bg[j] && (fl[j] || weak_far) && bg[j + 1] && cl[j + 1].lo - cl[j].hi <= gap_max)
+        bg[j] = true;
+    }
+    int ne = 0;
+    for (int j = 0; j < k; j++) {
+      cand_t c = {cl[j].lo, cl[j].hi, (uint16_t)lround(10000.0 * cl[j].count / nf), 0, 0, 0};
+      c.farthest = j == k - 1 && !sky;
+      c.bg = bg[j];
+      c.stays = cl[j].pairs >= 10 && !fl[j];
+      const int32_t gap_max = (int32_t)lround(100.0 * fmax(p->merge_gap_min, p->merge_gap_share * c.lo / 100.0));
+      /* consecutive clusters decided alike and close together: one entry */
+      if (ne > 0 && c.bg == cc[ne - 1].bg && !c.farthest && c.lo - cc[ne - 1].hi <= gap_max) {
+        cand_t *e = &cc[ne - 1];
+        e->hi = c.hi;
+        e->seen = (uint16_t)(e->seen + c.seen > 10000 ? 10000 : e->seen + c.seen);
+        e->stays &= c.stays;
+        continue;
+      }
+      cc[ne++] = c;
+    }
+    const int first = ne > CAND ? ne - CAND : 0;
+    memcpy(&cand[cell * CAND], &cc[first], sizeof(cand_t) * (size_t)(ne - first));
+    ncand[cell] = (uint8_t)(ne - first);
+  }
+  if (p->method == RS_BG_PERCENTILE) goto done;
+
+  /* pass 2: a nearer cluster that a cell beside it in the row sees as part
+   * of its static scene in most frames is static here too, unless it was
+   * seen to stay for several frames (a vehicle): the edge of a pole or a
+   * facade, where the firings fall on one side or the other from turn to
+   * turn. This needs no long capture (the flicker and presence rules do).
+   * Only the row: the rows above and below look at other ranges of the
+   * ground, which a passing vehicle matches. Decided from the first pass
+   * only, so the order of the cells does not matter. */
+  if (p->support) {
+    uint16_t *add = calloc(cells, sizeof *add);
+    if (add == NULL) {
+      rc = RS_E_NOMEM;
+      goto done;
+    }
+    const int rows = l->rows, cols = l->cols;
+    for (size_t cell = 0; cell < cells; cell++) {
+      const int r = (int)(cell / (size_t)cols), col = (int)(cell % (size_t)cols);
+      const size_t base = cell - (size_t)col;
+      const size_t nb[4] = {base + (size_t)(col > 0 ? col - 1 : cols - 1), base + (size_t)(col + 1 < cols ? col + 1 : 0),
+                            r > 0 ? cell - (size_t)cols : SIZE_MAX, r + 1 < rows ? cell + (size_t)cols : SIZE_MAX};
+      for (int k = 0; k < ncand[cell]; k++) {
+        cand_t *c = &cand[cell * CAND + (size_t)k];
+        if (c->bg || c->stays) continue;
+        int32_t tol = (int32_t)lround(fmax(p->support_tol_min * 100.0, p->support_tol_share * c->lo));
+        int32_t tol_v = (int32_t)lround(fmax(10.0, 0.005 * c->lo));
+        for (int q = 0; q < 4 && !(add[cell] & (1u << k)); q++)
+          if (nb[q] != SIZE_MAX && supported(cand, ncand, nb[q], c->lo, c->hi, q < 2 ? tol : tol_v))
+            add[cell] |= (uint16_t)(1u << k);
       }
     }
-    /* background intervals with margins; a surface seen at a grazing angle
-     * spreads over a metre or more inside one cell and comes out as several
-     * clusters: neighbours with a small gap and no foreground cluster
-     * between them are one surface */
-    int32_t ilo[MAXK], ihi[MAXK];
+    for (size_t cell = 0; cell < cells; cell++)
+      for (int k = 0; k < ncand[cell]; k++)
+        if (add[cell] & (1u << k)) cand[cell * CAND + (size_t)k].bg = 1;
+    free(add);
+  }
+
+  /* pass 3: background intervals with margins; a surface seen at a grazing
+   * angle spreads over a metre or more inside one cell and comes out as
+   * several clusters: neighbours with a small gap and no foreground cluster
+   * between them are one surface */
+  for (size_t cell = 0; cell < cells; cell++) {
+    int32_t jlo[CAND], jhi[CAND];
     int ni = 0;
     bool fg_since = false;
-    for (int j = 0; j < k; j++) {
-      if (!isbg[j]) {
+    for (int j = 0; j < ncand[cell]; j++) {
+      const cand_t *c = &cand[cell * CAND + (size_t)j];
+      if (!c->bg) {
         fg_since = true;
         continue;
       }
-      int32_t mg = (int32_t)lround(100.0 * fmax(p->margin_min, p->margin_share * cl[j].lo / 100.0));
-      int32_t a = cl[j].lo - mg, b = cl[j].hi + mg;
-      int32_t gap_max = (int32_t)lround(100.0 * fmax(p->merge_gap_min, p->merge_gap_share * cl[j].lo / 100.0));
-      if (ni > 0 && !fg_since && a - ihi[ni - 1] <= gap_max) {
-        ihi[ni - 1] = b;
+      /* the margin: the noise floor, plus what a few samples of a spread
+       * surface do not show (n samples leave about spread / n uncovered on
+       * either side, 1/(n+1) of the draws each) */
+      const double spread_cm = (double)(c->hi - c->lo), ns = fmax(1.0, c->seen * nf / 10000.0);
+      int32_t mg = (int32_t)lround(100.0 * fmax(p->margin_min, p->margin_share * c->lo / 100.0) +
+                                   spread_cm * fmin(1.0, p->margin_samples / ns));
+      int32_t a = c->lo - mg, b = c->hi + mg;
+      int32_t gap_max = (int32_t)lround(100.0 * fmax(p->merge_gap_min, p->merge_gap_share * c->lo / 100.0));
+      if (ni > 0 && !fg_since && a - jhi[ni - 1] <= gap_max) {
+        jhi[ni - 1] = b;
       } else {
-        ilo[ni] = a;
-        ihi[ni] = b;
+        jlo[ni] = a;
+        jhi[ni] = b;
         ni++;
       }
       fg_since = false;
     }
     /* keep the farthest RS_BG_SURFACES, nearest first */
+    uint16_t *lo = out->lo + cell * RS_BG_SURFACES, *hi = out->hi + cell * RS_BG_SURFACES;
     int first = ni > RS_BG_SURFACES ? ni - RS_BG_SURFACES : 0, m = 0;
     for (int i = first; i < ni; i++) {
-      int32_t a = ilo[i] < 0 ? 0 : ilo[i], b = ihi[i] > 65534 ? 65534 : ihi[i];
+      int32_t a = jlo[i] < 0 ? 0 : jlo[i], b = jhi[i] > 65534 ? 65534 : jhi[i];
       if (m > 0 && a <= hi[m - 1]) {
         if (b > hi[m - 1]) hi[m - 1] = (uint16_t)b;
         continue;
@@ -547,8 +692,47 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
       m++;
     }
     out->n[cell] = (uint8_t)m;
+    /* solid: the farthest surface is seen in most frames (a wall, the road), not through */
+    if (m > 0 && ncand[cell] > 0) {
+      const cand_t *far = &cand[cell * CAND + (size_t)(ncand[cell] - 1)];
+      out->solid[cell] = far->bg && far->seen >= (uint16_t)lround(10000.0 * p->solid_share);
+    }
+  }
+
+  /* pass 4: a surface continues into the cells beside it in the row: the
+   * firings of a turn fall anywhere across a column, so a return may come
+   * from anywhere between the ranges the neighbours see. An interval reaches
+   * half-way to the nearest interval of the cell on either side when the two
+   * are close (a connected surface, not an edge). From the pass-3 intervals,
+   * so the order of the cells does not matter. */
+  if (p->connect_min > 0) {
+    memcpy(ilo, out->lo, cells * RS_BG_SURFACES * sizeof(uint16_t));
+    memcpy(ihi, out->hi, cells * RS_BG_SURFACES * sizeof(uint16_t));
+    const int cols = l->cols;
+    for (size_t cell = 0; cell < cells; cell++) {
+      const int col = (int)(cell % (size_t)cols);
+      const size_t base = cell - (size_t)col;
+      const size_t side[2] = {base + (size_t)(col > 0 ? col - 1 : cols - 1), base + (size_t)(col + 1 < cols ? col + 1 : 0)};
+      for (int k = 0; k < out->n[cell]; k++) {
+        const size_t i = cell * RS_BG_SURFACES + (size_t)k;
+        int32_t a = ilo[i], b = ihi[i];
+        const int32_t reach = (int32_t)lround(fmax(p->connect_min * 100.0, p->connect_share * a));
+        for (int q = 0; q < 2; q++)
+          for (int j = 0; j < out->n[side[q]]; j++) {
+            const size_t o = side[q] * RS_BG_SURFACES + (size_t)j;
+            if (ilo[o] > ihi[i] && ilo[o] - ihi[i] <= reach) b = (int32_t)fmax(b, (ihi[i] + ilo[o]) / 2);
+            if (ihi[o] < ilo[i] && ilo[i] - ihi[o] <= reach) a = (int32_t)fmin(a, (ihi[o] + ilo[i]) / 2);
+          }
+        /* never into the next interval of the same cell */
+        if (k > 0 && a <= out->hi[i - 1]) a = out->hi[i - 1] + 1;
+        if (k + 1 < out->n[cell] && b >= ilo[i + 1]) b = ilo[i + 1] - 1;
+        out->lo[i] = (uint16_t)a;
+        out->hi[i] = (uint16_t)b;
+      }
+    }
   }
 done:
+  free(ti);
   free(order);
   free(win);
   free(vals);
@@ -556,6 +740,10 @@ done:
   free(cnt);
   free(label);
   free(memb);
+  free(cand);
+  free(ncand);
+  free(ilo);
+  free(ihi);
   return rc;
 }
 
@@ -594,7 +782,8 @@ static double getf(const uint8_t *p) { return (double)(int32_t)get32(p) / 1000.0
  * rate_mhz u32 method u32 frames u32 created u64 min_pts_floor u32 then milli-units of
  * min_pts_share eps_min eps_max eps_step persist_max coverage_min window_s pair_gap_s
  * percentile percentile_tol (i32 each), surfaces per cell u32, margin_min margin_share
- * merge_gap_min merge_gap_share flicker_lift (milli-units); then per cell n u8, then
+ * merge_gap_min merge_gap_share flicker_lift (milli-units); then per cell a byte: the number of surfaces n (bits 0-6) and
+ * "solid" (bit 7: the farthest surface is seen in most frames), then
  * lo/hi u16 pairs [cells][RS_BG_SURFACES]; then CRC-32 of everything before it. */
 int rs_bg_save(const rs_bg_model_t *m, const char *path, char *err, size_t n) {
   const size_t cells = (size_t)m->rows * m->cols;
@@ -623,7 +812,7 @@ int rs_bg_save(const rs_bg_model_t *m, const char *path, char *err, size_t n) {
   const double g[4] = {m->params.margin_min, m->params.margin_share, m->params.merge_gap_min, m->params.merge_gap_share};
   for (int i = 0; i < 4; i++) putf(b + 96 + 4 * i, g[i]);
   putf(b + 112, m->params.flicker_lift);
-  memcpy(b + HDR_SIZE, m->n, cells);
+  for (size_t c = 0; c < cells; c++) b[HDR_SIZE + c] = (uint8_t)(m->n[c] | (m->solid[c] ? 0x80u : 0u));
   uint8_t *s = b + HDR_SIZE + cells;
   for (size_t i = 0; i < cells * RS_BG_SURFACES; i++) {
     put16(s + 4 * i, m->lo[i]);
@@ -674,8 +863,13 @@ int rs_bg_load(rs_bg_model_t *m, const char *path, char *err, size_t n) {
   }
   uint32_t rows = get32(b + 20), cols = get32(b + 24), model = get32(b + 16), k = get32(b + 92);
   if (get32(b + 12) != HDR_SIZE || k != RS_BG_SURFACES || rows < 1 || rows > RS_MAX_ROWS || cols < RS_MIN_COLS ||
-      cols > RS_MAX_COLS || rs_model_info((rs_model_t)model) == NULL) {
+      cols > RS_MAX_COLS || model == RS_MODEL_UNKNOWN || model >= RS_MODEL_COUNT) {
     snprintf(err, n, "%s: corrupt header (sensor %u, %u x %u cells)", path, model, rows, cols);
+    goto out;
+  }
+  if (rows != rs_model_info((rs_model_t)model)->lasers) {
+    snprintf(err, n, "%s: corrupt header: %u rows, a %s has %u lasers", path, rows, rs_model_name((rs_model_t)model),
+             rs_model_info((rs_model_t)model)->lasers);
     goto out;
   }
   size_t cells = (size_t)rows * cols, want = HDR_SIZE + cells + cells * RS_BG_SURFACES * 4 + 4;
@@ -704,7 +898,10 @@ int rs_bg_load(rs_bg_model_t *m, const char *path, char *err, size_t n) {
   double *g[4] = {&m->params.margin_min, &m->params.margin_share, &m->params.merge_gap_min, &m->params.merge_gap_share};
   for (int i = 0; i < 4; i++) *g[i] = getf(b + 96 + 4 * i);
   m->params.flicker_lift = getf(b + 112);
-  memcpy(m->n, b + HDR_SIZE, cells);
+  for (size_t c = 0; c < cells; c++) {
+    m->n[c] = b[HDR_SIZE + c] & 0x7Fu;
+    m->solid[c] = b[HDR_SIZE + c] >> 7;
+  }
   const uint8_t *s = b + HDR_SIZE + cells;
   for (size_t i = 0; i < cells * RS_BG_SURFACES; i++) {
     m->lo[i] = (uint16_t)get16(s + 4 * i);

@@ -20,12 +20,13 @@
 const char *rs_pipeline_csv_header(void) {
   return "frame,t_first,t_last,packets,points,columns,missing_packets,dropped_frames,"
          "out_of_order,duplicates,late_points,shifted,collisions,partial,rows,cols,rate_hz,return_mode,"
-         "first_packet,last_packet,layer0_cells,layer1_cells,min_range,max_range,process_us";
+         "first_packet,last_packet,layer0_cells,layer1_cells,min_range,max_range,process_us,foreground,clusters";
 }
 
-/* the configured see-through threshold, on a model as it becomes the one in use */
+/* the configured subtraction settings, on a model as it becomes the one in use */
 static void apply_see_through(const rs_pipeline_t *p, rs_bg_model_t *m) {
   if (m && p->cfg.bg_see_through) m->see_through = p->cfg.bg_see_through < 0 ? 0 : p->cfg.bg_see_through;
+  if (m) m->beyond_static = !p->cfg.bg_beyond_foreground;
 }
 
 int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *slots, int nslots) {
@@ -49,6 +50,11 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
     p->cfg.assembly.columns = cfg->background->cols;
   }
   p->proc.min_range = 1e30;
+  p->beyond_cells = calloc(RS_MAX_ROWS * RS_MAX_COLS, sizeof *p->beyond_cells);
+  if (p->beyond_cells == NULL) {
+    snprintf(p->input_err, sizeof p->input_err, "out of memory");
+    return RS_E_NOMEM;
+  }
   int rc = rs_stream_init(&p->stream, &cfg->stream);
   if (rc != RS_OK) {
     snprintf(p->input_err, sizeof p->input_err, "%s", p->stream.err);
@@ -295,6 +301,7 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
   }
   uint64_t fg0 = p->bg.foreground;
   if (p->cfg.background && s->meta.cols == p->cfg.background->cols && s->meta.rows == p->cfg.background->rows) {
+    p->bg.beyond_cells = p->beyond_cells;
     rs_bg_subtract(p->cfg.background, s, &p->bg);
     bg_ns = rs_now_ns() - t0;
     stage_time(p, &p->t_background, bg_ns);
@@ -386,11 +393,12 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
   }
   if (p->cfg.frames_out) {
     fprintf(p->cfg.frames_out,
-            "%" PRIu64 ",%.6f,%.6f,%u,%u,%u,%u,%" PRIu64 ",%u,%u,%u,%u,%u,%d,%u,%u,%.3f,%s,%u,%u,%u,%u,%.3f,%.3f,%.1f\n",
+            "%" PRIu64 ",%.6f,%.6f,%u,%u,%u,%u,%" PRIu64 ",%u,%u,%u,%u,%u,%d,%u,%u,%.3f,%s,%u,%u,%u,%u,%.3f,%.3f,%.1f,%" PRIu64
+            ",%u\n",
             m->seq, m->t_first, m->t_last, m->packets, m->points, m->columns, m->missing_packets, m->dropped_frames,
             m->out_of_order, m->duplicates, m->late_points, m->shifted, m->collisions, m->partial ? 1 : 0, m->rows, m->cols,
             (double)m->rate_hz, rs_return_mode_name(m->mode_byte), m->first_packet, m->last_packet, filled[0],
-            filled[1], (double)lo, (double)hi, (double)dt / 1000.0);
+            filled[1], (double)lo, (double)hi, (double)dt / 1000.0, p->bg.foreground - fg0, cs.clusters);
   }
 }
 
@@ -442,6 +450,8 @@ void rs_pipeline_join(rs_pipeline_t *p) {
 }
 
 void rs_pipeline_deinit(rs_pipeline_t *p) {
+  free(p->beyond_cells);
+  p->beyond_cells = NULL;
   if (p->learning) rs_bg_learner_free(&p->learner);
   p->learning = false;
   if (p->have_learned) rs_bg_model_free(&p->learned);
@@ -474,7 +484,7 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
   if (p->cfg.background) {
     const rs_bg_model_t *m = p->cfg.background;
     size_t cells = (size_t)m->rows * m->cols, changed = 0;
-    for (size_t c = 0; c < cells; c++) changed += m->beyond[c] > p->proc.frames / 2;
+    for (size_t c = 0; c < cells; c++) changed += p->beyond_cells[c] > p->proc.frames / 2;
     fprintf(out, "  background: %llu returns background, %llu foreground, %llu beyond the farthest surface",
             (unsigned long long)p->bg.background, (unsigned long long)p->bg.foreground,
             (unsigned long long)p->bg.beyond);

@@ -171,18 +171,26 @@ START_TEST(t_subtract) {
   slot.meta.cols = COLS;
   slot.range[0 * COLS + 3] = 20.0f;          /* wall: background */
   slot.range[2 * COLS + 3] = 9.0f;           /* queued car: foreground */
-  slot.range[0 * COLS + 4] = 35.0f;          /* beyond the wall: foreground, counted */
+  slot.range[0 * COLS + 4] = 35.0f;          /* beyond the wall: background (nothing moves behind it), counted */
   slot.range[RS_MAX_CELLS + 1 * COLS + 3] = 20.0f; /* layer 1 (dual): the wall */
-  rs_bg_counts_t c = {0, 0, 0};
+  static uint32_t beyond[ROWS * COLS];
+  rs_bg_counts_t c = {.beyond_cells = beyond};
   rs_bg_subtract(&model, &slot, &c);
-  ck_assert_uint_eq(c.background, 2);
-  ck_assert_uint_eq(c.foreground, 2);
+  ck_assert_uint_eq(c.background, 3);
+  ck_assert_uint_eq(c.foreground, 1);
   ck_assert_uint_eq(c.beyond, 1);
   ck_assert_int_eq(slot.label[0 * COLS + 3], 1);
   ck_assert_int_eq(slot.label[2 * COLS + 3], 2);
+  ck_assert_int_eq(slot.label[0 * COLS + 4], 1);
   ck_assert_int_eq(slot.label[RS_MAX_CELLS + 1 * COLS + 3], 1);
   ck_assert_int_eq(slot.label[0 * COLS + 5], 0); /* no return: untouched */
-  ck_assert_uint_eq(model.beyond[4], 1);
+  ck_assert_uint_eq(beyond[4], 1);
+  /* with beyond_static off, it is foreground (still counted) */
+  model.beyond_static = false;
+  memset(&c, 0, sizeof c);
+  rs_bg_subtract(&model, &slot, &c);
+  ck_assert_int_eq(slot.label[0 * COLS + 4], 2);
+  ck_assert_uint_eq(c.beyond, 1);
   rs_bg_model_free(&model);
 }
 END_TEST
@@ -204,7 +212,7 @@ static void see_through_probe(rs_bg_model_t *m, int see, uint16_t out[4]) {
   slot.meta.rows = ROWS;
   slot.meta.cols = COLS;
   for (int i = 0; i < 4; i++) slot.range[probe[i][0] * COLS + probe[i][1]] = 15.0f;
-  rs_bg_counts_t c = {0, 0, 0};
+  rs_bg_counts_t c = {0};
   rs_bg_subtract(m, &slot, &c);
   ck_assert_uint_eq(c.background + c.foreground, 4);
   for (int i = 0; i < 4; i++) out[i] = slot.label[probe[i][0] * COLS + probe[i][1]];

@@ -77,7 +77,7 @@ static void frame_stages(rs_slot_t *s) {
   t[ST_ASSEMBLY] = sg.asm_ns;
   sg.dec_ns = sg.asm_ns = 0;
   if (s->meta.partial || s->meta.cols != bgm.cols) return;
-  rs_bg_counts_t bc = {0, 0, 0};
+  rs_bg_counts_t bc = {0};
   int64_t a = rs_now_ns();
   rs_bg_subtract(&bgm, s, &bc);
   t[ST_BACKGROUND] = rs_now_ns() - a;

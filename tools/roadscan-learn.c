@@ -30,6 +30,8 @@ typedef struct {
   rs_bg_learner_t lr;
   bool lr_ready;
   int max_frames;
+  double seconds;         /* > 0: only the complete frames of the first `seconds` */
+  double t0;
   uint64_t seed;
   uint64_t frames;
   int rc;
@@ -40,6 +42,13 @@ static void on_frame(void *user, rs_slot_t *s) {
   if (L->rc != RS_OK) return;
   L->frames++;
   if (s->meta.partial) return;
+  if (L->seconds > 0) {
+    if (!L->lr_ready) L->t0 = s->meta.t_first;
+    if (s->meta.t_first - L->t0 >= L->seconds - 1e-6) {
+      framer.stop = true;
+      return;
+    }
+  }
   if (!L->lr_ready) {
     int mf = L->max_frames;
     while (mf > 2 && rs_bg_learner_bytes(s->meta.rows, s->meta.cols, mf) > MEMORY_BUDGET) mf--;
@@ -120,6 +129,7 @@ static void usage(FILE *out) {
           "       roadscan-learn --info MODEL [--image OUT.png]\n"
           "  -o, --output MODEL     the model file to write\n"
           "  --frames N             frames sampled at random over the capture (default 1000)\n"
+          "  --seconds S            learn from the complete frames of the first S seconds only\n"
           "  --seed S               sampling seed (default 1)\n"
           "  --method M             dbscan (default) or percentile (the common baseline)\n"
           "  --percentile P         percentile method: background at this percentile (default 50)\n"
@@ -127,6 +137,10 @@ static void usage(FILE *out) {
           "  --min-pts-floor N      DBSCAN minPts floor (default 10; minPts = max(floor, 1%% of samples))\n"
           "  --chain-gap M          clusters of a cell less than M metres apart are judged as one surface\n"
           "                         (default 0.20, 0 = off)\n"
+          "  --support on|off       a nearer cluster that a neighbouring cell sees as static in half\n"
+          "                         its frames or more is static too (edges; default on)\n"
+          "  --connect M            a surface reaches half-way to the one beside it in the row when\n"
+          "                         they are less than max(M, 5 %% of the range) apart (default 0.5, 0 = off)\n"
           "  --model NAME           force the sensor model (%s)\n"
           "  --calibration FILE     per-unit calibration (ROS velodyne YAML)\n"
           "  --columns N            azimuth bins (default: from the measured rate, as the daemon)\n"
@@ -136,9 +150,11 @@ static void usage(FILE *out) {
 }
 
 int main(int argc, char **argv) {
-  enum { O_FRAMES = 256, O_SEED, O_METHOD, O_PCT, O_TOL, O_FLOOR, O_MODEL, O_CALIB, O_COLS, O_IMAGE, O_INFO, O_HELP, O_CHAIN };
+  enum { O_SUPPORT = 200, O_CONNECT, O_FRAMES = 256, O_SECONDS, O_SEED, O_METHOD, O_PCT, O_TOL, O_FLOOR, O_MODEL, O_CALIB, O_COLS, O_IMAGE, O_INFO, O_HELP, O_CHAIN };
   static const struct option opts[] = {
       {"output", required_argument, NULL, 'o'},         {"frames", required_argument, NULL, O_FRAMES},
+      {"seconds", required_argument, NULL, O_SECONDS},
+      {"support", required_argument, NULL, O_SUPPORT},  {"connect", required_argument, NULL, O_CONNECT},
       {"seed", required_argument, NULL, O_SEED},        {"method", required_argument, NULL, O_METHOD},
       {"percentile", required_argument, NULL, O_PCT},   {"tolerance", required_argument, NULL, O_TOL},
       {"min-pts-floor", required_argument, NULL, O_FLOOR}, {"model", required_argument, NULL, O_MODEL},
@@ -163,6 +179,20 @@ int main(int argc, char **argv) {
     case O_FRAMES:
       if (rs_cfg_long("--frames", optarg, 10, 100000, &lv, err, sizeof err)) goto bad;
       L.max_frames = (int)lv;
+      break;
+    case O_SUPPORT:
+      if (strcmp(optarg, "on") == 0) params.support = true;
+      else if (strcmp(optarg, "off") == 0) params.support = false;
+      else {
+        snprintf(err, sizeof err, "--support: '%s' is not on or off", optarg);
+        goto bad;
+      }
+      break;
+    case O_CONNECT:
+      if (rs_cfg_double("--connect", optarg, 0, 10, &params.connect_min, err, sizeof err)) goto bad;
+      break;
+    case O_SECONDS:
+      if (rs_cfg_double("--seconds", optarg, 0.05, 1e6, &L.seconds, err, sizeof err)) goto bad;
       break;
     case O_SEED:
       if (rs_cfg_long("--seed", optarg, 0, 2147483647L, &lv, err, sizeof err)) goto bad;
@@ -245,9 +275,9 @@ int main(int argc, char **argv) {
   int rc = rs_framer_replay_file(&framer, argv[optind], err, sizeof err);
   if (rc != RS_OK) fprintf(stderr, "roadscan-learn: %s\n", err);
   if (rc == RS_E_NOENT || rc == RS_E_FORMAT || rc == RS_E_LINKTYPE || rc == RS_E_CALIB) return 1;
-  if (L.rc != RS_OK || !L.lr_ready || L.lr.nframes < 10) {
+  if (L.rc != RS_OK || !L.lr_ready || L.lr.nframes < 2) {
     fprintf(stderr, "roadscan-learn: %s: %s\n", argv[optind],
-            L.rc != RS_OK ? rs_strerror(L.rc) : "fewer than 10 complete frames: nothing to learn from");
+            L.rc != RS_OK ? rs_strerror(L.rc) : "fewer than 2 complete frames: nothing to learn from");
     return 1;
   }
   int64_t t1 = rs_now_ns();

@@ -39,7 +39,8 @@ static rs_publish_t publisher;
   X(RPM, "rpm", 1, "sensor") X(POSE, "pose", 1, "sensor") X(COLS, "columns", 1, "sensor")               \
   X(CUT, "cut-azimuth", 1, "sensor") X(BG, "background", 1, "background")                             \
   X(LEARN, "learn-seconds", 1, "background") X(LEARN_OUT, "learn-out", 1, "background")              \
-  X(SEE_THROUGH, "see-through", 1, "background") X(CLUSTER, "cluster", 1, "cluster")                   \
+  X(SEE_THROUGH, "see-through", 1, "background") X(BEYOND_FG, "beyond-foreground", 0, "background")  \
+  X(CLUSTER, "cluster", 1, "cluster")                                                                \
   X(WINDOW, "window", 1, "cluster") X(EPS, "eps", 1, "cluster") X(MINPTS, "min-pts", 1, "cluster")      \
   X(SEED_SURF, "seed-surfaces", 1, "cluster") X(BORDER_EPS, "border-eps", 1, "cluster")                 \
   X(SPARSE_MINPTS, "sparse-min-pts", 1, "cluster") X(MIN_HALF_W, "min-half-width", 1, "cluster")         \
@@ -102,8 +103,11 @@ static void usage(FILE *out) {
           "                       it learns; --fast does not)\n"
           "  --learn-out MODEL    save the model learned online\n"
           "  --see-through N      a return in a cell where the background has N or more static surfaces\n"
-          "                       (foliage, edges) is also background when its range lies in a static\n"
-          "                       surface of the cell beside it in the same row (default 2, 0 = off)\n",
+          "                       (foliage, edges), or none, is also background when its range lies in a\n"
+          "                       static surface of the cell beside it in the same row (default 2, 0 = off)\n"
+          "  --beyond-foreground  returns just beyond their cell's farthest static surface (within\n"
+          "                       max(0.3 m, 3 %%)) are foreground (default: background: the surface seen\n"
+          "                       from a sensor that moved a little); all beyond it are counted\n",
           rs_model_names());
   fprintf(out,
           "Clustering of the foreground [cluster]\n"
@@ -301,6 +305,7 @@ static int apply(int id, const char *val, const char *key, char *err, size_t n) 
     if (rs_cfg_long(key, v, 0, RS_BG_SURFACES, &l, err, n)) return RS_E_INVAL;
     st.cfg.bg_see_through = l == 0 ? -1 : (int)l;
     break;
+  case O_BEYOND_FG: return set_flag(key, v, &st.cfg.bg_beyond_foreground, err, n);
   case O_URL: st.pub.url = v; break;
   case O_CHANNEL: st.pub.channel = v; break;
   case O_STATS: st.pub.stats_channel = strcmp(v, "none") == 0 ? "" : v; break;

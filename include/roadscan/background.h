@@ -34,7 +34,7 @@
 #define RS_BG_SURFACES 4
 #define RS_BG_SEE_THROUGH 2
 #define RS_BG_MAGIC "RSBGMDL1"
-#define RS_BG_VERSION 1
+#define RS_BG_VERSION 2
 
 typedef enum { RS_BG_DBSCAN = 0, RS_BG_PERCENTILE = 1 } rs_bg_method_t;
 
@@ -51,11 +51,22 @@ typedef struct {
   double pair_gap_s;      /* samples closer than this count as consecutive, default 1 s */
   double margin_min;      /* a surface interval is the cluster's [min, max] widened by */
   double margin_share;    /* max(margin_min, margin_share * range): default 0.05 m, 0.006 */
+  double margin_samples;  /* ... plus the cluster's spread x min(1, margin_samples / its samples):
+                             what few samples do not show (default 4) */
   double merge_gap_min;   /* background clusters closer than max(merge_gap_min, */
   double merge_gap_share; /* merge_gap_share * range) merge: default 0.5 m, 0.02 */
   double chain_gap;       /* clusters of a cell less than this apart (m) are one for the decision
                              (a surface at a grazing angle comes in clumps); default 0.20, 0 = off;
                              not stored in the model file */
+  bool support;           /* a nearer cluster within support_tol of a background cluster that the
+                             cell beside it in the row sees in half its frames or more is background
+                             too, unless it stays for several frames (edges); default on; not stored
+                             in the model file */
+  double support_tol_min, support_tol_share; /* max(0.3 m, 3 % of the range) */
+  double connect_min;     /* a surface interval reaches half-way to the nearest interval of the
+                             cell on either side in the row when they are less than */
+  double connect_share;   /* max(connect_min, connect_share x range) apart: 0.5 m, 0.05; 0 = off */
+  double solid_share;     /* a farthest surface seen in this share of the frames is solid (0.8) */
   double percentile;      /* percentile method: background range percentile, default 50 */
   double percentile_tol;  /* ... minus this (m), default 0.3 */
 } rs_bg_params_t;
@@ -72,8 +83,11 @@ typedef struct {
   uint32_t frames;        /* frames learned from */
   uint64_t created;       /* unix time */
   uint8_t *n;             /* [cells] */
+  uint8_t *solid;         /* [cells]: 1 when the farthest surface is seen in most frames (nothing is
+                             seen through it) */
   uint16_t *lo, *hi;      /* [cells * RS_BG_SURFACES] */
-  uint32_t *beyond;       /* runtime: returns beyond the farthest surface, per cell */
+  bool beyond_static;     /* runtime: returns beyond a solid farthest surface, or just beyond one
+                             seen through (max(0.3 m, 3 %)), are background (default true) */
   int see_through;        /* runtime: cells of this many static surfaces or more also match the
                              surfaces of the cells beside them (0 = off; default RS_BG_SEE_THROUGH) */
 } rs_bg_model_t;
@@ -88,12 +102,14 @@ int rs_bg_load(rs_bg_model_t *m, const char *path, char *err, size_t n);
 bool rs_bg_is_static(const rs_bg_model_t *m, int row, int col, float r);
 
 typedef struct {
-  uint64_t background, foreground, beyond;
+  uint64_t background, foreground;
+  uint64_t beyond;          /* returns beyond their cell's farthest surface (background by default) */
+  uint32_t *beyond_cells;   /* optional, caller's [rows x cols]: the same per cell */
 } rs_bg_counts_t;
 
 /* Labels every return of the slot: 1 background, 2 foreground (until the
- * clustering stage relabels it). */
-void rs_bg_subtract(rs_bg_model_t *m, rs_slot_t *s, rs_bg_counts_t *c);
+ * clustering stage relabels it). The model is only read. */
+void rs_bg_subtract(const rs_bg_model_t *m, rs_slot_t *s, rs_bg_counts_t *c);
 
 /* ---- learning ---- */
 
@@ -112,6 +128,10 @@ int rs_bg_learner_init(rs_bg_learner_t *l, rs_model_t model, int rows, int cols,
 void rs_bg_learner_free(rs_bg_learner_t *l);
 /* Offers a frame; kept with reservoir sampling (uniform over all frames offered). */
 void rs_bg_learner_add(rs_bg_learner_t *l, const rs_slot_t *s);
+/* minPts for a capture of n frames: max(floor, share x n); a short capture
+ * brings the floor down to a tenth of its frames, never below 2 (1 below 6
+ * frames). */
+int rs_bg_min_pts(const rs_bg_params_t *p, int nframes);
 /* Clusters every cell into the model (allocated here). */
 int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz, rs_bg_model_t *out);
 

@@ -33,6 +33,13 @@
 _Static_assert(RS_MAX_COLS <= UINT16_MAX, "columns fit in uint16_t");
 _Static_assert((uint64_t)RS_MAX_CELLS * RS_LAYERS < UINT32_MAX, "cell index fits in uint32_t");
 
+/* Labels of the label map (and of the point-label files): */
+#define RS_LABEL_NONE 0         /* no return, or not labelled yet */
+#define RS_LABEL_STATIC 1       /* the static scene (background) */
+#define RS_LABEL_BACKGROUND RS_LABEL_STATIC
+#define RS_LABEL_NOISE 2        /* foreground left out of every cluster (truth: foliage, rain, dust) */
+#define RS_LABEL_FIRST_OBJECT 3 /* 3 + cluster number (truth: object id) */
+
 typedef struct {
   uint32_t packet;  /* data packet index in the capture */
   uint8_t block;

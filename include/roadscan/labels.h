@@ -10,15 +10,11 @@
 #define ROADSCAN_LABELS_H
 
 #include "roadscan/error.h"
+#include "roadscan/frame.h" /* the label values: RS_LABEL_* */
 
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
-
-#define RS_LABEL_NONE 0
-#define RS_LABEL_STATIC 1
-#define RS_LABEL_NOISE 2
-#define RS_LABEL_FIRST_OBJECT 3
 
 typedef struct {
   uint32_t packet;

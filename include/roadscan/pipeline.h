@@ -39,6 +39,7 @@ typedef struct {
   const char *labels_out;      /* optional point-label file of the pipeline's decisions */
   rs_bg_model_t *background;   /* optional static-scene model (processing thread) */
   int bg_see_through;          /* 0: the model's own see_through (RS_BG_SEE_THROUGH); N > 0: N; < 0: off */
+  bool bg_beyond_foreground;   /* returns beyond the farthest surface are foreground (default: background) */
   double learn_seconds;        /* > 0 and no model: learn from the first seconds, then subtract */
   const char *learn_out;       /* where the learned model is saved */
   rs_cluster_t *cluster;       /* optional: clustering work area, configured (processing thread) */
@@ -77,6 +78,8 @@ typedef struct {
   rs_timing_t t_frame;         /* processing per frame (processing thread) */
   rs_timing_t t_background;    /* background subtraction per frame */
   rs_bg_counts_t bg;           /* background / foreground returns (processing thread) */
+  uint32_t *beyond_cells;      /* returns beyond each cell's farthest surface (processing thread;
+                                  allocated at init) */
   rs_bg_learner_t learner;     /* online learning (processing thread) */
   bool learning;
   double learn_t0;
