@@ -34,8 +34,9 @@ void rs_bg_params_default(rs_bg_params_t *p) {
   p->support_tol_min = 0.3;
   p->support_tol_share = 0.03;
   p->connect_min = 0.5;
-  p->solid_share = 0.8;
   p->margin_samples = 4.0;
+  p->wide_min = 2.0;
+  p->wide_share = 0.15;
   p->connect_share = 0.05;
   p->percentile = 50.0;
   p->percentile_tol = 0.3;
@@ -49,10 +50,10 @@ int rs_bg_model_alloc(rs_bg_model_t *m, rs_model_t model, int rows, int cols) {
   m->rows = (uint16_t)rows;
   m->cols = (uint16_t)cols;
   m->n = calloc(cells, 1);
-  m->solid = calloc(cells, 1);
+  m->far_seen = calloc(cells, 1);
   m->lo = calloc(cells * RS_BG_SURFACES, sizeof(uint16_t));
   m->hi = calloc(cells * RS_BG_SURFACES, sizeof(uint16_t));
-  if (!m->n || !m->solid || !m->lo || !m->hi) {
+  if (!m->n || !m->far_seen || !m->lo || !m->hi) {
     rs_bg_model_free(m);
     return RS_E_NOMEM;
   }
@@ -64,8 +65,8 @@ int rs_bg_model_alloc(rs_bg_model_t *m, rs_model_t model, int rows, int cols) {
 
 void rs_bg_model_free(rs_bg_model_t *m) {
   free(m->n);
-  free(m->solid);
-  m->solid = NULL;
+  free(m->far_seen);
+  m->far_seen = NULL;
   free(m->lo);
   free(m->hi);
   m->n = NULL;
@@ -88,11 +89,13 @@ bool rs_bg_is_static(const rs_bg_model_t *m, int row, int col, float r) {
 }
 
 /* a see-through cell: does the range match a surface of the cell on either side? */
-static bool match_beside(const rs_bg_model_t *m, int row, int col, uint32_t cm) {
+/* a return matches a surface of the cell on either side in the row, of a
+ * cell whose farthest surface is seen in at least min_seen % of frames */
+static bool match_beside(const rs_bg_model_t *m, int row, int col, uint32_t cm, int min_seen) {
   const uint32_t cols = m->cols, base = (uint32_t)row * cols;
   const uint32_t left = base + (col > 0 ? (uint32_t)col - 1 : cols - 1);
   const uint32_t right = base + ((uint32_t)col + 1 < cols ? (uint32_t)col + 1 : 0);
-  return match(m, left, cm) || match(m, right, cm);
+  return (m->far_seen[left] >= min_seen && match(m, left, cm)) || (m->far_seen[right] >= min_seen && match(m, right, cm));
 }
 
 void rs_bg_subtract(const rs_bg_model_t *m, rs_slot_t *s, rs_bg_counts_t *c) {
@@ -105,7 +108,12 @@ void rs_bg_subtract(const rs_bg_model_t *m, rs_slot_t *s, rs_bg_counts_t *c) {
         const float range = s->range[base + (uint32_t)col];
         if (range == 0.0f) continue;
         const uint32_t cm = to_cm(range), cell = (uint32_t)r * (uint32_t)cols + (uint32_t)col;
-        if (match(m, cell, cm) || (see > 0 && (m->n[cell] >= see || m->n[cell] == 0) && match_beside(m, r, col, cm))) {
+        /* a cell the sensor sees through matches the surfaces beside it; a
+         * cell with none learned (too few returns) those of a cell beside it
+         * whose farthest surface is seen in half the frames or more (not a
+         * queue taken for the scene where the road is out of reach) */
+        if (match(m, cell, cm) ||
+            (see > 0 && (m->n[cell] >= see || m->n[cell] == 0) && match_beside(m, r, col, cm, m->n[cell] == 0 ? 50 : 0))) {
           s->label[base + (uint32_t)col] = RS_LABEL_BACKGROUND;
           c->background++;
           continue;
@@ -121,7 +129,7 @@ void rs_bg_subtract(const rs_bg_model_t *m, rs_slot_t *s, rs_bg_counts_t *c) {
           if (far != BEYOND && cm > far) {
             if (c->beyond_cells) c->beyond_cells[cell]++;
             c->beyond++;
-            if (m->beyond_static && (m->solid[cell] || cm - far <= (far < 1000u ? 30u : far * 3u / 100u))) {
+            if (m->beyond_static && (m->far_seen[cell] >= RS_BG_SOLID_PCT || cm - far <= (far < 1000u ? 30u : far * 3u / 100u))) {
               s->label[base + (uint32_t)col] = RS_LABEL_BACKGROUND;
               c->background++;
               continue;
@@ -480,6 +488,7 @@ typedef struct {
   uint8_t bg;       /* 1 background, 0 not (yet) */
   uint8_t farthest; /* the cell's static surface by the first rule */
   uint8_t stays;    /* seen to stay for several frames (enough pairs, no flicker): something standing */
+  uint8_t wide;     /* spread too wide for a surface */
 } cand_t;
 
 /* support from a neighbour: one of its background clusters, seen in at least
@@ -568,10 +577,14 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
      * background clusters close together are one entry (leaves of a canopy
      * come out as many clusters); the farthest CAND entries are kept. */
     cand_t cc[MAXK];
-    bool bg[MAXK], fl[MAXK];
+    bool bg[MAXK], fl[MAXK], wide[MAXK];
     for (int j = 0; j < k; j++) {
+      /* a cluster spread over more than max(2 m, 15 %) of range in one cell is
+       * no surface: a queue creeping through the cell, traffic in front of
+       * nothing the sensor can see (a dark road too far to return) */
+      wide[j] = cl[j].hi - cl[j].lo > (int32_t)lround(fmax(p->wide_min * 100.0, p->wide_share * cl[j].lo));
       fl[j] = flickers(&cl[j], npairs, p->flicker_lift);
-      bg[j] = (j == k - 1 && !sky) || (fl[j] && (double)cl[j].windows / nwin >= p->coverage_min);
+      bg[j] = !wide[j] && ((j == k - 1 && !sky) || (fl[j] && (double)cl[j].windows / nwin >= p->coverage_min));
     }
     /* a flickering cluster just in front of a background one is the same
      * surface, sampled two ways from turn to turn (a grazing surface whose
@@ -585,18 +598,19 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
     for (int j = k - 2; j >= 0; j--) {
       const int32_t gap_max = (int32_t)lround(100.0 * fmax(p->merge_gap_min, p->merge_gap_share * cl[j].lo / 100.0));
       const bool weak_far = j == k - 2 && fl[j + 1] && cl[j + 1].count < cl[j].count;
-      if (!bg[j] && (fl[j] || weak_far) && bg[j + 1] && cl[j + 1].lo - cl[j].hi <= gap_max)
+      if (!bg[j] && !wide[j] && (fl[j] || weak_far) && bg[j + 1] && cl[j + 1].lo - cl[j].hi <= gap_max)
         bg[j] = true;
     }
     int ne = 0;
     for (int j = 0; j < k; j++) {
-      cand_t c = {cl[j].lo, cl[j].hi, (uint16_t)lround(10000.0 * cl[j].count / nf), 0, 0, 0};
-      c.farthest = j == k - 1 && !sky;
+      cand_t c = {cl[j].lo, cl[j].hi, (uint16_t)lround(10000.0 * cl[j].count / nf), 0, 0, 0, 0};
+      c.farthest = j == k - 1 && !sky && !wide[j];
+      c.wide = wide[j];
       c.bg = bg[j];
       c.stays = cl[j].pairs >= 10 && !fl[j];
       const int32_t gap_max = (int32_t)lround(100.0 * fmax(p->merge_gap_min, p->merge_gap_share * c.lo / 100.0));
       /* consecutive clusters decided alike and close together: one entry */
-      if (ne > 0 && c.bg == cc[ne - 1].bg && !c.farthest && c.lo - cc[ne - 1].hi <= gap_max) {
+      if (ne > 0 && c.bg == cc[ne - 1].bg && !c.farthest && !c.wide && !cc[ne - 1].wide && c.lo - cc[ne - 1].hi <= gap_max) {
         cand_t *e = &cc[ne - 1];
         e->hi = c.hi;
         e->seen = (uint16_t)(e->seen + c.seen > 10000 ? 10000 : e->seen + c.seen);
@@ -633,7 +647,7 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
                             r > 0 ? cell - (size_t)cols : SIZE_MAX, r + 1 < rows ? cell + (size_t)cols : SIZE_MAX};
       for (int k = 0; k < ncand[cell]; k++) {
         cand_t *c = &cand[cell * CAND + (size_t)k];
-        if (c->bg || c->stays) continue;
+        if (c->bg || c->stays || c->wide) continue;
         int32_t tol = (int32_t)lround(fmax(p->support_tol_min * 100.0, p->support_tol_share * c->lo));
         int32_t tol_v = (int32_t)lround(fmax(10.0, 0.005 * c->lo));
         for (int q = 0; q < 4 && !(add[cell] & (1u << k)); q++)
@@ -692,10 +706,10 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
       m++;
     }
     out->n[cell] = (uint8_t)m;
-    /* solid: the farthest surface is seen in most frames (a wall, the road), not through */
+    /* how often the farthest surface is seen: solid (a wall, the road) or seen through */
     if (m > 0 && ncand[cell] > 0) {
       const cand_t *far = &cand[cell * CAND + (size_t)(ncand[cell] - 1)];
-      out->solid[cell] = far->bg && far->seen >= (uint16_t)lround(10000.0 * p->solid_share);
+      out->far_seen[cell] = far->bg ? (uint8_t)lround(far->seen / 100.0) : 0;
     }
   }
 
@@ -783,11 +797,11 @@ static double getf(const uint8_t *p) { return (double)(int32_t)get32(p) / 1000.0
  * min_pts_share eps_min eps_max eps_step persist_max coverage_min window_s pair_gap_s
  * percentile percentile_tol (i32 each), surfaces per cell u32, margin_min margin_share
  * merge_gap_min merge_gap_share flicker_lift (milli-units); then per cell a byte: the number of surfaces n (bits 0-6) and
- * "solid" (bit 7: the farthest surface is seen in most frames), then
+ * the percentage of frames in which its farthest surface is seen (u8), then
  * lo/hi u16 pairs [cells][RS_BG_SURFACES]; then CRC-32 of everything before it. */
 int rs_bg_save(const rs_bg_model_t *m, const char *path, char *err, size_t n) {
   const size_t cells = (size_t)m->rows * m->cols;
-  const size_t size = HDR_SIZE + cells + cells * RS_BG_SURFACES * 4 + 4;
+  const size_t size = HDR_SIZE + 2 * cells + cells * RS_BG_SURFACES * 4 + 4;
   uint8_t *b = calloc(size, 1);
   if (b == NULL) {
     snprintf(err, n, "%s: out of memory", path);
@@ -812,8 +826,11 @@ int rs_bg_save(const rs_bg_model_t *m, const char *path, char *err, size_t n) {
   const double g[4] = {m->params.margin_min, m->params.margin_share, m->params.merge_gap_min, m->params.merge_gap_share};
   for (int i = 0; i < 4; i++) putf(b + 96 + 4 * i, g[i]);
   putf(b + 112, m->params.flicker_lift);
-  for (size_t c = 0; c < cells; c++) b[HDR_SIZE + c] = (uint8_t)(m->n[c] | (m->solid[c] ? 0x80u : 0u));
-  uint8_t *s = b + HDR_SIZE + cells;
+  for (size_t c = 0; c < cells; c++) {
+    b[HDR_SIZE + 2 * c] = m->n[c];
+    b[HDR_SIZE + 2 * c + 1] = m->far_seen[c];
+  }
+  uint8_t *s = b + HDR_SIZE + 2 * cells;
   for (size_t i = 0; i < cells * RS_BG_SURFACES; i++) {
     put16(s + 4 * i, m->lo[i]);
     put16(s + 4 * i + 2, m->hi[i]);
@@ -872,7 +889,7 @@ int rs_bg_load(rs_bg_model_t *m, const char *path, char *err, size_t n) {
              rs_model_info((rs_model_t)model)->lasers);
     goto out;
   }
-  size_t cells = (size_t)rows * cols, want = HDR_SIZE + cells + cells * RS_BG_SURFACES * 4 + 4;
+  size_t cells = (size_t)rows * cols, want = HDR_SIZE + 2 * cells + cells * RS_BG_SURFACES * 4 + 4;
   if ((size_t)size != want) {
     snprintf(err, n, "%s: truncated or padded: %ld bytes, a %u x %u model has %zu", path, size, rows, cols, want);
     goto out;
@@ -899,10 +916,10 @@ int rs_bg_load(rs_bg_model_t *m, const char *path, char *err, size_t n) {
   for (int i = 0; i < 4; i++) *g[i] = getf(b + 96 + 4 * i);
   m->params.flicker_lift = getf(b + 112);
   for (size_t c = 0; c < cells; c++) {
-    m->n[c] = b[HDR_SIZE + c] & 0x7Fu;
-    m->solid[c] = b[HDR_SIZE + c] >> 7;
+    m->n[c] = b[HDR_SIZE + 2 * c];
+    m->far_seen[c] = b[HDR_SIZE + 2 * c + 1];
   }
-  const uint8_t *s = b + HDR_SIZE + cells;
+  const uint8_t *s = b + HDR_SIZE + 2 * cells;
   for (size_t i = 0; i < cells * RS_BG_SURFACES; i++) {
     m->lo[i] = (uint16_t)get16(s + 4 * i);
     m->hi[i] = (uint16_t)get16(s + 4 * i + 2);

@@ -35,6 +35,7 @@
 #define RS_BG_SEE_THROUGH 2
 #define RS_BG_MAGIC "RSBGMDL1"
 #define RS_BG_VERSION 2
+#define RS_BG_SOLID_PCT 80 /* a farthest surface seen in this % of frames or more is solid */
 
 typedef enum { RS_BG_DBSCAN = 0, RS_BG_PERCENTILE = 1 } rs_bg_method_t;
 
@@ -66,7 +67,8 @@ typedef struct {
   double connect_min;     /* a surface interval reaches half-way to the nearest interval of the
                              cell on either side in the row when they are less than */
   double connect_share;   /* max(connect_min, connect_share x range) apart: 0.5 m, 0.05; 0 = off */
-  double solid_share;     /* a farthest surface seen in this share of the frames is solid (0.8) */
+  double wide_min;        /* a cluster spread over more than max(wide_min, wide_share x range) is */
+  double wide_share;      /* no surface (a queue creeping through the cell): 2 m, 0.15 */
   double percentile;      /* percentile method: background range percentile, default 50 */
   double percentile_tol;  /* ... minus this (m), default 0.3 */
 } rs_bg_params_t;
@@ -83,8 +85,8 @@ typedef struct {
   uint32_t frames;        /* frames learned from */
   uint64_t created;       /* unix time */
   uint8_t *n;             /* [cells] */
-  uint8_t *solid;         /* [cells]: 1 when the farthest surface is seen in most frames (nothing is
-                             seen through it) */
+  uint8_t *far_seen;      /* [cells]: % of the frames learned from in which the farthest surface is
+                             seen (RS_BG_SOLID_PCT or more: solid, nothing is seen through it) */
   uint16_t *lo, *hi;      /* [cells * RS_BG_SURFACES] */
   bool beyond_static;     /* runtime: returns beyond a solid farthest surface, or just beyond one
                              seen through (max(0.3 m, 3 %)), are background (default true) */
