@@ -578,11 +578,12 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
      * come out as many clusters); the farthest CAND entries are kept. */
     cand_t cc[MAXK];
     bool bg[MAXK], fl[MAXK], wide[MAXK];
-    for (int j = 0; j < k; j++) {
-      /* a cluster spread over more than max(2 m, 15 %) of range in one cell is
-       * no surface: a queue creeping through the cell, traffic in front of
-       * nothing the sensor can see (a dark road too far to return) */
+    /* a cluster spread over more than max(2 m, 15 %) of range in one cell is
+     * no surface: a queue creeping through the cell, traffic in front of
+     * nothing the sensor can see (a dark road too far to return) */
+    for (int j = 0; j < k; j++)
       wide[j] = cl[j].hi - cl[j].lo > (int32_t)lround(fmax(p->wide_min * 100.0, p->wide_share * cl[j].lo));
+    for (int j = 0; j < k; j++) {
       fl[j] = flickers(&cl[j], npairs, p->flicker_lift);
       bg[j] = !wide[j] && ((j == k - 1 && !sky) || (fl[j] && (double)cl[j].windows / nwin >= p->coverage_min));
     }
