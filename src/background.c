@@ -98,48 +98,74 @@ static bool match_beside(const rs_bg_model_t *m, int row, int col, uint32_t cm, 
   return (m->far_seen[left] >= min_seen && match(m, left, cm)) || (m->far_seen[right] >= min_seen && match(m, right, cm));
 }
 
+/* one return: background? (*beyond: it lies beyond the cell's farthest surface) */
+static bool classify(const rs_bg_model_t *m, int r, int col, uint32_t cell, uint32_t cm, bool *beyond) {
+  *beyond = false;
+  /* a cell the sensor sees through matches the surfaces beside it; a cell
+   * with none learned (too few returns) those of a cell beside it whose
+   * farthest surface is seen in half the frames or more (not a queue taken
+   * for the scene where the road is out of reach) */
+  const int see = m->see_through;
+  if (match(m, cell, cm) ||
+      (see > 0 && (m->n[cell] >= see || m->n[cell] == 0) && match_beside(m, r, col, cm, m->n[cell] == 0 ? 50 : 0)))
+    return true;
+  /* beyond the farthest surface: a surface has gone, or the sensor moved
+   * (counted). Behind a solid surface (seen in most frames) nothing moves:
+   * background. Behind one the sensor sees through (a canopy) only just
+   * behind it (max(0.3 m, 3 %): the surface seen from a slightly different
+   * place); farther, it can be a vehicle. */
+  const uint32_t nk = m->n[cell];
+  if (nk == 0) return false;
+  const uint32_t far = m->hi[cell * RS_BG_SURFACES + nk - 1];
+  if (far == BEYOND || cm <= far) return false;
+  *beyond = true;
+  return m->beyond_static && (m->far_seen[cell] >= RS_BG_SOLID_PCT || cm - far <= (far < 1000u ? 30u : far * 3u / 100u));
+}
+
+bool rs_bg_return_static(const rs_bg_model_t *m, int row, int col, float r, bool *beyond) {
+  bool b;
+  bool st = classify(m, row, col, (uint32_t)row * m->cols + (uint32_t)col, to_cm(r), &b);
+  if (beyond) *beyond = b;
+  return st;
+}
+
 void rs_bg_subtract(const rs_bg_model_t *m, rs_slot_t *s, rs_bg_counts_t *c) {
   const int rows = s->meta.rows, cols = s->meta.cols;
-  const int see = m->see_through;
   for (int l = 0; l < RS_LAYERS; l++)
     for (int r = 0; r < rows; r++) {
       const uint32_t base = (uint32_t)l * RS_MAX_CELLS + (uint32_t)r * (uint32_t)cols;
       for (int col = 0; col < cols; col++) {
         const float range = s->range[base + (uint32_t)col];
         if (range == 0.0f) continue;
-        const uint32_t cm = to_cm(range), cell = (uint32_t)r * (uint32_t)cols + (uint32_t)col;
-        /* a cell the sensor sees through matches the surfaces beside it; a
-         * cell with none learned (too few returns) those of a cell beside it
-         * whose farthest surface is seen in half the frames or more (not a
-         * queue taken for the scene where the road is out of reach) */
-        if (match(m, cell, cm) ||
-            (see > 0 && (m->n[cell] >= see || m->n[cell] == 0) && match_beside(m, r, col, cm, m->n[cell] == 0 ? 50 : 0))) {
-          s->label[base + (uint32_t)col] = RS_LABEL_BACKGROUND;
-          c->background++;
-          continue;
+        const uint32_t cell = (uint32_t)r * (uint32_t)cols + (uint32_t)col;
+        bool beyond;
+        const bool st = classify(m, r, col, cell, to_cm(range), &beyond);
+        if (beyond) {
+          if (c->beyond_cells) c->beyond_cells[cell]++;
+          c->beyond++;
         }
-        /* beyond the farthest surface: a surface has gone, or the sensor
-         * moved (counted). Behind a solid surface (seen in most frames)
-         * nothing moves: background. Behind one the sensor sees through (a
-         * canopy) only just behind it (max(0.3 m, 3 %): the surface seen
-         * from a slightly different place); farther, it can be a vehicle. */
-        const uint32_t nk = m->n[cell];
-        if (nk > 0) {
-          const uint32_t far = m->hi[cell * RS_BG_SURFACES + nk - 1];
-          if (far != BEYOND && cm > far) {
-            if (c->beyond_cells) c->beyond_cells[cell]++;
-            c->beyond++;
-            if (m->beyond_static && (m->far_seen[cell] >= RS_BG_SOLID_PCT || cm - far <= (far < 1000u ? 30u : far * 3u / 100u))) {
-              s->label[base + (uint32_t)col] = RS_LABEL_BACKGROUND;
-              c->background++;
-              continue;
-            }
-          }
-        }
-        s->label[base + (uint32_t)col] = RS_LABEL_NOISE;
-        c->foreground++;
+        s->label[base + (uint32_t)col] = st ? RS_LABEL_BACKGROUND : RS_LABEL_NOISE;
+        if (st) c->background++;
+        else c->foreground++;
       }
     }
+}
+
+int rs_bg_model_copy(rs_bg_model_t *dst, const rs_bg_model_t *src) {
+  int rc = rs_bg_model_alloc(dst, src->model, src->rows, src->cols);
+  if (rc != RS_OK) return rc;
+  const size_t cells = (size_t)src->rows * src->cols;
+  dst->rate_hz = src->rate_hz;
+  dst->params = src->params;
+  dst->frames = src->frames;
+  dst->created = src->created;
+  dst->see_through = src->see_through;
+  dst->beyond_static = src->beyond_static;
+  memcpy(dst->n, src->n, cells);
+  memcpy(dst->far_seen, src->far_seen, cells);
+  memcpy(dst->lo, src->lo, cells * RS_BG_SURFACES * sizeof *dst->lo);
+  memcpy(dst->hi, src->hi, cells * RS_BG_SURFACES * sizeof *dst->hi);
+  return RS_OK;
 }
 
 /* ---- 1-D DBSCAN on sorted unique values with counts ---- */
@@ -275,6 +301,17 @@ static uint64_t next_rand(uint64_t *s) {
   *s ^= *s >> 7;
   *s ^= *s << 17;
   return *s;
+}
+
+void rs_bg_learner_set(rs_bg_learner_t *l, int f, const rs_slot_t *s) {
+  if (f < 0 || f >= l->max_frames || s->meta.rows != l->rows || s->meta.cols != l->cols) return;
+  if (f >= l->nframes) l->nframes = f + 1;
+  l->t[f] = s->meta.t_first;
+  const size_t cells = (size_t)l->rows * (size_t)l->cols;
+  for (size_t i = 0; i < cells; i++) {
+    float r = s->range[i];
+    l->samples[i * (size_t)l->max_frames + (size_t)f] = r <= 0.0f ? 0 : (r >= 655.0f ? 65534 : (uint16_t)(r * 100.0f + 0.5f));
+  }
 }
 
 void rs_bg_learner_add(rs_bg_learner_t *l, const rs_slot_t *s) {
@@ -586,6 +623,9 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
     for (int j = 0; j < k; j++) {
       fl[j] = flickers(&cl[j], npairs, p->flicker_lift);
       bg[j] = !wide[j] && ((j == k - 1 && !sky) || (fl[j] && (double)cl[j].windows / nwin >= p->coverage_min));
+      /* under RS_BG_JUDGE_FRAMES frames nothing tells what stays from what
+       * flickers: everything seen is the scene */
+      if (nf < RS_BG_JUDGE_FRAMES) bg[j] = !wide[j];
     }
     /* a flickering cluster just in front of a background one is the same
      * surface, sampled two ways from turn to turn (a grazing surface whose

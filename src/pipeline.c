@@ -23,16 +23,10 @@ const char *rs_pipeline_csv_header(void) {
          "first_packet,last_packet,layer0_cells,layer1_cells,min_range,max_range,process_us,foreground,clusters";
 }
 
-/* the configured subtraction settings, on a model as it becomes the one in use */
-static void apply_see_through(const rs_pipeline_t *p, rs_bg_model_t *m) {
-  if (m && p->cfg.bg_see_through) m->see_through = p->cfg.bg_see_through < 0 ? 0 : p->cfg.bg_see_through;
-  if (m) m->beyond_static = !p->cfg.bg_beyond_foreground;
-}
 
 int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *slots, int nslots) {
   memset(p, 0, sizeof *p);
   p->cfg = *cfg;
-  apply_see_through(p, p->cfg.background);
   p->slots = slots;
   p->cur = -1;
   atomic_init(&p->stop, false);
@@ -54,6 +48,24 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
   if (p->beyond_cells == NULL) {
     snprintf(p->input_err, sizeof p->input_err, "out of memory");
     return RS_E_NOMEM;
+  }
+  /* the static scene: learned first (learn_seconds) or loaded, kept current
+   * (update_window_s) by the updater's learner thread */
+  if (cfg->background || cfg->learn_seconds > 0) {
+    rs_bgu_cfg_t bc;
+    rs_bgu_cfg_default(&bc);
+    bc.learn_seconds = cfg->background ? 0 : cfg->learn_seconds;
+    bc.window_s = cfg->update_window_s;
+    if (cfg->update_every_s > 0) bc.every_s = cfg->update_every_s;
+    bc.sync = cfg->lossless;
+    bc.see_through = cfg->bg_see_through == 0 ? RS_BG_SEE_THROUGH : (cfg->bg_see_through < 0 ? 0 : cfg->bg_see_through);
+    bc.beyond_static = !cfg->bg_beyond_foreground;
+    int brc = rs_bgu_init(&p->bgu, &bc, cfg->background);
+    if (brc != RS_OK) {
+      snprintf(p->input_err, sizeof p->input_err, "background updater: %s", rs_strerror(brc));
+      return brc;
+    }
+    p->bgu_on = true;
   }
   int rc = rs_stream_init(&p->stream, &cfg->stream);
   if (rc != RS_OK) {
@@ -213,48 +225,26 @@ static void write_labels(rs_pipeline_t *p, const rs_slot_t *s) {
                     (int)(label_buf[i].key % 32u), label_buf[i].label);
 }
 
-/* Online learning: the first learn_seconds of complete frames (start-up:
- * the sample buffer is allocated at the first frame), then the model is
- * learned here, saved, and used from the next frame on. While it learns the
- * processing thread is busy: real-time replay drops frames meanwhile. */
-static void learn_frame(rs_pipeline_t *p, const rs_slot_t *s) {
-  if (s->meta.partial) return;
-  if (!p->learning) {
-    double hz = s->meta.rate_hz > 0 ? s->meta.rate_hz : 10.0;
-    int frames = (int)ceil(p->cfg.learn_seconds * hz) + 2;
-    if (rs_bg_learner_init(&p->learner, s->meta.model, s->meta.rows, s->meta.cols, frames, 1) != RS_OK) {
-      rs_log(RS_LOG_ERR, "cannot allocate %d frames for learning the background; going on without", frames);
-      p->cfg.learn_seconds = 0;
-      return;
-    }
-    p->learning = true;
-    p->learn_t0 = s->meta.t_first;
-    rs_log(RS_LOG_INFO, "learning the background from the first %.0f s", p->cfg.learn_seconds);
+/* Says once when the model in use was learned from less than a site with
+ * traffic needs (it is used all the same, and kept current). */
+static void check_model(rs_pipeline_t *p, const rs_bg_model_t *m, const rs_slot_t *s) {
+  if (m == NULL || s->meta.partial) return;
+  if (!p->rate_checked && m->rate_hz > 0) {
+    p->rate_checked = true;
+    double want = m->rate_hz, got = s->meta.rate_hz;
+    if (fabs(got - want) > 0.05 * want)
+      rs_log(RS_LOG_WARN, "the sensor turns at %.2f Hz, the background model was learned at %.2f Hz: relearn it", got,
+             want);
   }
-  if (s->meta.t_first - p->learn_t0 < p->cfg.learn_seconds && p->learner.nframes < p->learner.max_frames) {
-    rs_bg_learner_add(&p->learner, s);
-    return;
+  const double hz = m->rate_hz > 0 ? m->rate_hz : (s->meta.rate_hz > 0 ? s->meta.rate_hz : 10.0);
+  if (!p->few_warned && m->frames < RS_BG_SITE_SECONDS * hz * 0.5) {
+    p->few_warned = true;
+    rs_log(RS_LOG_WARN,
+           "the background model was learned from %u frames (%.1f s at %.1f Hz): a site with traffic needs %.0f s "
+           "of it for vehicles that stop to be told from the scene (a scene without traffic needs about 1 s); it is "
+           "used, and kept current from what the sensor sees%s",
+           m->frames, m->frames / hz, hz, RS_BG_SITE_SECONDS, p->cfg.update_window_s > 0 ? "" : " (not: --update-minutes 0)");
   }
-  int64_t t0 = rs_now_ns();
-  rs_bg_params_t params;
-  rs_bg_params_default(&params);
-  int rc = rs_bg_learn(&p->learner, &params, s->meta.rate_hz, &p->learned);
-  p->learn_s = (double)(rs_now_ns() - t0) * 1e-9;
-  rs_bg_learner_free(&p->learner);
-  p->learning = false;
-  p->cfg.learn_seconds = 0;
-  if (rc != RS_OK) {
-    rs_log(RS_LOG_ERR, "learning the background failed: %s", rs_strerror(rc));
-    return;
-  }
-  p->have_learned = true;
-  p->cfg.background = &p->learned;
-  apply_see_through(p, p->cfg.background);
-  char err[RS_ERRMSG_SIZE];
-  if (p->cfg.learn_out && rs_bg_save(&p->learned, p->cfg.learn_out, err, sizeof err) != RS_OK)
-    rs_log(RS_LOG_ERR, "%s", err);
-  rs_log(RS_LOG_INFO, "background learned from %u frames in %.1f s%s%s", p->learned.frames, p->learn_s,
-          p->cfg.learn_out ? ", saved to " : "", p->cfg.learn_out ? p->cfg.learn_out : "");
 }
 
 static void stage_time(rs_pipeline_t *p, rs_timing_t *t, int64_t ns) {
@@ -289,30 +279,37 @@ static void maybe_log_line(rs_pipeline_t *p) {
 static const rs_object_list_t no_objects;
 
 static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
-  if (p->cfg.learn_seconds > 0 && p->cfg.background == NULL) learn_frame(p, s);
-  int64_t t0 = rs_now_ns();
   int64_t bg_ns = 0, cl_ns = 0, obj_ns = 0, pub_ns = 0;
-  if (p->cfg.background && !p->rate_checked && !s->meta.partial && p->cfg.background->rate_hz > 0) {
-    p->rate_checked = true;
-    double want = p->cfg.background->rate_hz, got = s->meta.rate_hz;
-    if (fabs(got - want) > 0.05 * want)
-      rs_log(RS_LOG_WARN, "the sensor turns at %.2f Hz, the background model was learned at %.2f Hz: relearn it", got,
-             want);
+  const rs_bg_model_t *bgm = NULL;
+  if (p->bgu_on) {
+    /* outside the frame's time: it waits for the learner only in lossless replays */
+    if (rs_bgu_frame(&p->bgu, s)) {
+      /* another model: the cells' counts of returns beyond start again */
+      memset(p->beyond_cells, 0, sizeof(uint32_t) * (size_t)s->meta.rows * s->meta.cols);
+      if (p->cfg.learn_out && p->bgu.updates == 0 && !p->saved_learned) {
+        char err[RS_ERRMSG_SIZE];
+        p->saved_learned = true;
+        if (rs_bg_save(rs_bgu_model(&p->bgu), p->cfg.learn_out, err, sizeof err) != RS_OK) rs_log(RS_LOG_ERR, "%s", err);
+        else rs_log(RS_LOG_INFO, "background model saved to %s", p->cfg.learn_out);
+      }
+    }
+    bgm = rs_bgu_model(&p->bgu);
+    check_model(p, bgm, s);
   }
+  int64_t t0 = rs_now_ns();
   uint64_t fg0 = p->bg.foreground;
-  if (p->cfg.background && s->meta.cols == p->cfg.background->cols && s->meta.rows == p->cfg.background->rows) {
+  const bool geo = bgm && s->meta.cols == bgm->cols && s->meta.rows == bgm->rows;
+  if (geo) {
     p->bg.beyond_cells = p->beyond_cells;
-    rs_bg_subtract(p->cfg.background, s, &p->bg);
+    rs_bg_subtract(bgm, s, &p->bg);
     bg_ns = rs_now_ns() - t0;
     stage_time(p, &p->t_background, bg_ns);
   }
   rs_cluster_stats_t cs;
   memset(&cs, 0, sizeof cs);
   const rs_object_list_t *objs = &no_objects;
-  if (p->cfg.cluster && p->cfg.cluster->cfg.method != RS_CLUSTER_NONE && (p->cfg.background || p->cfg.learn_seconds <= 0)) {
+  if (p->cfg.cluster && p->cfg.cluster->cfg.method != RS_CLUSTER_NONE && (bgm || !p->bgu_on)) {
     int64_t tc = rs_now_ns();
-    const rs_bg_model_t *bgm = p->cfg.background;
-    bool geo = bgm && bgm->cols == s->meta.cols && bgm->rows == s->meta.rows;
     p->cfg.cluster->bg_surfaces = geo ? bgm->n : NULL;
     rs_cluster_run(p->cfg.cluster, s, &cs);
     cl_ns = rs_now_ns() - tc;
@@ -452,10 +449,8 @@ void rs_pipeline_join(rs_pipeline_t *p) {
 void rs_pipeline_deinit(rs_pipeline_t *p) {
   free(p->beyond_cells);
   p->beyond_cells = NULL;
-  if (p->learning) rs_bg_learner_free(&p->learner);
-  p->learning = false;
-  if (p->have_learned) rs_bg_model_free(&p->learned);
-  p->have_learned = false;
+  if (p->bgu_on) rs_bgu_deinit(&p->bgu);
+  p->bgu_on = false;
   if (p->labels_open) rs_labels_finish(&p->labels);
   p->labels_open = false;
   rs_capture_close(&p->cap);
@@ -481,10 +476,29 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
           (unsigned long long)a->missing_packets, (unsigned long long)a->out_of_order,
           (unsigned long long)a->duplicates, (unsigned long long)a->late_points, (unsigned long long)a->collisions);
   fprintf(out, "  points: %llu\n", (unsigned long long)p->proc.points);
-  if (p->cfg.background) {
-    const rs_bg_model_t *m = p->cfg.background;
+  const rs_bg_model_t *m = p->bgu_on ? rs_bgu_model(&p->bgu) : NULL;
+  if (p->bgu_on && m == NULL) fprintf(out, "  background: none yet (learning the first %.1f s)\n", p->cfg.learn_seconds);
+  if (m) {
     size_t cells = (size_t)m->rows * m->cols, changed = 0;
     for (size_t c = 0; c < cells; c++) changed += p->beyond_cells[c] > p->proc.frames / 2;
+    const rs_bgu_t *u = &p->bgu;
+    fprintf(out, "  background model: learned from %u frames%s; ", u->initial_frames,
+            p->cfg.background ? " (loaded)" : "");
+    if (p->cfg.update_window_s > 0)
+      fprintf(out, "kept current from the last %.0f s: %llu updates, %llu not taken, %llu failed", p->cfg.update_window_s,
+              (unsigned long long)u->updates, (unsigned long long)u->rejected, (unsigned long long)u->failed);
+    else
+      fprintf(out, "not updated (--update-minutes 0)");
+    if (u->changed_at > 0) {
+      char when[64], wall[64];
+      time_t c = (time_t)u->changed_at, w = (time_t)u->changed_wall;
+      strftime(when, sizeof when, "%Y-%m-%d %H:%M:%S UTC", gmtime(&c));
+      strftime(wall, sizeof wall, "%Y-%m-%d %H:%M:%S UTC", gmtime(&w));
+      fprintf(out, "; last changed at capture time %s (%s here)", when, wall);
+    } else {
+      fprintf(out, "; unchanged since start");
+    }
+    fprintf(out, "\n");
     fprintf(out, "  background: %llu returns background, %llu foreground, %llu beyond the farthest surface",
             (unsigned long long)p->bg.background, (unsigned long long)p->bg.foreground,
             (unsigned long long)p->bg.beyond);
@@ -517,7 +531,7 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
   rs_stream_print_errors(n, out);
   fprintf(out, "\n  timings (CLOCK_MONOTONIC):\n");
   rs_timing_print(&p->t_packet, out);
-  if (p->cfg.background) rs_timing_print(&p->t_background, out);
+  if (p->bgu_on) rs_timing_print(&p->t_background, out);
   if (p->cfg.cluster && p->cfg.cluster->cfg.method != RS_CLUSTER_NONE) rs_timing_print(&p->t_cluster, out);
   if (p->t_objects.n) rs_timing_print(&p->t_objects, out);
   if (p->t_publish.n) rs_timing_print(&p->t_publish, out);

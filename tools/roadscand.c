@@ -39,6 +39,7 @@ static rs_publish_t publisher;
   X(RPM, "rpm", 1, "sensor") X(POSE, "pose", 1, "sensor") X(COLS, "columns", 1, "sensor")               \
   X(CUT, "cut-azimuth", 1, "sensor") X(BG, "background", 1, "background")                             \
   X(LEARN, "learn-seconds", 1, "background") X(LEARN_OUT, "learn-out", 1, "background")              \
+  X(UPDATE_MIN, "update-minutes", 1, "background") X(UPDATE_EVERY, "update-every", 1, "background")    \
   X(SEE_THROUGH, "see-through", 1, "background") X(BEYOND_FG, "beyond-foreground", 0, "background")  \
   X(CLUSTER, "cluster", 1, "cluster")                                                                \
   X(WINDOW, "window", 1, "cluster") X(EPS, "eps", 1, "cluster") X(MINPTS, "min-pts", 1, "cluster")      \
@@ -99,9 +100,13 @@ static void usage(FILE *out) {
           "  --background MODEL   static-scene model (roadscan-learn): its returns are labelled 1,\n"
           "                       the rest 2 until clustering\n"
           "  --learn-seconds N    with no --background: learn the model from the first N seconds\n"
-          "                       of frames, then subtract it (real-time replay drops frames while\n"
-          "                       it learns; --fast does not)\n"
+          "                       of frames, then subtract it (learned in a low-priority thread;\n"
+          "                       until then nothing is clustered; --fast waits for it)\n"
           "  --learn-out MODEL    save the model learned online\n"
+          "  --update-minutes M   keep the model current from the last M minutes of frames (a relearn\n"
+          "                       on sampled frames in a low-priority thread, taken over when it\n"
+          "                       explains them at least as well; default 10, 0 = off)\n"
+          "  --update-every S     relearn every S seconds of sensor time (default 60)\n"
           "  --see-through N      a return in a cell where the background has N or more static surfaces\n"
           "                       (foliage, edges), or none, is also background when its range lies in a\n"
           "                       static surface of the cell beside it in the same row (default 2, 0 = off)\n"
@@ -253,9 +258,16 @@ static int apply(int id, const char *val, const char *key, char *err, size_t n) 
   case O_LABELS: cfg->labels_out = v; break;
   case O_BG: st.bg_path = v; break;
   case O_LEARN:
-    if (rs_cfg_double(key, v, 1.0, 3600.0, &cfg->learn_seconds, err, n)) return RS_E_INVAL;
+    if (rs_cfg_double(key, v, 0.1, 3600.0, &cfg->learn_seconds, err, n)) return RS_E_INVAL;
     break;
   case O_LEARN_OUT: cfg->learn_out = v; break;
+  case O_UPDATE_MIN:
+    if (rs_cfg_double(key, v, 0.0, 1440.0, &d, err, n)) return RS_E_INVAL;
+    cfg->update_window_s = d * 60.0;
+    break;
+  case O_UPDATE_EVERY:
+    if (rs_cfg_double(key, v, 5.0, 86400.0, &cfg->update_every_s, err, n)) return RS_E_INVAL;
+    break;
   case O_CLUSTER: {
     int m = rs_cluster_method_from_name(v);
     if (m < 0) {
@@ -388,6 +400,7 @@ int main(int argc, char **argv) {
   cfg->capture.data_port = RS_DEFAULT_DATA_PORT;
   cfg->stream.log = stderr;
   cfg->assembly.default_hz = 10.0;
+  cfg->update_window_s = 600.0;
   cfg->summary_s = 10.0;
   rs_cluster_cfg_default(&st.ccfg);
   char err[RS_ERRMSG_SIZE];

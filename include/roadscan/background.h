@@ -35,7 +35,8 @@
 #define RS_BG_SEE_THROUGH 2
 #define RS_BG_MAGIC "RSBGMDL1"
 #define RS_BG_VERSION 2
-#define RS_BG_SOLID_PCT 80 /* a farthest surface seen in this % of frames or more is solid */
+#define RS_BG_SOLID_PCT 80
+#define RS_BG_JUDGE_FRAMES 10 /* fewer frames: every cluster seen is the scene */ /* a farthest surface seen in this % of frames or more is solid */
 
 typedef enum { RS_BG_DBSCAN = 0, RS_BG_PERCENTILE = 1 } rs_bg_method_t;
 
@@ -100,8 +101,14 @@ int rs_bg_save(const rs_bg_model_t *m, const char *path, char *err, size_t n);
 /* Checks magic, version, sizes, CRC and every interval; the message names the problem. */
 int rs_bg_load(rs_bg_model_t *m, const char *path, char *err, size_t n);
 
-/* Is a return of range r (m) in cell (row, col) background? */
+/* Is a return of range r (m) in cell (row, col) in a surface of the cell? */
 bool rs_bg_is_static(const rs_bg_model_t *m, int row, int col, float r);
+/* Is it background by every rule of the subtraction (surfaces beside a
+ * see-through or empty cell, behind a solid surface)? *beyond (optional):
+ * it lies beyond the cell's farthest surface. */
+bool rs_bg_return_static(const rs_bg_model_t *m, int row, int col, float r, bool *beyond);
+/* A copy (allocated here). */
+int rs_bg_model_copy(rs_bg_model_t *dst, const rs_bg_model_t *src);
 
 typedef struct {
   uint64_t background, foreground;
@@ -128,6 +135,8 @@ typedef struct {
 size_t rs_bg_learner_bytes(int rows, int cols, int max_frames);
 int rs_bg_learner_init(rs_bg_learner_t *l, rs_model_t model, int rows, int cols, int max_frames, uint64_t seed);
 void rs_bg_learner_free(rs_bg_learner_t *l);
+/* Writes a frame into stored frame f (0..max_frames-1; a ring kept by the caller). */
+void rs_bg_learner_set(rs_bg_learner_t *l, int f, const rs_slot_t *s);
 /* Offers a frame; kept with reservoir sampling (uniform over all frames offered). */
 void rs_bg_learner_add(rs_bg_learner_t *l, const rs_slot_t *s);
 /* minPts for a capture of n frames: max(floor, share x n); a short capture

@@ -14,6 +14,7 @@
 #define ROADSCAN_PIPELINE_H
 
 #include "roadscan/background.h"
+#include "roadscan/bgupdate.h"
 #include "roadscan/capture.h"
 #include "roadscan/cluster.h"
 #include "roadscan/frame.h"
@@ -42,6 +43,8 @@ typedef struct {
   bool bg_beyond_foreground;   /* returns beyond the farthest surface are foreground (default: background) */
   double learn_seconds;        /* > 0 and no model: learn from the first seconds, then subtract */
   const char *learn_out;       /* where the learned model is saved */
+  double update_window_s;      /* > 0: keep the model current from the last window (bgupdate.h) */
+  double update_every_s;       /* relearn every (0: the updater's default, 60 s) */
   rs_cluster_t *cluster;       /* optional: clustering work area, configured (processing thread) */
   rs_objects_t *objects;       /* optional with cluster: object work area (rs_objects_init done) */
   rs_object_list_t *object_list; /* required with objects: the frame's objects */
@@ -80,13 +83,11 @@ typedef struct {
   rs_bg_counts_t bg;           /* background / foreground returns (processing thread) */
   uint32_t *beyond_cells;      /* returns beyond each cell's farthest surface (processing thread;
                                   allocated at init) */
-  rs_bg_learner_t learner;     /* online learning (processing thread) */
-  bool learning;
-  double learn_t0;
-  rs_bg_model_t learned;       /* the model learned online, owned here */
-  bool have_learned;
-  double learn_s;              /* time the learning took */
+  rs_bgu_t bgu;                /* the static scene in use, learned and kept current (its own thread) */
+  bool bgu_on;
+  bool saved_learned;          /* the first model learned was saved to learn_out */
   bool rate_checked;           /* the model's rotation rate compared with the sensor's */
+  bool few_warned;             /* said that the model was learned from few frames */
   rs_timing_t t_cluster;       /* clustering per frame */
   rs_timing_t t_objects;       /* object extraction per frame */
   rs_timing_t t_publish;       /* encoding + lcm_publish per frame */
