@@ -25,6 +25,6 @@ run() { # name dir ctest-args cmake-args...
 }
 run release build "" -DCMAKE_BUILD_TYPE=Release
 run asan+ubsan build-asan "" -DCMAKE_BUILD_TYPE=Debug -DRS_SANITIZE=ON
-run tsan build-tsan "-R ^(ring|pipeline|tools|lcm)$" -DCMAKE_BUILD_TYPE=Debug -DRS_SANITIZE=thread
+run tsan build-tsan "-R ^(ring|pipeline|tools|lcm|bgupdate)$" -DCMAKE_BUILD_TYPE=Debug -DRS_SANITIZE=thread
 echo "== Debian package"
 bash scripts/package.sh

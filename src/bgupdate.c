@@ -230,7 +230,7 @@ bool rs_bgu_frame(rs_bgu_t *u, const rs_slot_t *s) {
   /* the oldest sample: the ring's next slot once full */
   const double oldest = u->store.nframes < u->store.max_frames ? u->t_first : u->store.t[u->ring];
   const double span = s->meta.t_first - oldest;
-  if (u->store.nframes >= 2 && span >= fmin(u->cfg.window_s, RS_BG_SITE_SECONDS) &&
+  if (u->store.nframes >= 2 && span >= 0.9 * fmin(u->cfg.window_s, RS_BG_SITE_SECONDS) &&
       s->meta.t_first - u->t_last_learn >= u->cfg.every_s) {
     start_learning(u, s);
     return atomic_load_explicit(&u->state, memory_order_acquire) == RS_BGU_READY && take_over(u, s);

@@ -1,0 +1,145 @@
+/* check_bgupdate - the static scene learned and kept current while running:
+ * the first model from the first seconds; a parked car that leaves is gone
+ * from the model after the next relearn (with the learner thread waited for,
+ * and running on its own); a candidate that explains the recent frames worse
+ * than the model in use is not taken, with the reason. */
+#include "roadscan/bgupdate.h"
+#include "roadscan/error.h"
+#include "testutil.h"
+
+#include <string.h>
+#include <time.h>
+
+#define ROWS 16
+#define COLS 100
+
+static rs_slot_t slot;
+
+/* a wall at 20 m; a car parked at 10 m in row 2, columns 40-50, until `gone` s */
+static void frame_at(double t, double gone) {
+  memset(&slot.meta, 0, sizeof slot.meta);
+  slot.meta.rows = ROWS;
+  slot.meta.cols = COLS;
+  slot.meta.model = RS_MODEL_VLP16;
+  slot.meta.rate_hz = 10.0f;
+  slot.meta.t_first = 1000.0 + t;
+  for (int r = 0; r < ROWS; r++)
+    for (int c = 0; c < COLS; c++) {
+      float noise = (float)(((r * 131 + c * 17 + (int)(t * 10) * 7) % 11) - 5) * 0.002f;
+      slot.range[r * COLS + c] = (r == 2 && c >= 40 && c <= 50 && t < gone ? 10.0f : 20.0f) + noise;
+    }
+}
+
+static rs_bgu_cfg_t cfg(bool sync) {
+  rs_bgu_cfg_t c;
+  rs_bgu_cfg_default(&c);
+  c.learn_seconds = 3.0;
+  c.window_s = 60.0;
+  c.every_s = 10.0;
+  c.frames = 120;
+  c.sync = sync;
+  return c;
+}
+
+/* feeds frames from t0 to t1 (10 Hz); returns how many changed the model */
+static int feed(rs_bgu_t *u, double t0, double t1, double gone) {
+  int changes = 0;
+  for (double t = t0; t < t1; t += 0.1) {
+    frame_at(t, gone);
+    changes += rs_bgu_frame(u, &slot);
+  }
+  return changes;
+}
+
+START_TEST(t_first_model_and_update_sync) {
+  rs_bgu_t u;
+  rs_bgu_cfg_t c = cfg(true);
+  ck_assert_int_eq(rs_bgu_init(&u, &c, NULL), RS_OK);
+  ck_assert_ptr_null(rs_bgu_model(&u));
+  /* the first 3 s learn the first model: the car is part of the scene */
+  ck_assert_int_eq(feed(&u, 0.0, 3.2, 1e9), 1);
+  const rs_bg_model_t *m = rs_bgu_model(&u);
+  ck_assert_ptr_nonnull(m);
+  ck_assert_uint_eq(u.initial_frames, 30);
+  ck_assert(rs_bg_is_static(m, 2, 45, 10.0f));
+  ck_assert(rs_bg_is_static(m, 0, 5, 20.0f));
+  /* the car leaves at 60 s; relearns every 10 s once 60 s are sampled */
+  feed(&u, 3.2, 60.0, 60.0);
+  m = rs_bgu_model(&u);
+  ck_assert(rs_bg_is_static(m, 2, 45, 10.0f)); /* it was there all along */
+  feed(&u, 60.0, 140.0, 60.0);
+  m = rs_bgu_model(&u);
+  ck_assert_uint_ge(u.updates, 1);
+  ck_assert(!rs_bg_is_static(m, 2, 45, 10.0f)); /* gone from the model */
+  ck_assert(rs_bg_is_static(m, 2, 45, 20.0f));
+  ck_assert_double_gt(u.changed_at, 1060.0);
+  rs_bgu_deinit(&u);
+}
+END_TEST
+
+/* the same with the learner on its own: the processing side never waits;
+ * the hand-over is waited for with a generous timeout */
+START_TEST(t_update_async) {
+  static rs_bg_model_t initial;
+  rs_bgu_t u;
+  rs_bgu_cfg_t c = cfg(false);
+  /* start from a model that has the car */
+  ck_assert_int_eq(rs_bgu_init(&u, &c, NULL), RS_OK);
+  c.sync = true;
+  rs_bgu_t first;
+  ck_assert_int_eq(rs_bgu_init(&first, &c, NULL), RS_OK);
+  feed(&first, 0.0, 3.2, 1e9);
+  ck_assert_int_eq(rs_bg_model_copy(&initial, rs_bgu_model(&first)), RS_OK);
+  rs_bgu_deinit(&first);
+  rs_bgu_deinit(&u);
+  c.sync = false;
+  ck_assert_int_eq(rs_bgu_init(&u, &c, &initial), RS_OK);
+  ck_assert(rs_bg_is_static(rs_bgu_model(&u), 2, 45, 10.0f));
+  feed(&u, 3.2, 150.0, 10.0); /* the car left at 10 s */
+  /* keep feeding empty-street frames until the model changes (or 60 s pass) */
+  double t = 150.0;
+  for (int i = 0; i < 6000 && u.updates == 0; i++) {
+    frame_at(t, 10.0);
+    rs_bgu_frame(&u, &slot);
+    t += 0.1;
+    struct timespec d = {0, 10000000L};
+    nanosleep(&d, NULL);
+  }
+  ck_assert_uint_ge(u.updates, 1);
+  ck_assert(!rs_bg_is_static(rs_bgu_model(&u), 2, 45, 10.0f));
+  rs_bgu_deinit(&u);
+  rs_bg_model_free(&initial);
+}
+END_TEST
+
+/* a candidate that explains less than the model in use is refused */
+START_TEST(t_reject) {
+  rs_bgu_t u;
+  rs_bgu_cfg_t c = cfg(true);
+  ck_assert_int_eq(rs_bgu_init(&u, &c, NULL), RS_OK);
+  feed(&u, 0.0, 3.2, 1e9);
+  ck_assert_ptr_nonnull(rs_bgu_model(&u));
+  /* from now on a learner that needs a cell to return twice in every frame:
+   * it learns nothing */
+  u.cfg.params.min_pts_share = 2.0;
+  feed(&u, 3.2, 80.0, 1e9);
+  ck_assert_uint_ge(u.rejected, 1);
+  ck_assert_uint_eq(u.updates, 0);
+  ck_assert_ptr_nonnull(strstr(u.reason, "explains"));
+  ck_assert(rs_bg_is_static(rs_bgu_model(&u), 0, 5, 20.0f)); /* the model in use stays */
+  /* the check itself */
+  ck_assert_double_gt(rs_bgu_explained(rs_bgu_model(&u), &u.store), 0.99);
+  rs_bgu_deinit(&u);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("bgupdate");
+  TCase *tc = tcase_create("core");
+  tcase_set_timeout(tc, 180);
+  tcase_add_test(tc, t_first_model_and_update_sync);
+  tcase_add_test(tc, t_update_async);
+  tcase_add_test(tc, t_reject);
+  suite_add_tcase(s, tc);
+  return tu_run(s);
+}
