@@ -5,6 +5,7 @@
 #include "roadscan/stream.h"
 #include "testutil.h"
 
+#include <png.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -186,6 +187,29 @@ static long bg_returns(const char *out) {
   return strtol(q, NULL, 10);
 }
 
+/* pixels of a PNG: saturated colours (clusters), the noise red, greys */
+static void png_counts(const char *path, int *w, int *h, int *reds, int *colours, int *greys) {
+  png_image img;
+  memset(&img, 0, sizeof img);
+  img.version = PNG_IMAGE_VERSION;
+  ck_assert(png_image_begin_read_from_file(&img, path));
+  img.format = PNG_FORMAT_RGB;
+  unsigned char *px = malloc(PNG_IMAGE_SIZE(img));
+  ck_assert_ptr_nonnull(px);
+  ck_assert(png_image_finish_read(&img, NULL, px, 0, NULL));
+  *w = (int)img.width;
+  *h = (int)img.height;
+  *reds = *colours = *greys = 0;
+  for (size_t i = 0; i < (size_t)img.width * img.height; i++) {
+    int r = px[3 * i], g = px[3 * i + 1], b = px[3 * i + 2];
+    int mx = r > g ? (r > b ? r : b) : (g > b ? g : b), mn = r < g ? (r < b ? r : b) : (g < b ? g : b);
+    if (r == 230 && g == 40 && b == 40) (*reds)++;
+    else if (mx - mn > 60) (*colours)++;
+    else if (mx > 50 && mx - mn < 4) (*greys)++;
+  }
+  free(px);
+}
+
 static double json_num(const char *out, const char *key) {
   const char *p = strstr(out, key);
   ck_assert_msg(p != NULL, "no %s in %s", key, out);
@@ -325,6 +349,31 @@ START_TEST(t_background_tools) {
     ck_assert_msg(json_num(out, "\"recall\": ") >= floor_r[i], "%s: %s", methods[i], out);
     ck_assert_msg(json_num(out, "\"matched\": ") >= floor_m[i] * json_num(out, "\"instances\": "), "%s: %s", methods[i], out);
   }
+  /* roadscan-render: the frame's labels in colour; with the truth as labels
+   * the objects are clusters, without a model every return is grey */
+  char pic[600]; /* not from tu_tmp, whose rotating buffers hold the paths of this test */
+  snprintf(pic, sizeof pic, "%s.render.png", pred);
+  snprintf(cmd, sizeof cmd, "./roadscan-render %s --frame 10 --background %s --range 60 -o %s", tp, model, pic);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  int reds = 0, colours = 0, greys = 0, w = 0, h = 0;
+  png_counts(pic, &w, &h, &reds, &colours, &greys);
+  ck_assert_int_ge(w, 1820);                /* the range image, one column per pixel */
+  ck_assert_int_gt(h, 32 * 6 + 720);        /* range image rows and the bird's-eye view */
+  ck_assert_int_gt(colours, 500);           /* clusters */
+  ck_assert_int_gt(greys, 10000);           /* background */
+  snprintf(cmd, sizeof cmd, "./roadscan-render %s --frame 10 --labels %s -o %s", tp, tc, pic);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  png_counts(pic, &w, &h, &reds, &colours, &greys);
+  ck_assert_int_gt(colours, 500);
+  snprintf(cmd, sizeof cmd, "./roadscan-render %s --frame 10 -o %s", tp, pic);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  png_counts(pic, &w, &h, &reds, &colours, &greys);
+  ck_assert_int_lt(colours, 100); /* only the legend's swatches and text */
+  snprintf(cmd, sizeof cmd, "./roadscan-render %s --frame 100000 -o %s", tp, pic);
+  ck_assert_int_eq(tu_exec(cmd, &out), 1);
+  ck_assert_ptr_nonnull(strstr(out, "no frame 100000"));
+  ck_assert_int_eq(tu_exec("./roadscan-render x --frame 1 -o y --background a --labels b", &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "exclude each other"));
   /* the benchmark times every stage of every frame */
   const char *csv = tu_tmp("bench.csv");
   snprintf(cmd, sizeof cmd, "./roadscan-bench %s --model %s --csv %s", tp, model, csv);
