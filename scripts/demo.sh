@@ -18,12 +18,16 @@ build/bin/roadscand --pcap "$sample" --frames-out out/frames.csv
 echo "== out/frames.csv (first lines)"
 head -4 out/frames.csv | cut -d, -f1-8
 build/bin/roadscan-export "$sample" --frame 5 -o out/frame-5.pcd
+echo "== its static scene learned from the first second; frame 20 drawn to out/sample-frame20.png"
+build/bin/roadscan-learn "$sample" --seconds 1 -o out/sample.bg
+build/bin/roadscan-render "$sample" --frame 20 --background out/sample.bg --range 15 -o out/sample-frame20.png
 echo "== a simulated intersection at rush hour: learn its static scene, subtract it, score it"
 build/bin/roadscan-sim --sensor VLP-32C --scenario rush --seconds 90 --seed 11 -o out/site.pcap --labels out/site.csv
 build/bin/roadscan-learn out/site.pcap -o out/site.bg --image out/site-background.png
 build/bin/roadscan-sim --sensor VLP-32C --scenario rush --seconds 10 --seed 7 -o out/rush.pcap --labels out/rush-truth.csv
 build/bin/roadscand --pcap out/rush.pcap --fast --background out/site.bg --labels-out out/rush-pred.csv --quiet
 build/bin/roadscan-eval out/rush.pcap out/rush-truth.csv out/rush-pred.csv
+build/bin/roadscan-render out/rush.pcap --frame 50 --background out/site.bg --range 60 -o out/rush-frame50.png
 echo "== the daemon at the original timing, publishing object lists over LCM; roadscan-listen prints them"
 if ip route get 239.255.76.67 >/dev/null 2>&1; then
   build/bin/roadscan-listen --timeout 3 > out/objects.txt &

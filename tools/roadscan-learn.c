@@ -7,6 +7,7 @@
  * assembler; complete frames are sampled uniformly at random (reservoir),
  * then every cell is clustered (see background.h). Single-threaded tool. */
 #include "roadscan/background.h"
+#include "roadscan/bgupdate.h"
 #include "roadscan/calib.h"
 #include "roadscan/config.h"
 #include "roadscan/framer.h"
@@ -74,11 +75,12 @@ static void print_info(const rs_bg_model_t *m, FILE *out) {
   if (m->params.method == RS_BG_PERCENTILE)
     fprintf(out, "method: per-cell percentile %.0f, tolerance %.2f m\n", m->params.percentile, m->params.percentile_tol);
   else
-    fprintf(out, "method: per-cell DBSCAN, eps %.2f..%.2f m by %.2f, minPts max(%d, %.0f%%); nearer clusters kept "
-                 "when they flicker (lift < %.2f) in %.0f%% of %.0f s windows; sky persists >= %.2f\n",
-            m->params.eps_min, m->params.eps_max, m->params.eps_step, m->params.min_pts_floor,
-            m->params.min_pts_share * 100, m->params.flicker_lift, m->params.coverage_min * 100, m->params.window_s,
-            m->params.persist_max);
+    fprintf(out, "method: per-cell DBSCAN, eps %.2f..%.2f m by %.2f, minPts %d (max(%d or a tenth of the frames, "
+                 "%.0f%%)); nearer clusters kept when they flicker (lift < %.2f) in %.0f%% of %.0f s windows, or "
+                 "when the cells beside see them as static; sky persists >= %.2f\n",
+            m->params.eps_min, m->params.eps_max, m->params.eps_step, rs_bg_min_pts(&m->params, (int)m->frames),
+            m->params.min_pts_floor, m->params.min_pts_share * 100, m->params.flicker_lift, m->params.coverage_min * 100,
+            m->params.window_s, m->params.persist_max);
   fprintf(out, "cells by static surfaces:");
   for (int k = 0; k <= RS_BG_SURFACES; k++)
     fprintf(out, " %d: %zu (%.1f%%)", k, hist[k], 100.0 * (double)hist[k] / (double)cells);
@@ -295,6 +297,13 @@ int main(int argc, char **argv) {
           (unsigned long long)L.frames, L.lr.nframes, (double)(t1 - t0) * 1e-9, (double)(t2 - t1) * 1e-9,
           (double)rs_bg_learner_bytes(L.lr.rows, L.lr.cols, L.lr.max_frames) / 1048576.0);
   print_info(&m, stderr);
+  const double hz = m.rate_hz > 0 ? m.rate_hz : 10.0;
+  if (m.frames < RS_BG_SITE_SECONDS * hz * 0.5)
+    fprintf(stderr,
+            "roadscan-learn: warning: learned from %u frames (%.1f s at %.1f Hz): a site with traffic needs %.0f s of "
+            "it for vehicles that stop to be told from the scene (a scene without traffic needs about 1 s); the model "
+            "is usable, and roadscand keeps it current from what the sensor sees (--update-minutes)\n",
+            m.frames, m.frames / hz, hz, RS_BG_SITE_SECONDS);
   if (image && write_png(&m, image) != RS_OK) {
     fprintf(stderr, "roadscan-learn: %s: cannot write the image\n", image);
     return 1;
