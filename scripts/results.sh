@@ -85,8 +85,25 @@ for sensor in VLP-32C VLP-16; do
     $bin/roadscan-learn "$out/$tag-learn.pcap" -o "$out/$tag.bg" 2>/dev/null
     for m in fspc-adaptive fspc; do
       row=$(score "$tag" "$out/$tag.pcap" "$out/$tag-truth.csv" "$out/$tag.bg" $m -)
-      echo "| $sensor, $sc ${row#|}" >> "$doc"
+      echo "| $sensor, $sc |${row#|}" >> "$doc"
     done
   done
 done
+cat >> "$doc" <<'MD'
+
+## Pictures
+
+`scripts/pictures.sh` draws frame 100 of each VLP-32C test capture with `roadscan-render --labels`:
+the default pipeline's labels, and (with `OLD_BIN`, the programs of commit 67e7a36) the labels of
+the pipeline before the background rework and the default change (its defaults: the old learner,
+plain FSPC), on the same capture. Grey: background by range; red: foreground in no cluster; a
+colour per cluster.
+
+| preset | before | after |
+|---|---|---|
+| light | ![](img/VLP-32C-light-before.png) | ![](img/VLP-32C-light-after.png) |
+| rush | ![](img/VLP-32C-rush-before.png) | ![](img/VLP-32C-rush-after.png) |
+| far | ![](img/VLP-32C-far-before.png) | ![](img/VLP-32C-far-after.png) |
+| storm | ![](img/VLP-32C-storm-before.png) | ![](img/VLP-32C-storm-after.png) |
+MD
 echo "wrote $doc"

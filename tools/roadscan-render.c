@@ -300,7 +300,9 @@ int main(int argc, char **argv) {
   const int bev = 720, margin = 12, title_h = 36, legend_h = 120;
   canvas_t cv;
   cv.w = (img_w > bev ? img_w : bev) + 2 * margin;
-  cv.h = title_h + rows * rh + margin * 3 + bev + legend_h;
+  /* the legend beside the bird's-eye view when the range image leaves room, else below it */
+  const bool legend_beside = cv.w - (bev + 2 * margin) >= 560;
+  cv.h = title_h + rows * rh + margin * 3 + 10 + bev + (legend_beside ? 0 : legend_h);
   cv.px = malloc((size_t)cv.w * (size_t)cv.h * 3);
   if (cv.px == NULL) {
     fprintf(stderr, "roadscan-render: out of memory\n");
@@ -399,7 +401,7 @@ int main(int argc, char **argv) {
   text(&cv, bx + bev / 2 - 12, by + 4, 1, GREY, "AZ 0");
 
   /* legend */
-  int ly = by + bev + 14, lx = margin;
+  int ly = legend_beside ? by + 4 : by + bev + 14, lx = legend_beside ? bx + bev + 24 : margin;
   uint8_t c1[3], c2[3], c3[3];
   range_rgb((float)(max_r * 0.1), max_r, c1);
   range_rgb((float)(max_r * 0.9), max_r, c2);
@@ -424,8 +426,9 @@ int main(int argc, char **argv) {
   rect(&cv, lx, ly, 28, 1, GREY);
   text(&cv, lx + 36, ly + 2, 1, WHITE, "no return");
   ly += 18;
-  text(&cv, lx, ly + 2, 1, GREY, "top: range image, azimuth 0-360 deg left to right, lasers by elevation (highest on top)");
-  text(&cv, lx, ly + 14, 1, GREY, "below: bird's-eye view, sensor at the centre, azimuth 0 up");
+  text(&cv, lx, ly + 2, 1, GREY, "top: range image, azimuth 0-360 deg left to right,");
+  text(&cv, lx, ly + 14, 1, GREY, "lasers by elevation (highest on top)");
+  text(&cv, lx, ly + 26, 1, GREY, "below: bird's-eye view, sensor at the centre, azimuth 0 up");
 
   png_image img;
   memset(&img, 0, sizeof img);
