@@ -112,7 +112,12 @@ int rs_bgu_init(rs_bgu_t *u, const rs_bgu_cfg_t *cfg, const rs_bg_model_t *initi
     u->active = 0;
     u->initial_frames = initial->frames;
   }
-  if (sem_init(&u->go, 0, 0) != 0 || sem_init(&u->done, 0, 0) != 0) return RS_E_THREAD;
+  if (sem_init(&u->go, 0, 0) != 0) return RS_E_THREAD;
+  if (sem_init(&u->done, 0, 0) != 0) {
+    sem_destroy(&u->go);
+    return RS_E_THREAD;
+  }
+  u->sems = true;
   if (pthread_create(&u->thread, NULL, learner_main, u) != 0) return RS_E_THREAD;
   u->thread_started = true;
   return RS_OK;
@@ -125,8 +130,11 @@ void rs_bgu_deinit(rs_bgu_t *u) {
     pthread_join(u->thread, NULL);
     u->thread_started = false;
   }
-  sem_destroy(&u->go);
-  sem_destroy(&u->done);
+  if (u->sems) {
+    sem_destroy(&u->go);
+    sem_destroy(&u->done);
+  }
+  u->sems = false;
   for (int i = 0; i < 2; i++)
     if (u->have[i]) rs_bg_model_free(&u->models[i]);
   u->have[0] = u->have[1] = false;

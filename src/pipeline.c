@@ -24,6 +24,16 @@ const char *rs_pipeline_csv_header(void) {
 }
 
 
+/* a failed init releases what it had: the caller does not deinit */
+static void undo_init(rs_pipeline_t *p) {
+  free(p->beyond_cells);
+  p->beyond_cells = NULL;
+  rs_capture_close(&p->cap);
+  rs_ring_deinit(&p->ring);
+  if (p->labels_open) rs_labels_finish(&p->labels);
+  p->labels_open = false;
+}
+
 int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *slots, int nslots) {
   memset(p, 0, sizeof *p);
   p->cfg = *cfg;
@@ -44,29 +54,6 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
     p->cfg.assembly.columns = cfg->background->cols;
   }
   p->proc.min_range = 1e30;
-  p->beyond_cells = calloc(RS_MAX_ROWS * RS_MAX_COLS, sizeof *p->beyond_cells);
-  if (p->beyond_cells == NULL) {
-    snprintf(p->input_err, sizeof p->input_err, "out of memory");
-    return RS_E_NOMEM;
-  }
-  /* the static scene: learned first (learn_seconds) or loaded, kept current
-   * (update_window_s) by the updater's learner thread */
-  if (cfg->background || cfg->learn_seconds > 0) {
-    rs_bgu_cfg_t bc;
-    rs_bgu_cfg_default(&bc);
-    bc.learn_seconds = cfg->background ? 0 : cfg->learn_seconds;
-    bc.window_s = cfg->update_window_s;
-    if (cfg->update_every_s > 0) bc.every_s = cfg->update_every_s;
-    bc.sync = cfg->lossless;
-    bc.see_through = cfg->bg_see_through == 0 ? RS_BG_SEE_THROUGH : (cfg->bg_see_through < 0 ? 0 : cfg->bg_see_through);
-    bc.beyond_static = !cfg->bg_beyond_foreground;
-    int brc = rs_bgu_init(&p->bgu, &bc, cfg->background);
-    if (brc != RS_OK) {
-      snprintf(p->input_err, sizeof p->input_err, "background updater: %s", rs_strerror(brc));
-      return brc;
-    }
-    p->bgu_on = true;
-  }
   int rc = rs_stream_init(&p->stream, &cfg->stream);
   if (rc != RS_OK) {
     snprintf(p->input_err, sizeof p->input_err, "%s", p->stream.err);
@@ -96,6 +83,33 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
     if (p->labels_open) rs_labels_finish(&p->labels);
     p->labels_open = false;
     return rc;
+  }
+  /* last, so that no failure above leaves them allocated */
+  p->beyond_cells = calloc(RS_MAX_ROWS * RS_MAX_COLS, sizeof *p->beyond_cells);
+  if (p->beyond_cells == NULL) {
+    snprintf(p->input_err, sizeof p->input_err, "out of memory");
+    undo_init(p);
+    return RS_E_NOMEM;
+  }
+  /* the static scene: learned first (learn_seconds) or loaded, kept current
+   * (update_window_s) by the updater's learner thread */
+  if (cfg->background || cfg->learn_seconds > 0) {
+    rs_bgu_cfg_t bc;
+    rs_bgu_cfg_default(&bc);
+    bc.learn_seconds = cfg->background ? 0 : cfg->learn_seconds;
+    bc.window_s = cfg->update_window_s;
+    if (cfg->update_every_s > 0) bc.every_s = cfg->update_every_s;
+    bc.sync = cfg->lossless;
+    bc.see_through = cfg->bg_see_through == 0 ? RS_BG_SEE_THROUGH : (cfg->bg_see_through < 0 ? 0 : cfg->bg_see_through);
+    bc.beyond_static = !cfg->bg_beyond_foreground;
+    int brc = rs_bgu_init(&p->bgu, &bc, cfg->background);
+    if (brc != RS_OK) {
+      snprintf(p->input_err, sizeof p->input_err, "background updater: %s", rs_strerror(brc));
+      rs_bgu_deinit(&p->bgu);
+      undo_init(p);
+      return brc;
+    }
+    p->bgu_on = true;
   }
   return RS_OK;
 }

@@ -66,6 +66,9 @@ static int cmp_dbl(const void *a, const void *b) {
   double x = *(const double *)a, y = *(const double *)b;
   return (x > y) - (x < y);
 }
+static void sort_vec(double *v, size_t n) {
+  if (n > 1) qsort(v, n, sizeof *v, cmp_dbl); /* v is NULL when empty */
+}
 
 /* the q-quantile of n sorted doubles */
 static double quant(const double *v, size_t n, double q) {
@@ -233,16 +236,16 @@ int rs_sstats_compute(const rs_sstats_frames_t *f, rs_sstats_t *o) {
   if (rc == RS_OK) {
     o->steady = (double)steady / (double)cells;
     o->multi = steady ? (double)multi / (double)steady : 0.0;
-    qsort(spread.v, spread.n, sizeof(double), cmp_dbl);
+    sort_vec(spread.v, spread.n);
     o->edge_spread_med = quant(spread.v, spread.n, 0.5);
     o->edge_spread_p90 = quant(spread.v, spread.n, 0.9);
     o->dwell = runs > 0 ? run_frames / runs : NAN;
     o->dwell_indep = indep_w > 0 ? indep_sum / indep_w : NAN;
     o->mixed = multi_returns > 0 ? mixed / multi_returns : NAN;
     for (int b = 0; b < RS_SSTATS_BANDS; b++) {
-      qsort(sd[b].v, sd[b].n, sizeof(double), cmp_dbl);
+      sort_vec(sd[b].v, sd[b].n);
       o->noise_sd[b] = quant(sd[b].v, sd[b].n, 0.5);
-      qsort(flat[b].v, flat[b].n, sizeof(double), cmp_dbl);
+      sort_vec(flat[b].v, flat[b].n);
       o->flat_sd[b] = quant(flat[b].v, flat[b].n, 0.5);
       o->flat_cells[b] = (uint32_t)flat[b].n;
       o->dev_p99[b] = hist_quant(dev[b], DEV_BINS, 0.99) / 100.0;

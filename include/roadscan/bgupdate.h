@@ -73,7 +73,7 @@ typedef struct {
   sem_t go;                    /* processing -> learner: a relearn is due, or stop */
   sem_t done;                  /* learner -> processing: finished (sync mode) */
   pthread_t thread;
-  bool thread_started;
+  bool thread_started, sems;
   _Atomic bool quit;
   /* learner results (written by the learner before it releases the state) */
   int last_rc;
