@@ -72,7 +72,15 @@ static void learn_once(rs_bgu_t *u) {
   }
   u->have[spare] = true;
   settings(u, &u->models[spare]);
-  if (u->active < 0) return;
+  if (u->active < 0) {
+    /* the first model: saved here, off the processing thread */
+    char err[RS_ERRMSG_SIZE];
+    if (u->cfg.learn_out && rs_bg_save(&u->models[spare], u->cfg.learn_out, err, sizeof err) != RS_OK)
+      rs_log(RS_LOG_ERR, "%s", err);
+    else if (u->cfg.learn_out)
+      rs_log(RS_LOG_INFO, "background model saved to %s", u->cfg.learn_out);
+    return;
+  }
   const rs_bg_model_t *cur = &u->models[u->active], *cand = &u->models[spare];
   const double e_cur = rs_bgu_explained(cur, &u->store), e_cand = rs_bgu_explained(cand, &u->store);
   const size_t s_cur = cells_with_surfaces(cur), s_cand = cells_with_surfaces(cand);
@@ -83,6 +91,29 @@ static void learn_once(rs_bgu_t *u) {
     snprintf(u->reason, sizeof u->reason, "it has a surface in %zu cells, the model in use in %zu", s_cand, s_cur);
 }
 
+/* The sample store, for the geometry in u->geo: as many frames as the
+ * budget allows. Allocates: the learner thread (for the first frame's
+ * geometry) or rs_bgu_init (an initial model's), never the processing
+ * thread. On failure the updater stops sampling (said in the log). */
+static void make_store(rs_bgu_t *u) {
+  const double hz = u->geo.hz > 0 ? u->geo.hz : 10.0;
+  int frames = u->cfg.frames;
+  if (u->active < 0 && u->cfg.learn_seconds > 0) {
+    int need = (int)ceil(u->cfg.learn_seconds * hz) + 1;
+    if (need > frames) frames = need;
+  }
+  while (frames > 2 && rs_bg_learner_bytes(u->geo.rows, u->geo.cols, frames) > RS_BGU_BUDGET) frames--;
+  if (rs_bg_learner_init(&u->store, u->geo.model, u->geo.rows, u->geo.cols, frames, 1) != RS_OK) {
+    rs_log(RS_LOG_ERR, "background: cannot reserve %d frames of samples; the model stays as it is", frames);
+    u->cfg.window_s = 0;
+    u->cfg.learn_seconds = 0;
+    return;
+  }
+  u->ready = true;
+  /* after the first model: one frame in k spans the window */
+  u->k = u->cfg.window_s > 0 ? (int)fmax(1.0, floor(u->cfg.window_s * hz / frames)) : 1;
+}
+
 static void *learner_main(void *arg) {
   rs_bgu_t *u = arg;
   struct sched_param sp = {0};
@@ -90,9 +121,16 @@ static void *learner_main(void *arg) {
   for (;;) {
     sem_wait(&u->go);
     if (atomic_load_explicit(&u->quit, memory_order_acquire)) break;
-    if (atomic_load_explicit(&u->state, memory_order_acquire) != RS_BGU_LEARNING) continue;
-    learn_once(u);
-    atomic_store_explicit(&u->state, RS_BGU_READY, memory_order_release);
+    const int st = atomic_load_explicit(&u->state, memory_order_acquire);
+    if (st == RS_BGU_ALLOCATING) {
+      make_store(u);
+      atomic_store_explicit(&u->state, RS_BGU_COLLECTING, memory_order_release);
+    } else if (st == RS_BGU_LEARNING) {
+      learn_once(u);
+      atomic_store_explicit(&u->state, RS_BGU_READY, memory_order_release);
+    } else {
+      continue;
+    }
     if (u->cfg.sync) sem_post(&u->done);
   }
   return NULL;
@@ -111,6 +149,14 @@ int rs_bgu_init(rs_bgu_t *u, const rs_bgu_cfg_t *cfg, const rs_bg_model_t *initi
     u->have[0] = true;
     u->active = 0;
     u->initial_frames = initial->frames;
+    if (u->cfg.window_s > 0) {
+      /* start-up: the store for the model's map */
+      u->geo.model = initial->model;
+      u->geo.rows = initial->rows;
+      u->geo.cols = initial->cols;
+      u->geo.hz = initial->rate_hz;
+      make_store(u);
+    }
   }
   if (sem_init(&u->go, 0, 0) != 0) return RS_E_THREAD;
   if (sem_init(&u->done, 0, 0) != 0) {
@@ -144,27 +190,6 @@ void rs_bgu_deinit(rs_bgu_t *u) {
 
 const rs_bg_model_t *rs_bgu_model(const rs_bgu_t *u) { return u->active >= 0 ? &u->models[u->active] : NULL; }
 
-/* the store, at the first frame: as many frames as the budget allows */
-static bool make_store(rs_bgu_t *u, const rs_slot_t *s) {
-  const double hz = s->meta.rate_hz > 0 ? s->meta.rate_hz : 10.0;
-  int frames = u->cfg.frames;
-  if (u->active < 0 && u->cfg.learn_seconds > 0) {
-    int need = (int)ceil(u->cfg.learn_seconds * hz) + 1;
-    if (need > frames) frames = need;
-  }
-  while (frames > 2 && rs_bg_learner_bytes(s->meta.rows, s->meta.cols, frames) > RS_BGU_BUDGET) frames--;
-  if (rs_bg_learner_init(&u->store, s->meta.model, s->meta.rows, s->meta.cols, frames, 1) != RS_OK) {
-    rs_log(RS_LOG_ERR, "background: cannot reserve %d frames of samples; the model stays as it is", frames);
-    u->cfg.window_s = 0;
-    u->cfg.learn_seconds = 0;
-    return false;
-  }
-  u->ready = true;
-  /* after the first model: one frame in k spans the window */
-  u->k = u->cfg.window_s > 0 ? (int)fmax(1.0, floor(u->cfg.window_s * hz / frames)) : 1;
-  return true;
-}
-
 /* takes a finished candidate over (or not); processing thread */
 static bool take_over(rs_bgu_t *u, const rs_slot_t *s) {
   const int spare = u->active < 0 ? 0 : 1 - u->active;
@@ -196,15 +221,20 @@ static bool take_over(rs_bgu_t *u, const rs_slot_t *s) {
   return changed;
 }
 
-static void start_learning(rs_bgu_t *u, const rs_slot_t *s) {
-  u->rate_hz = s->meta.rate_hz;
-  u->t_last_learn = s->meta.t_first;
-  atomic_store_explicit(&u->state, RS_BGU_LEARNING, memory_order_release);
+/* hands work to the learner thread; lossless replays wait for it */
+static void hand_over(rs_bgu_t *u, int state) {
+  atomic_store_explicit(&u->state, state, memory_order_release);
   sem_post(&u->go);
   if (u->cfg.sync) {
     while (sem_wait(&u->done) != 0) {
     }
   }
+}
+
+static void start_learning(rs_bgu_t *u, const rs_slot_t *s) {
+  u->rate_hz = s->meta.rate_hz;
+  u->t_last_learn = s->meta.t_first;
+  hand_over(u, RS_BGU_LEARNING);
 }
 
 bool rs_bgu_frame(rs_bgu_t *u, const rs_slot_t *s) {
@@ -214,7 +244,15 @@ bool rs_bgu_frame(rs_bgu_t *u, const rs_slot_t *s) {
   if (st != RS_BGU_COLLECTING) return false;
   const bool initial = u->active < 0;
   if (initial ? u->cfg.learn_seconds <= 0 : u->cfg.window_s <= 0) return false;
-  if (!u->ready && !make_store(u, s)) return false;
+  if (!u->ready) {
+    /* the first frame gives the map's size: the learner thread reserves the store */
+    u->geo.model = s->meta.model;
+    u->geo.rows = s->meta.rows;
+    u->geo.cols = s->meta.cols;
+    u->geo.hz = s->meta.rate_hz;
+    hand_over(u, RS_BGU_ALLOCATING);
+    return false;
+  }
   if (s->meta.rows != u->store.rows || s->meta.cols != u->store.cols) return false;
   if (initial) {
     /* the first model: every frame of the first learn_seconds */

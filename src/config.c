@@ -64,3 +64,10 @@ int rs_cfg_bool(const char *key, const char *s, bool *out, char *err, size_t n) 
   snprintf(err, n, "%s: '%s' is not true or false (yes/no, on/off, 1/0)", key, s ? s : "");
   return RS_E_INVAL;
 }
+
+int rs_cfg_model(const char *key, const char *s, rs_model_t *out, char *err, size_t n) {
+  *out = rs_model_from_name(s);
+  if (*out != RS_MODEL_UNKNOWN) return RS_OK;
+  snprintf(err, n, "%s: unknown sensor '%s' (known: %s)", key, s, rs_model_names());
+  return RS_E_INVAL;
+}

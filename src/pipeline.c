@@ -97,6 +97,7 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
     rs_bgu_cfg_t bc;
     rs_bgu_cfg_default(&bc);
     bc.learn_seconds = cfg->background ? 0 : cfg->learn_seconds;
+    bc.learn_out = cfg->learn_out;
     bc.window_s = cfg->update_window_s;
     if (cfg->update_every_s > 0) bc.every_s = cfg->update_every_s;
     bc.sync = cfg->lossless;
@@ -297,16 +298,8 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
   const rs_bg_model_t *bgm = NULL;
   if (p->bgu_on) {
     /* outside the frame's time: it waits for the learner only in lossless replays */
-    if (rs_bgu_frame(&p->bgu, s)) {
-      /* another model: the cells' counts of returns beyond start again */
+    if (rs_bgu_frame(&p->bgu, s)) /* another model: the cells' counts of returns beyond start again */
       memset(p->beyond_cells, 0, sizeof(uint32_t) * (size_t)s->meta.rows * s->meta.cols);
-      if (p->cfg.learn_out && p->bgu.updates == 0 && !p->saved_learned) {
-        char err[RS_ERRMSG_SIZE];
-        p->saved_learned = true;
-        if (rs_bg_save(rs_bgu_model(&p->bgu), p->cfg.learn_out, err, sizeof err) != RS_OK) rs_log(RS_LOG_ERR, "%s", err);
-        else rs_log(RS_LOG_INFO, "background model saved to %s", p->cfg.learn_out);
-      }
-    }
     bgm = rs_bgu_model(&p->bgu);
     check_model(p, bgm, s);
   }

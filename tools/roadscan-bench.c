@@ -332,11 +332,7 @@ int main(int argc, char **argv) {
       }
       break;
     case O_SENSOR:
-      force = rs_model_from_name(optarg);
-      if (force == RS_MODEL_UNKNOWN) {
-        snprintf(err, sizeof err, "--sensor: unknown sensor '%s' (known: %s)", optarg, rs_model_names());
-        goto bad;
-      }
+      if (rs_cfg_model("--sensor", optarg, &force, err, sizeof err)) goto bad;
       break;
     case O_HELP:
       printf("usage: roadscan-bench [--seconds S]   (synthetic packets of every model: decode + assembly)\n"

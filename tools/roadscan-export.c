@@ -111,11 +111,7 @@ int main(int argc, char **argv) {
     case 'o': out_path = optarg; break;
     case O_CSV: csv = true; break;
     case O_MODEL:
-      scfg.force_model = rs_model_from_name(optarg);
-      if (scfg.force_model == RS_MODEL_UNKNOWN) {
-        snprintf(err, sizeof err, "--model: unknown sensor '%s' (known: %s)", optarg, rs_model_names());
-        goto bad;
-      }
+      if (rs_cfg_model("--model", optarg, &scfg.force_model, err, sizeof err)) goto bad;
       break;
     case O_CALIB: calib_path = optarg; break;
     case O_PORT:

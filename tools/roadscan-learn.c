@@ -183,12 +183,7 @@ int main(int argc, char **argv) {
       L.max_frames = (int)lv;
       break;
     case O_SUPPORT:
-      if (strcmp(optarg, "on") == 0) params.support = true;
-      else if (strcmp(optarg, "off") == 0) params.support = false;
-      else {
-        snprintf(err, sizeof err, "--support: '%s' is not on or off", optarg);
-        goto bad;
-      }
+      if (rs_cfg_bool("--support", optarg, &params.support, err, sizeof err)) goto bad;
       break;
     case O_CONNECT:
       if (rs_cfg_double("--connect", optarg, 0, 10, &params.connect_min, err, sizeof err)) goto bad;
@@ -222,11 +217,7 @@ int main(int argc, char **argv) {
       params.min_pts_floor = (int)lv;
       break;
     case O_MODEL:
-      scfg.force_model = rs_model_from_name(optarg);
-      if (scfg.force_model == RS_MODEL_UNKNOWN) {
-        snprintf(err, sizeof err, "--model: unknown sensor '%s' (known: %s)", optarg, rs_model_names());
-        goto bad;
-      }
+      if (rs_cfg_model("--model", optarg, &scfg.force_model, err, sizeof err)) goto bad;
       break;
     case O_CALIB: calib_path = optarg; break;
     case O_COLS:

@@ -170,11 +170,7 @@ int main(int argc, char **argv) {
       if (rs_cfg_double("--range", optarg, 2.0, 500.0, &half, err, sizeof err)) goto bad;
       break;
     case O_MODEL:
-      scfg.force_model = rs_model_from_name(optarg);
-      if (scfg.force_model == RS_MODEL_UNKNOWN) {
-        snprintf(err, sizeof err, "--model: unknown sensor '%s' (known: %s)", optarg, rs_model_names());
-        goto bad;
-      }
+      if (rs_cfg_model("--model", optarg, &scfg.force_model, err, sizeof err)) goto bad;
       break;
     case O_HELP: usage(stdout); return 0;
     default: usage(stderr); return 2;

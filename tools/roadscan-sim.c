@@ -89,11 +89,7 @@ int main(int argc, char **argv) {
   while ((c = getopt_long(argc, argv, "o:", opts, NULL)) != -1) {
     switch (c) {
     case O_SENSOR:
-      model = rs_model_from_name(optarg);
-      if (model == RS_MODEL_UNKNOWN) {
-        snprintf(err, sizeof err, "--sensor: unknown sensor '%s' (known: %s)", optarg, rs_model_names());
-        goto bad;
-      }
+      if (rs_cfg_model("--sensor", optarg, &model, err, sizeof err)) goto bad;
       break;
     case O_SCEN: scenario = optarg; break;
     case O_SFILE: sfile = optarg; break;

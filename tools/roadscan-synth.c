@@ -28,11 +28,7 @@ int main(int argc, char **argv) {
     switch (c) {
     case 'o': out = optarg; break;
     case O_MODEL:
-      cfg.model = rs_model_from_name(optarg);
-      if (cfg.model == RS_MODEL_UNKNOWN) {
-        snprintf(err, sizeof err, "--model: unknown sensor '%s' (known: %s)", optarg, rs_model_names());
-        goto bad;
-      }
+      if (rs_cfg_model("--model", optarg, &cfg.model, err, sizeof err)) goto bad;
       break;
     case O_SECONDS:
       if (rs_cfg_double("--seconds", optarg, 0.01, 3600.0, &cfg.seconds, err, sizeof err)) goto bad;

@@ -219,11 +219,7 @@ static int apply(int id, const char *val, const char *key, char *err, size_t n) 
     break;
   case O_SOURCE: cfg->capture.source_addr = v; break;
   case O_MODEL:
-    cfg->stream.force_model = rs_model_from_name(v);
-    if (cfg->stream.force_model == RS_MODEL_UNKNOWN) {
-      snprintf(err, n, "%s: unknown sensor '%s' (known: %s)", key, v, rs_model_names());
-      return RS_E_INVAL;
-    }
+    if (rs_cfg_model(key, v, &cfg->stream.force_model, err, n)) return RS_E_INVAL;
     break;
   case O_CALIB: st.calib_path = v; break;
   case O_RPM:

@@ -15,10 +15,12 @@
  *    samples, and hands it over, or rejects it (counted, with the reason);
  *  - the two hand the work back and forth through one atomic state:
  *    COLLECTING (the processing thread owns the samples) -> LEARNING (the
- *    learner owns them and the spare model) -> READY or COLLECTING.
- * Memory reserved at start: the sample store (rows x cols x frames ranges,
- * within a budget) and the models; the learner's work arrays are allocated
- * on the learner thread only.
+ *    learner owns them and the spare model) -> READY -> COLLECTING; and once,
+ *    ALLOCATING (the learner reserves the store for the first frame's map).
+ * Memory: the sample store (rows x cols x frames ranges, within a budget)
+ * is reserved at start when a model is given, else by the learner thread
+ * at the first frame; the models and the learner's work arrays are
+ * allocated on the learner thread. The processing thread never allocates.
  *
  * Sampling: the first model from every complete frame of the first
  * learn_seconds (up to the store); afterwards one frame in k, so that the
@@ -44,6 +46,7 @@
 
 typedef struct {
   double learn_seconds;   /* > 0 with no initial model: learn the first model from this many seconds */
+  const char *learn_out;  /* optional: where the first model learned is saved (by the learner thread) */
   double window_s;        /* > 0: keep the model current from the last window_s seconds (default 600) */
   double every_s;         /* relearn every (default 60 s of sensor time) */
   int frames;             /* samples kept (default 600; fewer within RS_BGU_BUDGET) */
@@ -55,11 +58,16 @@ typedef struct {
 
 void rs_bgu_cfg_default(rs_bgu_cfg_t *c);
 
-enum { RS_BGU_COLLECTING = 0, RS_BGU_LEARNING = 1, RS_BGU_READY = 2 };
+enum { RS_BGU_COLLECTING = 0, RS_BGU_LEARNING = 1, RS_BGU_READY = 2, RS_BGU_ALLOCATING = 3 };
 
 typedef struct {
   rs_bgu_cfg_t cfg;
   rs_bg_learner_t store;       /* the samples (a ring over the window after the first model) */
+  struct {                     /* the map the store is for */
+    rs_model_t model;
+    int rows, cols;
+    double hz;
+  } geo;
   bool ready;                  /* store allocated (at the first frame: the map's size) */
   int k, skip;                 /* one frame in k is sampled */
   int ring;                    /* next slot once the store is full */

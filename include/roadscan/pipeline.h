@@ -8,7 +8,9 @@
  * period); overruns are counted, and the ring hands the processing thread
  * the newest frame, so a late frame never delays the next one. Slots are the
  * caller's (statically allocated by the program). After start-up nothing
- * allocates. Counters are written by their own thread and read by the
+ * allocates on either thread; the static scene is learned and kept current
+ * by a third, low-priority thread (bgupdate.h) that hands models over at a
+ * frame boundary. Counters are written by their own thread and read by the
  * caller after rs_pipeline_join. */
 #ifndef ROADSCAN_PIPELINE_H
 #define ROADSCAN_PIPELINE_H
@@ -85,7 +87,6 @@ typedef struct {
                                   allocated at init) */
   rs_bgu_t bgu;                /* the static scene in use, learned and kept current (its own thread) */
   bool bgu_on;
-  bool saved_learned;          /* the first model learned was saved to learn_out */
   bool rate_checked;           /* the model's rotation rate compared with the sensor's */
   bool few_warned;             /* said that the model was learned from few frames */
   rs_timing_t t_cluster;       /* clustering per frame */
