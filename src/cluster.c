@@ -376,14 +376,24 @@ void rs_cluster_run(rs_cluster_t *c, rs_slot_t *s, rs_cluster_stats_t *st) {
     else st->noise++;
   }
   c->overflow_total += st->overflow;
-  /* dual return: the second layer follows the first where the ranges agree */
-  const uint32_t cells = (uint32_t)s->meta.rows * s->meta.cols;
-  const float eps = c->cfg.eps;
+  /* dual return: the second layer follows the first where the ranges agree
+   * within the method's own eps (the adaptive one by row and range); then
+   * every clustered cell, layer by layer, row-major, for the object stage */
+  const uint32_t cols = s->meta.cols, cells = (uint32_t)s->meta.rows * cols;
+  const rs_cluster_method_t m = c->cfg.method;
+  const float eps = m == RS_CLUSTER_DBSCAN ? c->cfg.dbscan_eps : (m == RS_CLUSTER_CCL ? c->cfg.ccl_eps : c->cfg.eps);
+  uint32_t nm = 0;
+  for (uint32_t k = 0; k < nfg; k++)
+    if (s->label[c->fg[k]] >= RS_LABEL_FIRST_OBJECT) c->members[nm++] = c->fg[k];
   for (uint32_t i = 0; i < cells; i++) {
     uint32_t j = RS_MAX_CELLS + i;
     float r = s->range[j];
-    if (r <= 0.0f || s->label[j] == 1) continue;
+    if (r <= 0.0f || s->label[j] == RS_LABEL_STATIC) continue;
     uint16_t l0 = s->label[i];
-    s->label[j] = (uint16_t)((l0 >= 3 && fabsf(s->range[i] - r) < eps) ? l0 : 2);
+    float e = eps;
+    if (m == RS_CLUSTER_FSPC_ADAPTIVE && l0 >= RS_LABEL_FIRST_OBJECT) e = c->eps_tab[i / cols][bin_of(s->range[i])];
+    s->label[j] = (uint16_t)((l0 >= RS_LABEL_FIRST_OBJECT && fabsf(s->range[i] - r) < e) ? l0 : RS_LABEL_NOISE);
+    if (s->label[j] >= RS_LABEL_FIRST_OBJECT) c->members[nm++] = j;
   }
+  c->nmembers = nm;
 }

@@ -1,6 +1,8 @@
 /* labels.c - point-label file reader and writer. */
 #include "roadscan/labels.h"
 
+#include "roadscan/sort.h"
+
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
@@ -141,4 +143,26 @@ int rs_labels_finish(rs_labels_writer_t *w) {
   int bad_close = fclose(w->f) != 0;
   w->f = NULL;
   return bad_close ? RS_E_IO : RS_OK;
+}
+
+static int cmp_entry(const void *a, const void *b) {
+  uint64_t x = ((const rs_label_entry_t *)a)->key, y = ((const rs_label_entry_t *)b)->key;
+  return (x > y) - (x < y);
+}
+
+void rs_labels_write_frame(rs_labels_writer_t *w, const rs_slot_t *s, rs_label_entry_t *buf) {
+  const uint32_t cells = (uint32_t)s->meta.rows * s->meta.cols;
+  size_t n = 0;
+  for (int l = 0; l < RS_LAYERS; l++)
+    for (uint32_t i = 0; i < cells; i++) {
+      uint32_t c = (uint32_t)l * RS_MAX_CELLS + i;
+      if (s->range[c] == 0.0f || s->label[c] < RS_LABEL_NOISE) continue;
+      buf[n].key = rs_label_key(s->addr[c].packet, s->addr[c].block, s->addr[c].channel);
+      buf[n].label = s->label[c];
+      n++;
+    }
+  rs_sort(buf, n, sizeof buf[0], cmp_entry); /* qsort may allocate */
+  for (size_t i = 0; i < n; i++)
+    rs_labels_write(w, (uint32_t)(buf[i].key / 384u), (int)(buf[i].key / 32u % 12u), (int)(buf[i].key % 32u),
+                    buf[i].label);
 }

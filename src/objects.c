@@ -32,6 +32,10 @@ void rs_objects_init(rs_objects_t *o, const rs_pose_t *pose) {
   o->trans[2] = (float)pose->z;
 }
 
+/* min and max without NaN handling: no NaN reaches them, and fminf is a call */
+static inline float mn(float a, float b) { return a < b ? a : b; }
+static inline float mx(float a, float b) { return a > b ? a : b; }
+
 static int cmp_xy(const void *a, const void *b) {
   const float *p = a, *q = b;
   if (p[0] != q[0]) return p[0] < q[0] ? -1 : 1;
@@ -67,10 +71,10 @@ static void bounds(float (*pts)[2], uint32_t n, float ux, float uy, float b[4]) 
   b[1] = b[3] = -INFINITY;
   for (uint32_t j = 0; j < n; j++) {
     float pu = pts[j][0] * ux + pts[j][1] * uy, pv = -pts[j][0] * uy + pts[j][1] * ux;
-    b[0] = fminf(b[0], pu);
-    b[1] = fmaxf(b[1], pu);
-    b[2] = fminf(b[2], pv);
-    b[3] = fmaxf(b[3], pv);
+    b[0] = mn(b[0], pu);
+    b[1] = mx(b[1], pu);
+    b[2] = mn(b[2], pv);
+    b[3] = mx(b[3], pv);
   }
 }
 
@@ -97,7 +101,7 @@ static bool fit_rect(float (*h)[2], uint32_t nh, float (*pts)[2], uint32_t n, rs
     float close = 0.0f;
     for (uint32_t j = 0; j < n; j++) {
       float pu = pts[j][0] * ux + pts[j][1] * uy, pv = -pts[j][0] * uy + pts[j][1] * ux;
-      close += fminf(fminf(pu - bd[0], bd[1] - pu), fminf(pv - bd[2], bd[3] - pv));
+      close += mn(mn(pu - bd[0], bd[1] - pu), mn(pv - bd[2], bd[3] - pv));
     }
     close /= (float)n;
     float area = (bd[1] - bd[0]) * (bd[3] - bd[2]);
@@ -171,7 +175,27 @@ static void fit_boxes(rs_objects_t *o, int f, rs_object_list_t *out, uint32_t no
   }
 }
 
+/* The map's object cells (labels 3+ with a return), layer 0 then 1, row-major. */
+static uint32_t object_cells(const rs_slot_t *s, uint32_t *cells) {
+  const int rows = s->meta.rows, cols = s->meta.cols;
+  uint32_t n = 0;
+  for (int l = 0; l < RS_LAYERS; l++)
+    for (int r = 0; r < rows; r++) {
+      const uint32_t row0 = rs_cell(s, l, r, 0);
+      for (int c = 0; c < cols; c++)
+        if (s->label[row0 + (uint32_t)c] >= RS_LABEL_FIRST_OBJECT && s->range[row0 + (uint32_t)c] != 0.0f)
+          cells[n++] = row0 + (uint32_t)c;
+    }
+  return n;
+}
+
 void rs_objects_extract(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen, rs_object_list_t *out) {
+  uint32_t n = object_cells(s, o->cells);
+  rs_objects_extract_cells(o, s, sen, o->cells, n, out);
+}
+
+void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen, const uint32_t *list,
+                              uint32_t nlist, rs_object_list_t *out) {
   const int rows = s->meta.rows, cols = s->meta.cols;
   const int nf = o->have_pose ? 2 : 1;
   out->site_valid = o->have_pose;
@@ -184,20 +208,19 @@ void rs_objects_extract(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *
     }
     o->trig_cols = cols;
   }
-  /* pass 1, row-major (cache-friendly): the object cells and the number of objects */
+  /* pass 1 over the listed cells: the number of objects, the cells per column */
   uint32_t nobj = 0, ncells = 0;
   memset(o->col_start_idx, 0, sizeof(uint32_t) * ((size_t)cols + 1));
-  for (int l = 0; l < RS_LAYERS; l++)
-    for (int r = 0; r < rows; r++) {
-      const uint32_t row0 = rs_cell(s, l, r, 0);
-      for (int c = 0; c < cols; c++) {
-        uint16_t lab = s->label[row0 + (uint32_t)c];
-        if (lab < RS_LABEL_FIRST_OBJECT || s->range[row0 + (uint32_t)c] == 0.0f || lab - 3u >= RS_OBJ_MAX) continue;
-        if (lab - 2u > nobj) nobj = lab - 2u;
-        o->cells[ncells++] = row0 + (uint32_t)c;
-        o->col_start_idx[c + 1]++;
-      }
-    }
+  const uint32_t limit = RS_LAYERS * RS_MAX_CELLS, rowcells = (uint32_t)rows * (uint32_t)cols;
+  for (uint32_t j = 0; j < nlist && j < limit; j++) {
+    const uint32_t i = list[j];
+    if (i >= limit || i % RS_MAX_CELLS >= rowcells) continue;
+    const uint16_t lab = s->label[i];
+    if (lab < RS_LABEL_FIRST_OBJECT || s->range[i] == 0.0f || lab - 3u >= RS_OBJ_MAX) continue;
+    if (lab - 2u > nobj) nobj = lab - 2u;
+    o->cells[ncells++] = i; /* ncells <= j: a list that is o->cells is compacted in place */
+    o->col_start_idx[(i % RS_MAX_CELLS) % (uint32_t)cols + 1]++;
+  }
   for (int c = 0; c < cols; c++) o->col_start_idx[c + 1] += o->col_start_idx[c];
   for (uint32_t j = 0; j < ncells; j++) {
     uint32_t i = o->cells[j], c = (i % RS_MAX_CELLS) % (uint32_t)cols;

@@ -7,7 +7,6 @@
 
 #include "roadscan/error.h"
 #include "roadscan/log.h"
-#include "roadscan/sort.h"
 
 #include <inttypes.h>
 #include <math.h>
@@ -26,8 +25,9 @@ const char *rs_pipeline_csv_header(void) {
 
 /* a failed init releases what it had: the caller does not deinit */
 static void undo_init(rs_pipeline_t *p) {
-  free(p->beyond_cells);
-  p->beyond_cells = NULL;
+  rs_proc_deinit(&p->proc);
+  free(p->label_buf);
+  p->label_buf = NULL;
   rs_capture_close(&p->cap);
   rs_ring_deinit(&p->ring);
   if (p->labels_open) rs_labels_finish(&p->labels);
@@ -42,10 +42,7 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
   atomic_init(&p->stop, false);
   atomic_init(&p->input_done, false);
   rs_timing_init(&p->t_packet, "decode+assembly/pkt");
-  rs_timing_init(&p->t_frame, "processing/frame");
-  rs_timing_init(&p->t_background, "background/frame");
-  rs_timing_init(&p->t_cluster, "cluster/frame");
-  rs_timing_init(&p->t_objects, "objects/frame");
+  rs_timing_init(&p->t_frame, "processing/frame (stages and sinks)");
   rs_timing_init(&p->t_publish, "publish/frame");
   rs_timing_init(&p->t_latency, "latency/frame (last packet read -> list published)");
   p->line.t0_ns = rs_now_ns();
@@ -53,7 +50,6 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
     /* the map must have the model's geometry */
     p->cfg.assembly.columns = cfg->background->cols;
   }
-  p->proc.min_range = 1e30;
   int rc = rs_stream_init(&p->stream, &cfg->stream);
   if (rc != RS_OK) {
     snprintf(p->input_err, sizeof p->input_err, "%s", p->stream.err);
@@ -85,32 +81,31 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
     return rc;
   }
   /* last, so that no failure above leaves them allocated */
-  p->beyond_cells = calloc(RS_MAX_ROWS * RS_MAX_COLS, sizeof *p->beyond_cells);
-  if (p->beyond_cells == NULL) {
-    snprintf(p->input_err, sizeof p->input_err, "out of memory");
-    undo_init(p);
-    return RS_E_NOMEM;
-  }
-  /* the static scene: learned first (learn_seconds) or loaded, kept current
-   * (update_window_s) by the updater's learner thread */
-  if (cfg->background || cfg->learn_seconds > 0) {
-    rs_bgu_cfg_t bc;
-    rs_bgu_cfg_default(&bc);
-    bc.learn_seconds = cfg->background ? 0 : cfg->learn_seconds;
-    bc.learn_out = cfg->learn_out;
-    bc.window_s = cfg->update_window_s;
-    if (cfg->update_every_s > 0) bc.every_s = cfg->update_every_s;
-    bc.sync = cfg->lossless;
-    bc.see_through = cfg->bg_see_through == 0 ? RS_BG_SEE_THROUGH : (cfg->bg_see_through < 0 ? 0 : cfg->bg_see_through);
-    bc.beyond_static = !cfg->bg_beyond_foreground;
-    int brc = rs_bgu_init(&p->bgu, &bc, cfg->background);
-    if (brc != RS_OK) {
-      snprintf(p->input_err, sizeof p->input_err, "background updater: %s", rs_strerror(brc));
-      rs_bgu_deinit(&p->bgu);
+  if (p->labels_open) {
+    p->label_buf = malloc(sizeof *p->label_buf * RS_LABELS_FRAME_MAX);
+    if (p->label_buf == NULL) {
+      snprintf(p->input_err, sizeof p->input_err, "out of memory");
       undo_init(p);
-      return brc;
+      return RS_E_NOMEM;
     }
-    p->bgu_on = true;
+  }
+  rs_proc_cfg_t pc = {
+      .background = cfg->background,
+      .learn_seconds = cfg->learn_seconds,
+      .learn_out = cfg->learn_out,
+      .update_window_s = cfg->update_window_s,
+      .update_every_s = cfg->update_every_s,
+      .lossless = cfg->lossless,
+      .see_through = cfg->bg_see_through,
+      .beyond_foreground = cfg->bg_beyond_foreground,
+      .cluster = cfg->cluster,
+      .objects = cfg->objects,
+      .object_list = cfg->object_list,
+  };
+  rc = rs_proc_init(&p->proc, &pc, p->input_err, sizeof p->input_err);
+  if (rc != RS_OK) {
+    undo_init(p);
+    return rc;
   }
   return RS_OK;
 }
@@ -139,7 +134,6 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
       return;
     }
     p->asm_ready = true;
-    if (p->cfg.cluster) p->cfg.cluster->sensor = &p->stream.sensor;
     const rs_bg_model_t *bg = p->cfg.background;
     if (bg && (bg->model != p->stream.sensor.info->model || bg->rows != p->stream.sensor.lasers)) {
       p->input_status = RS_E_INVAL;
@@ -211,199 +205,99 @@ static void *packet_main(void *arg) {
   return NULL;
 }
 
-/* labels >= 2 of a frame, sorted by address (processing thread only) */
-typedef struct {
-  uint64_t key;
-  uint32_t label;
-} label_entry_t;
-static label_entry_t label_buf[RS_LAYERS * RS_MAX_CELLS];
-
-static int cmp_entry(const void *a, const void *b) {
-  uint64_t x = ((const label_entry_t *)a)->key, y = ((const label_entry_t *)b)->key;
-  return (x > y) - (x < y);
-}
-
-static void write_labels(rs_pipeline_t *p, const rs_slot_t *s) {
-  const uint32_t cells = (uint32_t)s->meta.rows * s->meta.cols;
-  size_t n = 0;
-  for (int l = 0; l < RS_LAYERS; l++)
-    for (uint32_t i = 0; i < cells; i++) {
-      uint32_t c = (uint32_t)l * RS_MAX_CELLS + i;
-      if (s->range[c] == 0.0f || s->label[c] < RS_LABEL_NOISE) continue;
-      label_buf[n].key = rs_label_key(s->addr[c].packet, s->addr[c].block, s->addr[c].channel);
-      label_buf[n].label = s->label[c];
-      n++;
-    }
-  rs_sort(label_buf, n, sizeof label_buf[0], cmp_entry); /* qsort would malloc */
-  for (size_t i = 0; i < n; i++)
-    rs_labels_write(&p->labels, (uint32_t)(label_buf[i].key / 384u), (int)(label_buf[i].key / 32u % 12u),
-                    (int)(label_buf[i].key % 32u), label_buf[i].label);
-}
-
-/* Says once when the model in use was learned from less than a site with
- * traffic needs (it is used all the same, and kept current). */
-static void check_model(rs_pipeline_t *p, const rs_bg_model_t *m, const rs_slot_t *s) {
-  if (m == NULL || s->meta.partial) return;
-  if (!p->rate_checked && m->rate_hz > 0) {
-    p->rate_checked = true;
-    double want = m->rate_hz, got = s->meta.rate_hz;
-    if (fabs(got - want) > 0.05 * want)
-      rs_log(RS_LOG_WARN, "the sensor turns at %.2f Hz, the background model was learned at %.2f Hz: relearn it", got,
-             want);
-  }
-  const double hz = m->rate_hz > 0 ? m->rate_hz : (s->meta.rate_hz > 0 ? s->meta.rate_hz : 10.0);
-  if (!p->few_warned && m->frames < RS_BG_SITE_SECONDS * hz * 0.5) {
-    p->few_warned = true;
-    rs_log(RS_LOG_WARN,
-           "the background model was learned from %u frames (%.1f s at %.1f Hz): a site with traffic needs %.0f s "
-           "of it for vehicles that stop to be told from the scene (a scene without traffic needs about 1 s); it is "
-           "used, and kept current from what the sensor sees%s",
-           m->frames, m->frames / hz, hz, RS_BG_SITE_SECONDS, p->cfg.update_window_s > 0 ? "" : " (not: --update-minutes 0)");
-  }
-}
-
-static void stage_time(rs_pipeline_t *p, rs_timing_t *t, int64_t ns) {
-  rs_timing_add(t, ns);
-  if (ns > p->line.worst_ns) {
-    p->line.worst_ns = ns;
-    p->line.worst = t->name;
-  }
-}
-
 /* One log line per summary_s seconds: never one per frame or packet. */
 static void maybe_log_line(rs_pipeline_t *p) {
   if (p->cfg.summary_s <= 0) return;
   int64_t now = rs_now_ns();
   double dt = (double)(now - p->line.t0_ns) * 1e-9;
   if (dt < p->cfg.summary_s) return;
-  uint64_t frames = p->proc.frames - p->line.frames, objects = p->objects - p->line.objects;
+  const rs_proc_counters_t *n = &p->proc.n;
+  uint64_t frames = n->frames - p->line.frames, objects = n->objects - p->line.objects;
   rs_log(RS_LOG_INFO,
          "last %.0f s: %" PRIu64 " frames (%.1f/s), %" PRIu64 " objects; totals: %" PRIu64 " frames, %" PRIu64
          " dropped, %" PRIu64 " over budget, %" PRIu64 " packets missing, %" PRIu64
          " publish errors; worst stage %s %.2f ms",
-         dt, frames, (double)frames / dt, objects, p->proc.frames, rs_ring_dropped(&p->ring), p->overruns,
-         p->proc.missing_packets, p->cfg.publish ? p->cfg.publish->errors : 0, p->line.worst ? p->line.worst : "-",
+         dt, frames, (double)frames / dt, objects, n->frames, rs_ring_dropped(&p->ring), p->overruns,
+         n->missing_packets, p->cfg.publish ? p->cfg.publish->errors : 0, p->line.worst ? p->line.worst : "-",
          (double)p->line.worst_ns * 1e-6);
   p->line.t0_ns = now;
-  p->line.frames = p->proc.frames;
-  p->line.objects = p->objects;
+  p->line.frames = n->frames;
+  p->line.objects = n->objects;
   p->line.worst_ns = 0;
   p->line.worst = NULL;
 }
 
-static const rs_object_list_t no_objects;
+/* sink: the frame statistics message */
+static void publish_stats(rs_pipeline_t *p, const rs_slot_t *s, const rs_proc_report_t *r, int64_t pub_ns,
+                          int64_t published_ns, int64_t frame_ns, double budget_ms) {
+  const rs_frame_meta_t *m = &s->meta;
+  roadscan_frame_stats_t st;
+  memset(&st, 0, sizeof st);
+  st.utime = rs_publish_utime();
+  st.sensor_id = p->cfg.publish->sensor_id;
+  st.frame_seq = (int64_t)m->seq;
+  st.background_us = (int32_t)(r->stage_ns[RS_STAGE_BACKGROUND] / 1000);
+  st.cluster_us = (int32_t)(r->stage_ns[RS_STAGE_CLUSTER] / 1000);
+  st.objects_us = (int32_t)(r->stage_ns[RS_STAGE_OBJECTS] / 1000);
+  st.publish_us = (int32_t)(pub_ns / 1000);
+  st.processing_us = (int32_t)(frame_ns / 1000);
+  st.latency_us = m->last_packet_ns > 0 ? (int32_t)((published_ns - m->last_packet_ns) / 1000) : -1;
+  st.points = (int32_t)m->points;
+  st.foreground = (int32_t)r->foreground;
+  st.clusters = (int32_t)r->cluster.clusters;
+  st.noise = (int32_t)r->cluster.noise;
+  st.frames_processed = (int64_t)p->proc.n.frames;
+  st.frames_dropped = (int64_t)m->dropped_frames;
+  st.deadline_overruns = (int64_t)p->overruns;
+  st.packets_missing = (int64_t)p->proc.n.missing_packets;
+  st.truncated_lists = (int64_t)p->cfg.publish->truncated_lists;
+  st.budget_ms = (float)budget_ms;
+  rs_publish_stats(p->cfg.publish, &st);
+}
+
+/* sink: one line of the frames CSV */
+static void write_frame_line(FILE *f, const rs_slot_t *s, const rs_proc_report_t *r, int64_t frame_ns) {
+  const rs_frame_meta_t *m = &s->meta;
+  fprintf(f,
+          "%" PRIu64 ",%.6f,%.6f,%u,%u,%u,%u,%" PRIu64 ",%u,%u,%u,%u,%u,%d,%u,%u,%.3f,%s,%u,%u,%u,%u,%.3f,%.3f,%.1f,%u"
+          ",%u\n",
+          m->seq, m->t_first, m->t_last, m->packets, m->points, m->columns, m->missing_packets, m->dropped_frames,
+          m->out_of_order, m->duplicates, m->late_points, m->shifted, m->collisions, m->partial ? 1 : 0, m->rows, m->cols,
+          (double)m->rate_hz, rs_return_mode_name(m->mode_byte), m->first_packet, m->last_packet, r->filled[0],
+          r->filled[1], (double)r->min_range, (double)r->max_range, (double)frame_ns / 1000.0, r->foreground,
+          r->cluster.clusters);
+}
 
 static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
-  int64_t bg_ns = 0, cl_ns = 0, obj_ns = 0, pub_ns = 0;
-  const rs_bg_model_t *bgm = NULL;
-  if (p->bgu_on) {
-    /* outside the frame's time: it waits for the learner only in lossless replays */
-    if (rs_bgu_frame(&p->bgu, s)) /* another model: the cells' counts of returns beyond start again */
-      memset(p->beyond_cells, 0, sizeof(uint32_t) * (size_t)s->meta.rows * s->meta.cols);
-    bgm = rs_bgu_model(&p->bgu);
-    check_model(p, bgm, s);
-  }
-  int64_t t0 = rs_now_ns();
-  uint64_t fg0 = p->bg.foreground;
-  const bool geo = bgm && s->meta.cols == bgm->cols && s->meta.rows == bgm->rows;
-  if (geo) {
-    p->bg.beyond_cells = p->beyond_cells;
-    rs_bg_subtract(bgm, s, &p->bg);
-    bg_ns = rs_now_ns() - t0;
-    stage_time(p, &p->t_background, bg_ns);
-  }
-  rs_cluster_stats_t cs;
-  memset(&cs, 0, sizeof cs);
-  const rs_object_list_t *objs = &no_objects;
-  if (p->cfg.cluster && p->cfg.cluster->cfg.method != RS_CLUSTER_NONE && (bgm || !p->bgu_on)) {
-    int64_t tc = rs_now_ns();
-    p->cfg.cluster->bg_surfaces = geo ? bgm->n : NULL;
-    rs_cluster_run(p->cfg.cluster, s, &cs);
-    cl_ns = rs_now_ns() - tc;
-    stage_time(p, &p->t_cluster, cl_ns);
-    p->clusters += cs.clusters;
-    p->clustered += cs.clustered;
-    p->noise += cs.noise;
-    if (p->cfg.objects) {
-      int64_t to = rs_now_ns();
-      rs_objects_extract(p->cfg.objects, s, &p->stream.sensor, p->cfg.object_list);
-      obj_ns = rs_now_ns() - to;
-      stage_time(p, &p->t_objects, obj_ns);
-      objs = p->cfg.object_list;
-      p->objects += cs.clusters;
+  const int64_t t0 = rs_now_ns();
+  rs_proc_report_t r;
+  rs_proc_frame(&p->proc, s, &p->stream.sensor, &r);
+  for (int k = 0; k < RS_STAGE_COUNT; k++)
+    if (r.ran[k] && r.stage_ns[k] > p->line.worst_ns) {
+      p->line.worst_ns = r.stage_ns[k];
+      p->line.worst = rs_proc_stage_name(k);
     }
-  }
-  int64_t published_ns = 0;
+  int64_t published_ns = 0, pub_ns = 0;
   if (p->cfg.publish) {
     int64_t tp = rs_now_ns();
-    rs_publish_objects(p->cfg.publish, &s->meta, objs, rs_publish_utime());
+    rs_publish_objects(p->cfg.publish, &s->meta, r.objects, rs_publish_utime());
     published_ns = rs_now_ns();
     pub_ns = published_ns - tp;
-    stage_time(p, &p->t_publish, pub_ns);
+    rs_timing_add(&p->t_publish, pub_ns);
+    if (pub_ns > p->line.worst_ns) {
+      p->line.worst_ns = pub_ns;
+      p->line.worst = p->t_publish.name;
+    }
     if (s->meta.last_packet_ns > 0) rs_timing_add(&p->t_latency, published_ns - s->meta.last_packet_ns);
   }
-  const rs_frame_meta_t *m = &s->meta;
-  uint32_t filled[RS_LAYERS] = {0, 0};
-  float lo = 0.0f, hi = 0.0f;
-  const uint32_t cells = (uint32_t)m->rows * m->cols;
-  for (int l = 0; l < RS_LAYERS; l++) {
-    const float *r = s->range + (size_t)l * RS_MAX_CELLS;
-    for (uint32_t i = 0; i < cells; i++) {
-      float v = r[i];
-      if (v == 0.0f) continue;
-      if (filled[0] + filled[1] == 0 || v < lo) lo = v;
-      if (v > hi) hi = v;
-      filled[l]++;
-    }
-  }
-  p->proc.frames++;
-  if (m->partial) p->proc.partial_frames++;
-  p->proc.missing_packets += m->missing_packets;
-  p->proc.points += m->points;
-  p->proc.cells_filled[0] += filled[0];
-  p->proc.cells_filled[1] += filled[1];
-  if (filled[0] + filled[1] > 0) {
-    if (lo < p->proc.min_range) p->proc.min_range = lo;
-    if (hi > p->proc.max_range) p->proc.max_range = hi;
-  }
-  if (p->labels_open) write_labels(p, s);
-  int64_t dt = rs_now_ns() - t0;
+  if (p->labels_open) rs_labels_write_frame(&p->labels, s, p->label_buf);
+  const int64_t dt = rs_now_ns() - t0;
   rs_timing_add(&p->t_frame, dt);
-  double budget_ms = p->cfg.budget_ms > 0 ? p->cfg.budget_ms : 1000.0 / (m->rate_hz > 0 ? m->rate_hz : 10.0);
+  const double hz = s->meta.rate_hz > 0 ? s->meta.rate_hz : 10.0;
+  const double budget_ms = p->cfg.budget_ms > 0 ? p->cfg.budget_ms : 1000.0 / hz;
   if ((double)dt * 1e-6 > budget_ms) p->overruns++;
-  if (p->cfg.publish) {
-    roadscan_frame_stats_t st;
-    memset(&st, 0, sizeof st);
-    st.utime = rs_publish_utime();
-    st.sensor_id = p->cfg.publish->sensor_id;
-    st.frame_seq = (int64_t)m->seq;
-    st.background_us = (int32_t)(bg_ns / 1000);
-    st.cluster_us = (int32_t)(cl_ns / 1000);
-    st.objects_us = (int32_t)(obj_ns / 1000);
-    st.publish_us = (int32_t)(pub_ns / 1000);
-    st.processing_us = (int32_t)(dt / 1000);
-    st.latency_us = m->last_packet_ns > 0 ? (int32_t)((published_ns - m->last_packet_ns) / 1000) : -1;
-    st.points = (int32_t)m->points;
-    st.foreground = (int32_t)(p->bg.foreground - fg0);
-    st.clusters = (int32_t)cs.clusters;
-    st.noise = (int32_t)cs.noise;
-    st.frames_processed = (int64_t)p->proc.frames;
-    st.frames_dropped = (int64_t)m->dropped_frames;
-    st.deadline_overruns = (int64_t)p->overruns;
-    st.packets_missing = (int64_t)p->proc.missing_packets;
-    st.truncated_lists = (int64_t)p->cfg.publish->truncated_lists;
-    st.budget_ms = (float)budget_ms;
-    rs_publish_stats(p->cfg.publish, &st);
-  }
-  if (p->cfg.frames_out) {
-    fprintf(p->cfg.frames_out,
-            "%" PRIu64 ",%.6f,%.6f,%u,%u,%u,%u,%" PRIu64 ",%u,%u,%u,%u,%u,%d,%u,%u,%.3f,%s,%u,%u,%u,%u,%.3f,%.3f,%.1f,%" PRIu64
-            ",%u\n",
-            m->seq, m->t_first, m->t_last, m->packets, m->points, m->columns, m->missing_packets, m->dropped_frames,
-            m->out_of_order, m->duplicates, m->late_points, m->shifted, m->collisions, m->partial ? 1 : 0, m->rows, m->cols,
-            (double)m->rate_hz, rs_return_mode_name(m->mode_byte), m->first_packet, m->last_packet, filled[0],
-            filled[1], (double)lo, (double)hi, (double)dt / 1000.0, p->bg.foreground - fg0, cs.clusters);
-  }
+  if (p->cfg.publish) publish_stats(p, s, &r, pub_ns, published_ns, dt, budget_ms);
+  if (p->cfg.frames_out) write_frame_line(p->cfg.frames_out, s, &r, dt);
 }
 
 static void *proc_main(void *arg) {
@@ -454,10 +348,9 @@ void rs_pipeline_join(rs_pipeline_t *p) {
 }
 
 void rs_pipeline_deinit(rs_pipeline_t *p) {
-  free(p->beyond_cells);
-  p->beyond_cells = NULL;
-  if (p->bgu_on) rs_bgu_deinit(&p->bgu);
-  p->bgu_on = false;
+  rs_proc_deinit(&p->proc);
+  free(p->label_buf);
+  p->label_buf = NULL;
   if (p->labels_open) rs_labels_finish(&p->labels);
   p->labels_open = false;
   rs_capture_close(&p->cap);
@@ -474,21 +367,22 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
             rs_hz_from_rate(p->assembly.rate), p->stream.sensor.lasers, a->cols);
   else
     fprintf(out, "  sensor: not identified (no valid data packet)\n");
-  fprintf(out, "  frames: %llu processed (%llu partial), %llu dropped\n", (unsigned long long)p->proc.frames,
-          (unsigned long long)p->proc.partial_frames, (unsigned long long)rs_ring_dropped(&p->ring));
+  fprintf(out, "  frames: %llu processed (%llu partial), %llu dropped\n", (unsigned long long)p->proc.n.frames,
+          (unsigned long long)p->proc.n.partial_frames, (unsigned long long)rs_ring_dropped(&p->ring));
   fprintf(out, "  packets: %llu captured, %llu data (%llu decoded), %llu position, %llu other\n",
           (unsigned long long)n->frames, (unsigned long long)n->data_packets, (unsigned long long)n->decoded,
           (unsigned long long)n->position_packets, (unsigned long long)n->other_packets);
   fprintf(out, "  stream: %llu missing, %llu out of order, %llu duplicate packets; %llu late returns dropped, %llu cell collisions\n",
           (unsigned long long)a->missing_packets, (unsigned long long)a->out_of_order,
           (unsigned long long)a->duplicates, (unsigned long long)a->late_points, (unsigned long long)a->collisions);
-  fprintf(out, "  points: %llu\n", (unsigned long long)p->proc.points);
-  const rs_bg_model_t *m = p->bgu_on ? rs_bgu_model(&p->bgu) : NULL;
-  if (p->bgu_on && m == NULL) fprintf(out, "  background: none yet (learning the first %.1f s)\n", p->cfg.learn_seconds);
+  fprintf(out, "  points: %llu\n", (unsigned long long)p->proc.n.points);
+  const rs_proc_t *pr = &p->proc;
+  const rs_bg_model_t *m = rs_proc_model(pr);
+  if (pr->bgu_on && m == NULL) fprintf(out, "  background: none yet (learning the first %.1f s)\n", p->cfg.learn_seconds);
   if (m) {
     size_t cells = (size_t)m->rows * m->cols, changed = 0;
-    for (size_t c = 0; c < cells; c++) changed += p->beyond_cells[c] > p->proc.frames / 2;
-    const rs_bgu_t *u = &p->bgu;
+    for (size_t c = 0; c < cells; c++) changed += pr->beyond_cells[c] > pr->n.frames / 2;
+    const rs_bgu_t *u = &pr->bgu;
     fprintf(out, "  background model: learned from %u frames%s; ", u->initial_frames,
             p->cfg.background ? " (loaded)" : "");
     if (p->cfg.update_window_s > 0)
@@ -507,17 +401,17 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
     }
     fprintf(out, "\n");
     fprintf(out, "  background: %llu returns background, %llu foreground, %llu beyond the farthest surface",
-            (unsigned long long)p->bg.background, (unsigned long long)p->bg.foreground,
-            (unsigned long long)p->bg.beyond);
+            (unsigned long long)pr->bg.background, (unsigned long long)pr->bg.foreground,
+            (unsigned long long)pr->bg.beyond);
     if (changed > cells / 100)
       fprintf(out, "; in %zu cells more than every other frame: the scene changed, relearn the model", changed);
     fprintf(out, "\n");
   }
   if (p->cfg.cluster && p->cfg.cluster->cfg.method != RS_CLUSTER_NONE)
     fprintf(out, "  clusters: %s, %llu clusters (%.1f per frame), %llu returns clustered, %llu noise, %llu beyond the cluster cap\n",
-            rs_cluster_method_name(p->cfg.cluster->cfg.method), (unsigned long long)p->clusters,
-            p->proc.frames ? (double)p->clusters / (double)p->proc.frames : 0.0, (unsigned long long)p->clustered,
-            (unsigned long long)p->noise, (unsigned long long)p->cfg.cluster->overflow_total);
+            rs_cluster_method_name(p->cfg.cluster->cfg.method), (unsigned long long)pr->n.clusters,
+            pr->n.frames ? (double)pr->n.clusters / (double)pr->n.frames : 0.0, (unsigned long long)pr->n.clustered,
+            (unsigned long long)pr->n.noise, (unsigned long long)p->cfg.cluster->overflow_total);
   if (p->cfg.publish) {
     const rs_publish_t *pub = p->cfg.publish;
     fprintf(out, "  lcm: %llu object lists on %s, %llu statistics%s%s, %s; %llu truncated (%llu objects beyond %u), %llu errors\n",
@@ -526,7 +420,7 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
             (unsigned long long)pub->objects_dropped, pub->cap, (unsigned long long)pub->errors);
   }
   fprintf(out, "  deadline: %llu of %llu frames over budget (",
-          (unsigned long long)p->overruns, (unsigned long long)p->proc.frames);
+          (unsigned long long)p->overruns, (unsigned long long)pr->n.frames);
   if (p->cfg.budget_ms > 0)
     fprintf(out, "%.1f ms)\n", p->cfg.budget_ms);
   else
@@ -538,9 +432,8 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
   rs_stream_print_errors(n, out);
   fprintf(out, "\n  timings (CLOCK_MONOTONIC):\n");
   rs_timing_print(&p->t_packet, out);
-  if (p->bgu_on) rs_timing_print(&p->t_background, out);
-  if (p->cfg.cluster && p->cfg.cluster->cfg.method != RS_CLUSTER_NONE) rs_timing_print(&p->t_cluster, out);
-  if (p->t_objects.n) rs_timing_print(&p->t_objects, out);
+  for (int k = 0; k < RS_STAGE_COUNT; k++)
+    if (pr->t_stage[k].n) rs_timing_print(&pr->t_stage[k], out);
   if (p->t_publish.n) rs_timing_print(&p->t_publish, out);
   rs_timing_print(&p->t_frame, out);
   if (p->t_latency.n) rs_timing_print(&p->t_latency, out);

@@ -328,6 +328,39 @@ START_TEST(t_dual_layer_and_config) {
 }
 END_TEST
 
+/* The second layer joins the first within the method's own eps, not FSPC's
+ * 1.8 m for every method; the members list holds every clustered cell of
+ * both layers, layer 0 first, row-major. */
+START_TEST(t_dual_layer_method_eps) {
+  static const rs_cluster_method_t ms[] = {RS_CLUSTER_FSPC, RS_CLUSTER_FSPC_ADAPTIVE, RS_CLUSTER_DBSCAN, RS_CLUSTER_CCL};
+  /* 1.2 m behind: within FSPC's 1.8 m; beyond the adaptive eps at 10 m (0.5 m), DBSCAN's 1.0 m here and CCL's 1.0 m */
+  static const bool joins[] = {true, false, false, false};
+  for (int k = 0; k < 4; k++) {
+    clear_map(COLS);
+    block(4, 8, 10, 20, 10.0f);
+    const uint32_t j = RS_MAX_CELLS + 6 * COLS + 15;
+    slot.range[j] = 11.2f;
+    slot.range[RS_MAX_CELLS + 5 * COLS + 12] = 10.1f; /* close behind: joins with every method */
+    rs_cluster_cfg_t cfg;
+    rs_cluster_cfg_default(&cfg);
+    cfg.method = ms[k];
+    cfg.dbscan_eps = 1.0f;
+    ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &sensor), RS_OK);
+    rs_cluster_stats_t st;
+    rs_cluster_run(&cl, &slot, &st);
+    ck_assert_int_ge(lab(6, 15), 3);
+    ck_assert_msg(slot.label[j] == (joins[k] ? lab(6, 15) : 2), "%s: label %u", rs_cluster_method_name(ms[k]),
+                  slot.label[j]);
+    ck_assert_int_eq(slot.label[RS_MAX_CELLS + 5 * COLS + 12], lab(5, 12));
+    /* members: the 55 cells, then the second layer's */
+    ck_assert_uint_eq(cl.nmembers, 55u + 1u + (joins[k] ? 1u : 0u));
+    for (uint32_t m = 1; m < cl.nmembers; m++) ck_assert_uint_gt(cl.members[m], cl.members[m - 1]);
+    for (uint32_t m = 0; m < cl.nmembers; m++) ck_assert_int_ge(slot.label[cl.members[m]], 3);
+    ck_assert_uint_eq(cl.members[55], RS_MAX_CELLS + 5 * COLS + 12);
+  }
+}
+END_TEST
+
 int main(void) {
   rs_sensor_init(&sensor, RS_MODEL_VLS128); /* 128 rows: any test row has a laser */
   rs_sensor_init(&vlp32c, RS_MODEL_VLP32C);
@@ -345,6 +378,7 @@ int main(void) {
   tcase_add_test(tc, t_adaptive_border_eps);
   tcase_add_test(tc, t_see_through_cells_do_not_seed);
   tcase_add_test(tc, t_dual_layer_and_config);
+  tcase_add_test(tc, t_dual_layer_method_eps);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

@@ -338,7 +338,7 @@ START_TEST(t_pipeline_end_to_end) {
   ck_assert_int_eq(rs_pipeline_init(&pipe, &cfg, slots, 4), RS_OK);
   ck_assert_int_eq(rs_pipeline_start(&pipe), RS_OK);
   rs_pipeline_join(&pipe);
-  const uint64_t frames = pipe.proc.frames;
+  const uint64_t frames = pipe.proc.n.frames;
   rs_pipeline_deinit(&pipe);
   drain(lcm);
   /* one list per frame, in order */

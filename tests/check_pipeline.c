@@ -31,8 +31,8 @@ START_TEST(t_lossless_replay) {
   rs_pipeline_join(&pl);
   fclose(f);
   ck_assert_int_eq(pl.input_status, RS_OK);
-  ck_assert_uint_eq(pl.proc.frames, 11);
-  ck_assert_uint_eq(pl.proc.partial_frames, 2);
+  ck_assert_uint_eq(pl.proc.n.frames, 11);
+  ck_assert_uint_eq(pl.proc.n.partial_frames, 2);
   ck_assert_uint_eq(rs_ring_dropped(&pl.ring), 0);
   ck_assert_uint_eq(pl.stream.n.decoded, (uint64_t)written);
   ck_assert_uint_eq(pl.stream.n.errors[rs_err_index(RS_E_BLOCK_FLAG)], 8); /* the foreign datagrams */
@@ -65,7 +65,7 @@ START_TEST(t_paced_replay_and_stop) {
   rs_pipeline_join(&pl);
   double el = (double)(rs_now_ns() - t0) * 1e-9;
   ck_assert_double_ge(el, 0.5 / 5.0 * 0.95); /* lower bound only */
-  ck_assert_uint_eq(pl.proc.frames + rs_ring_dropped(&pl.ring), 5);
+  ck_assert_uint_eq(pl.proc.n.frames + rs_ring_dropped(&pl.ring), 5);
   rs_pipeline_deinit(&pl);
 
   /* looping at real time never ends by itself: a stop request ends it */
@@ -76,7 +76,7 @@ START_TEST(t_paced_replay_and_stop) {
   usleep(300000);
   rs_pipeline_request_stop(&pl);
   rs_pipeline_join(&pl);
-  ck_assert_uint_ge(pl.proc.frames, 2);
+  ck_assert_uint_ge(pl.proc.n.frames, 2);
   ck_assert_int_eq(pl.input_status, RS_OK);
   rs_pipeline_deinit(&pl);
 }

@@ -385,11 +385,47 @@ START_TEST(t_background_tools) {
   char line[256];
   ck_assert_ptr_nonnull(fgets(line, sizeof line, f));
   fclose(f);
-  ck_assert_str_eq(line, "frame,foreground,decode_us,assembly_us,background_us,fspc_us,fspc_adaptive_us,dbscan_us,ccl_us,"
-                         "objects_us,encode_us\n");
-  ck_assert_ptr_nonnull(strstr(out, "objects (fspc)"));
+  ck_assert_str_eq(line, "frame,foreground,decode_us,assembly_us,background_us,cluster_us,objects_us,encode_us,"
+                         "processing_us,fspc_us,fspc_adaptive_us,dbscan_us,ccl_us\n");
+  ck_assert_ptr_nonnull(strstr(out, "stage ratio of medians: objects/cluster"));
   ck_assert_ptr_nonnull(strstr(out, "lcm encode"));
   ck_assert_ptr_null(strstr(out, "lcm encode failed"));
+  /* the bench runs the daemon's stages: the same foreground, frame by frame */
+  char dfr[600];
+  snprintf(dfr, sizeof dfr, "%s.daemon-frames", csv);
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s --update-minutes 0 --no-publish --quiet --frames-out %s",
+           tp, model, dfr);
+  ck_assert_msg(tu_exec(cmd, &out) == 0, "%s: %s", cmd, out);
+  {
+    FILE *fb = fopen(csv, "r"), *fd = fopen(dfr, "r");
+    ck_assert_ptr_nonnull(fb);
+    ck_assert_ptr_nonnull(fd);
+    char lb[512], ld[1024];
+    unsigned long long fgd[4096] = {0};
+    bool have[4096] = {false};
+    ck_assert_ptr_nonnull(fgets(ld, sizeof ld, fd));
+    while (fgets(ld, sizeof ld, fd)) { /* frame is the first column, foreground the second last */
+      unsigned long long seq = strtoull(ld, NULL, 10);
+      char *last = strrchr(ld, ','), *prev = last;
+      while (prev > ld && prev[-1] != ',') prev--;
+      if (seq < 4096) {
+        fgd[seq] = strtoull(prev, NULL, 10);
+        have[seq] = true;
+      }
+    }
+    ck_assert_ptr_nonnull(fgets(lb, sizeof lb, fb));
+    int compared = 0;
+    while (fgets(lb, sizeof lb, fb)) {
+      unsigned long long seq = strtoull(lb, NULL, 10), fgb = strtoull(strchr(lb, ',') + 1, NULL, 10);
+      ck_assert_uint_lt(seq, 4096);
+      ck_assert(have[seq]);
+      ck_assert_uint_eq(fgb, fgd[seq]);
+      compared++;
+    }
+    ck_assert_int_ge(compared, 50);
+    fclose(fb);
+    fclose(fd);
+  }
   /* --best-of: the same frames and foreground counts, each method run 3 times per frame */
   char csv3[600];
   snprintf(csv3, sizeof csv3, "%s.3", csv);

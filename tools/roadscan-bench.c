@@ -8,6 +8,7 @@
 #include "roadscan/background.h"
 #include "roadscan/cluster.h"
 #include "roadscan/objects.h"
+#include "roadscan/proc.h"
 #include "roadscan/publish.h"
 #include "roadscan/config.h"
 #include "roadscan/error.h"
@@ -26,13 +27,21 @@ static rs_slot_t slots[2];
 static rs_cluster_t cluster;
 static rs_bg_model_t bgm;
 
-/* per-frame stage timings of a capture run with a background model */
-enum { ST_DECODE, ST_ASSEMBLY, ST_BACKGROUND, ST_FSPC, ST_FSPC_ADAPTIVE, ST_DBSCAN, ST_CCL, ST_OBJECTS, ST_ENCODE, ST_COUNT };
-static const char *stage_names[ST_COUNT] = {"decode", "assembly", "background", "fspc", "fspc-adaptive", "dbscan", "ccl",
-                                            "objects (fspc)", "lcm encode"};
+/* per-frame stage timings of a capture run with a background model: the
+ * daemon's stages (rs_proc_frame, as roadscand runs it), then each
+ * clustering method alone on the same frame */
+enum { ST_DECODE, ST_ASSEMBLY, ST_BACKGROUND, ST_CLUSTER, ST_OBJECTS, ST_ENCODE, ST_PROCESSING,
+       ST_FSPC, ST_FSPC_ADAPTIVE, ST_DBSCAN, ST_CCL, ST_COUNT };
+static const char *stage_names[ST_COUNT] = {"decode", "assembly", "background", "cluster", "objects", "lcm encode",
+                                            "processing (all stages)", "fspc", "fspc-adaptive", "dbscan", "ccl"};
+static const char *stage_cols[ST_COUNT] = {"decode_us", "assembly_us", "background_us", "cluster_us", "objects_us",
+                                           "encode_us", "processing_us", "fspc_us", "fspc_adaptive_us", "dbscan_us",
+                                           "ccl_us"};
 static rs_objects_t objects;
 static rs_object_list_t object_list;
 static rs_publish_t publisher;
+static rs_proc_t proc;
+static rs_cluster_t proc_cluster;
 static rs_timing_t stage_t[ST_COUNT];
 static rs_packet_t pkt;
 static rs_timing_t t_decode, t_assemble, t_frame;
@@ -62,6 +71,8 @@ static int push(pkts_t *p, const uint8_t *payload, double ts) {
 typedef struct {
   FILE *csv;
   bool with_model;
+  rs_cluster_method_t method; /* the daemon's clustering */
+  const rs_sensor_t *sensor;
   int best_of;          /* each clustering method runs this many times per frame; the fastest counts */
   int64_t dec_ns, asm_ns; /* of the frame being assembled */
   uint64_t frames;
@@ -77,39 +88,38 @@ static void frame_stages(rs_slot_t *s) {
   t[ST_ASSEMBLY] = sg.asm_ns;
   sg.dec_ns = sg.asm_ns = 0;
   if (s->meta.partial || s->meta.cols != bgm.cols) return;
-  rs_bg_counts_t bc = {0};
+  /* the daemon's stages */
+  rs_proc_report_t r;
+  rs_proc_frame(&proc, s, sg.sensor, &r);
+  t[ST_BACKGROUND] = r.stage_ns[RS_STAGE_BACKGROUND];
+  t[ST_CLUSTER] = r.stage_ns[RS_STAGE_CLUSTER];
+  t[ST_OBJECTS] = r.stage_ns[RS_STAGE_OBJECTS];
+  t[ST_PROCESSING] = r.total_ns;
   int64_t a = rs_now_ns();
-  rs_bg_subtract(&bgm, s, &bc);
-  t[ST_BACKGROUND] = rs_now_ns() - a;
+  roadscan_object_list_t msg;
+  rs_publish_fill(&publisher, &s->meta, r.objects, 0, &msg);
+  if (roadscan_object_list_t_encode(publisher.buf, 0, (int)sizeof publisher.buf, &msg) < 0) sg.encode_errors++;
+  t[ST_ENCODE] = rs_now_ns() - a;
+  const uint32_t fg = r.foreground;
+  /* each method alone on the same foreground (labels of the map are reset by each run) */
   static const rs_cluster_method_t ms[4] = {RS_CLUSTER_FSPC, RS_CLUSTER_FSPC_ADAPTIVE, RS_CLUSTER_DBSCAN, RS_CLUSTER_CCL};
-  rs_cluster_stats_t cs = {0, 0, 0, 0, 0};
+  rs_cluster_stats_t cs;
   for (int k = 0; k < 4; k++) {
     cluster.cfg.method = ms[k];
     t[ST_FSPC + k] = INT64_MAX;
-    for (int rep = 0; rep < sg.best_of; rep++) { /* the same input each time: labels are reset */
+    for (int rep = 0; rep < sg.best_of; rep++) {
       a = rs_now_ns();
       rs_cluster_run(&cluster, s, &cs);
       const int64_t dt = rs_now_ns() - a;
       if (dt < t[ST_FSPC + k]) t[ST_FSPC + k] = dt;
     }
-    if (k == 0) {
-      /* the objects of FSPC's clusters, and their list encoded as the daemon would */
-      a = rs_now_ns();
-      rs_objects_extract(&objects, s, cluster.sensor, &object_list);
-      t[ST_OBJECTS] = rs_now_ns() - a;
-      a = rs_now_ns();
-      roadscan_object_list_t msg;
-      rs_publish_fill(&publisher, &s->meta, &object_list, 0, &msg);
-      if (roadscan_object_list_t_encode(publisher.buf, 0, (int)sizeof publisher.buf, &msg) < 0) sg.encode_errors++;
-      t[ST_ENCODE] = rs_now_ns() - a;
-    }
   }
   for (int k = 0; k < ST_COUNT; k++) rs_timing_add(&stage_t[k], t[k]);
   sg.frames++;
-  sg.fg_sum += cs.foreground;
-  if (cs.foreground > sg.fg_max) sg.fg_max = cs.foreground;
+  sg.fg_sum += fg;
+  if (fg > sg.fg_max) sg.fg_max = fg;
   if (sg.csv) {
-    fprintf(sg.csv, "%llu,%u", (unsigned long long)s->meta.seq, cs.foreground);
+    fprintf(sg.csv, "%llu,%u", (unsigned long long)s->meta.seq, fg);
     for (int k = 0; k < ST_COUNT; k++) fprintf(sg.csv, ",%.1f", (double)t[k] / 1000.0);
     fprintf(sg.csv, "\n");
   }
@@ -118,12 +128,15 @@ static void frame_stages(rs_slot_t *s) {
 static double median_us(int k) { return rs_timing_pct_us(&stage_t[k], 50); }
 
 static void print_stages(void) {
-  printf("per frame (%llu frames, foreground returns mean %.0f, max %u), CLOCK_MONOTONIC, one core:\n",
-         (unsigned long long)sg.frames, sg.frames ? sg.fg_sum / (double)sg.frames : 0.0, sg.fg_max);
+  printf("per frame (%llu frames, foreground returns mean %.0f, max %u), CLOCK_MONOTONIC, one core;\n"
+         "the daemon's stages with --cluster %s, then each method alone:\n",
+         (unsigned long long)sg.frames, sg.frames ? sg.fg_sum / (double)sg.frames : 0.0, sg.fg_max,
+         rs_cluster_method_name(sg.method));
   for (int k = 0; k < ST_COUNT; k++) {
     stage_t[k].name = stage_names[k];
     rs_timing_print(&stage_t[k], stdout);
   }
+  printf("stage ratio of medians: objects/cluster %.2f\n", median_us(ST_OBJECTS) / median_us(ST_CLUSTER));
   printf("ratios of medians: FSPC/DBSCAN %.4f (DBSCAN %.0fx slower), FSPC/CCL %.2f, FSPC-adaptive/FSPC %.2f\n",
          median_us(ST_FSPC) / median_us(ST_DBSCAN), median_us(ST_DBSCAN) / median_us(ST_FSPC),
          median_us(ST_FSPC) / median_us(ST_CCL), median_us(ST_FSPC_ADAPTIVE) / median_us(ST_FSPC));
@@ -247,14 +260,28 @@ static int capture(const char *path, rs_model_t force, int repeat) {
     rs_cluster_cfg_default(&cc);
     rs_cluster_init(&cluster, &cc, &s);
     cluster.bg_surfaces = bgm.n; /* frame_stages clusters only frames of the model's geometry */
+    cc.method = sg.method;
+    rs_cluster_init(&proc_cluster, &cc, &s);
     rs_objects_init(&objects, NULL);
+    char perr[RS_ERRMSG_SIZE];
+    rs_proc_cfg_t prc = {.background = &bgm, .lossless = true, .cluster = &proc_cluster, .objects = &objects,
+                         .object_list = &object_list};
+    if (rs_proc_init(&proc, &prc, perr, sizeof perr) != RS_OK) {
+      fprintf(stderr, "roadscan-bench: %s\n", perr);
+      return 1;
+    }
+    sg.sensor = &s;
     rs_publish_cfg_t pc = {.url = "memq://"}; /* encoding only: nothing is sent */
     if (rs_publish_init(&publisher, &pc) != RS_OK) {
       fprintf(stderr, "roadscan-bench: %s\n", publisher.err);
       return 1;
     }
     for (int k = 0; k < ST_COUNT; k++) rs_timing_init(&stage_t[k], stage_names[k]);
-    if (sg.csv) fprintf(sg.csv, "frame,foreground,decode_us,assembly_us,background_us,fspc_us,fspc_adaptive_us,dbscan_us,ccl_us,objects_us,encode_us\n");
+    if (sg.csv) {
+      fprintf(sg.csv, "frame,foreground");
+      for (int k = 0; k < ST_COUNT; k++) fprintf(sg.csv, ",%s", stage_cols[k]);
+      fprintf(sg.csv, "\n");
+    }
     repeat = 1;
   }
   rs_timing_init(&t_decode, "decode/packet");
@@ -271,6 +298,7 @@ static int capture(const char *path, rs_model_t force, int repeat) {
   }
   if (sg.with_model) {
     print_stages();
+    rs_proc_deinit(&proc);
     rs_publish_deinit(&publisher);
     if (sg.encode_errors) printf("lcm encode failed on %llu frames\n", (unsigned long long)sg.encode_errors);
     free(p.data);
@@ -291,18 +319,20 @@ static int capture(const char *path, rs_model_t force, int repeat) {
 }
 
 int main(int argc, char **argv) {
-  enum { O_SECONDS = 256, O_MODEL, O_SENSOR, O_CSV, O_REPEAT, O_BEST, O_HELP };
+  enum { O_SECONDS = 256, O_MODEL, O_SENSOR, O_CSV, O_REPEAT, O_BEST, O_CLUSTER, O_HELP };
   static const struct option opts[] = {{"seconds", required_argument, NULL, O_SECONDS},
                                        {"model", required_argument, NULL, O_MODEL},
                                        {"sensor", required_argument, NULL, O_SENSOR},
                                        {"csv", required_argument, NULL, O_CSV},
                                        {"repeat", required_argument, NULL, O_REPEAT},
                                        {"best-of", required_argument, NULL, O_BEST},
+                                       {"cluster", required_argument, NULL, O_CLUSTER},
                                        {"help", no_argument, NULL, O_HELP},
                                        {NULL, 0, NULL, 0}};
   double seconds = 1.0;
   long repeat = 5;
   sg.best_of = 1;
+  sg.method = RS_CLUSTER_FSPC_ADAPTIVE;
   rs_model_t force = RS_MODEL_UNKNOWN;
   char err[RS_ERRMSG_SIZE];
   int c;
@@ -314,6 +344,15 @@ int main(int argc, char **argv) {
     case O_REPEAT:
       if (rs_cfg_long("--repeat", optarg, 1, 1000, &repeat, err, sizeof err)) goto bad;
       break;
+    case O_CLUSTER: {
+      int m = rs_cluster_method_from_name(optarg);
+      if (m <= 0) {
+        snprintf(err, sizeof err, "--cluster %s: not fspc, fspc-adaptive, dbscan or ccl", optarg);
+        goto bad;
+      }
+      sg.method = (rs_cluster_method_t)m;
+      break;
+    }
     case O_BEST: {
       long b;
       if (rs_cfg_long("--best-of", optarg, 1, 100, &b, err, sizeof err)) goto bad;
@@ -337,8 +376,10 @@ int main(int argc, char **argv) {
     case O_HELP:
       printf("usage: roadscan-bench [--seconds S]   (synthetic packets of every model: decode + assembly)\n"
              "       roadscan-bench CAPTURE [--sensor NAME] [--repeat N]   (decode + assembly)\n"
-             "       roadscan-bench CAPTURE --model MODEL [--csv FILE] [--best-of N]\n"
-             "         every frame: decode, assembly, background, FSPC, FSPC-adaptive, DBSCAN, CCL;\n"
+             "       roadscan-bench CAPTURE --model MODEL [--cluster METHOD] [--csv FILE] [--best-of N]\n"
+             "         every frame: the daemon's stages as roadscand runs them (background, --cluster\n"
+             "         METHOD: fspc-adaptive by default, objects, the LCM encoding) and the stage ratio;\n"
+             "         then FSPC, FSPC-adaptive, DBSCAN and CCL alone on the same frame;\n"
              "         median, p99, max per stage and the ratios; --csv writes the per-frame rows;\n"
              "         --best-of N runs each clustering method N times per frame and counts the\n"
              "         fastest (steadier figures on a shared machine; default 1)\n");

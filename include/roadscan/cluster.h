@@ -6,7 +6,9 @@
  * Input: layer 0 of a frame slot, returns labelled 1 are background, every
  * other return is foreground. Output: labels 3 + cluster number, 2 for
  * noise; layer-1 (dual) returns take the label of the layer-0 return of the
- * same cell when their ranges agree within eps, else 2.
+ * same cell when their ranges agree within the method's eps (the adaptive
+ * eps of the cell's row and range), else 2. members[] lists the clustered
+ * cells (layer 0 then 1, row-major): the object stage reads only those.
  *
  * FSPC (Chen et al. 2022): the neighbours of a cell are the foreground cells
  * of an h x w window centred on it (columns wrap, rows are clipped) whose
@@ -106,6 +108,8 @@ typedef struct {
   float px[RS_MAX_CELLS], py[RS_MAX_CELLS], pz[RS_MAX_CELLS];
   int32_t next[RS_MAX_CELLS];
   int32_t heads[RS_GRID_BUCKETS];
+  uint32_t members[RS_LAYERS * RS_MAX_CELLS]; /* clustered cells of the last run, layer 0 then 1, row-major */
+  uint32_t nmembers;
 } rs_cluster_t;
 
 void rs_cluster_cfg_default(rs_cluster_cfg_t *c);

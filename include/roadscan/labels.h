@@ -56,4 +56,13 @@ int rs_labels_create(rs_labels_writer_t *w, const char *path, const char *commen
 int rs_labels_write(rs_labels_writer_t *w, uint32_t packet, int block, int channel, uint32_t label);
 int rs_labels_finish(rs_labels_writer_t *w);
 
+/* A frame's labelled returns (>= 2), sorted by address with heapsort (no
+ * allocation) in buf, caller-owned: RS_LABELS_FRAME_MAX entries. */
+typedef struct {
+  uint64_t key;
+  uint32_t label;
+} rs_label_entry_t;
+#define RS_LABELS_FRAME_MAX (RS_LAYERS * RS_MAX_CELLS)
+void rs_labels_write_frame(rs_labels_writer_t *w, const rs_slot_t *s, rs_label_entry_t *buf);
+
 #endif

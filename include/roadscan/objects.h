@@ -101,7 +101,12 @@ typedef struct {
 _Static_assert(RS_OBJ_MAX <= UINT16_MAX, "object index fits in uint16_t");
 
 void rs_objects_init(rs_objects_t *o, const rs_pose_t *pose /* NULL: no site frame */);
-/* Fills `out` from the labels of `s` (layer 0 and 1). */
+/* Fills `out` from the labels of `s` (layer 0 and 1), scanning the map. */
 void rs_objects_extract(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen, rs_object_list_t *out);
+/* The same from the list of object cells the clustering made (rs_cluster_t's
+ * members: layer 0 then 1, row-major; cells out of the map, without a return
+ * or a cluster label are skipped): no scan of the whole map. */
+void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen, const uint32_t *cells,
+                              uint32_t n, rs_object_list_t *out);
 
 #endif

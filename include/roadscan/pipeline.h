@@ -22,6 +22,7 @@
 #include "roadscan/frame.h"
 #include "roadscan/labels.h"
 #include "roadscan/objects.h"
+#include "roadscan/proc.h"
 #include "roadscan/publish.h"
 #include "roadscan/ring.h"
 #include "roadscan/stream.h"
@@ -56,15 +57,6 @@ typedef struct {
 } rs_pipeline_cfg_t;
 
 typedef struct {
-  uint64_t frames;             /* frames processed */
-  uint64_t partial_frames;
-  uint64_t missing_packets;
-  uint64_t points;
-  uint64_t cells_filled[RS_LAYERS];
-  double min_range, max_range;
-} rs_proc_counters_t;
-
-typedef struct {
   rs_pipeline_cfg_t cfg;
   rs_capture_t cap;
   rs_stream_t stream;
@@ -80,29 +72,20 @@ typedef struct {
   int input_status;            /* RS_OK, or why the input ended badly */
   char input_err[RS_ERRMSG_SIZE];
   rs_timing_t t_packet;        /* decode + assembly per data packet (packet thread) */
-  rs_timing_t t_frame;         /* processing per frame (processing thread) */
-  rs_timing_t t_background;    /* background subtraction per frame */
-  rs_bg_counts_t bg;           /* background / foreground returns (processing thread) */
-  uint32_t *beyond_cells;      /* returns beyond each cell's farthest surface (processing thread;
-                                  allocated at init) */
-  rs_bgu_t bgu;                /* the static scene in use, learned and kept current (its own thread) */
-  bool bgu_on;
-  bool rate_checked;           /* the model's rotation rate compared with the sensor's */
-  bool few_warned;             /* said that the model was learned from few frames */
-  rs_timing_t t_cluster;       /* clustering per frame */
-  rs_timing_t t_objects;       /* object extraction per frame */
+  /* processing thread: the stages (proc.h), then the sinks */
+  rs_proc_t proc;
+  rs_timing_t t_frame;         /* stages and sinks per frame */
   rs_timing_t t_publish;       /* encoding + lcm_publish per frame */
   rs_timing_t t_latency;       /* frame complete -> object list published */
-  uint64_t clusters, clustered, noise, objects;
-  uint64_t overruns;           /* frames over budget */
+  uint64_t overruns;           /* frames over budget (stages and sinks) */
   struct {                     /* the periodic log line (processing thread) */
     int64_t t0_ns;
     uint64_t frames, objects;
     int64_t worst_ns;
     const char *worst;
   } line;
-  rs_proc_counters_t proc;
-  rs_labels_writer_t labels;   /* processing thread */
+  rs_labels_writer_t labels;   /* the --labels-out sink */
+  rs_label_entry_t *label_buf; /* its sort area (allocated at init) */
   bool labels_open;
 } rs_pipeline_t;
 
