@@ -150,7 +150,8 @@ static int cmp_entry(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
-void rs_labels_write_frame(rs_labels_writer_t *w, const rs_slot_t *s, rs_label_entry_t *buf) {
+void rs_labels_write_frame(rs_labels_writer_t *w, const rs_slot_t *s, rs_label_entry_t *buf, const uint32_t *map,
+                           uint32_t nmap) {
   const uint32_t cells = (uint32_t)s->meta.rows * s->meta.cols;
   size_t n = 0;
   for (int l = 0; l < RS_LAYERS; l++)
@@ -158,7 +159,12 @@ void rs_labels_write_frame(rs_labels_writer_t *w, const rs_slot_t *s, rs_label_e
       uint32_t c = (uint32_t)l * RS_MAX_CELLS + i;
       if (s->range[c] == 0.0f || s->label[c] < RS_LABEL_NOISE) continue;
       buf[n].key = rs_label_key(s->addr[c].packet, s->addr[c].block, s->addr[c].channel);
-      buf[n].label = s->label[c];
+      uint32_t lab = s->label[c];
+      if (map && lab >= RS_LABEL_FIRST_OBJECT) {
+        const uint32_t k = lab - RS_LABEL_FIRST_OBJECT;
+        lab = k < nmap && map[k] ? map[k] : RS_LABEL_NOISE;
+      }
+      buf[n].label = lab;
       n++;
     }
   rs_sort(buf, n, sizeof buf[0], cmp_entry); /* qsort may allocate */

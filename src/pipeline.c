@@ -16,6 +16,11 @@
 
 #define TAKE_TIMEOUT_MS 100
 
+const char *rs_pipeline_tracks_header(void) {
+  return "frame,t,track,state,class,x,y,z,vx,vy,speed,heading,length,width,height,points,hits,misses,age,"
+         "cov_xx,cov_xy,cov_yy";
+}
+
 const char *rs_pipeline_csv_header(void) {
   return "frame,t_first,t_last,packets,points,columns,missing_packets,dropped_frames,"
          "out_of_order,duplicates,late_points,shifted,collisions,partial,rows,cols,rate_hz,return_mode,"
@@ -26,6 +31,8 @@ const char *rs_pipeline_csv_header(void) {
 /* a failed init releases what it had: the caller does not deinit */
 static void undo_init(rs_pipeline_t *p) {
   rs_proc_deinit(&p->proc);
+  if (p->tracks_out) fclose(p->tracks_out);
+  p->tracks_out = NULL;
   free(p->label_buf);
   p->label_buf = NULL;
   rs_capture_close(&p->cap);
@@ -81,6 +88,15 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
     return rc;
   }
   /* last, so that no failure above leaves them allocated */
+  if (cfg->tracks_out) {
+    p->tracks_out = fopen(cfg->tracks_out, "w");
+    if (p->tracks_out == NULL) {
+      snprintf(p->input_err, sizeof p->input_err, "--tracks-out %s: cannot write", cfg->tracks_out);
+      undo_init(p);
+      return RS_E_IO;
+    }
+    fprintf(p->tracks_out, "%s\n", rs_pipeline_tracks_header());
+  }
   if (p->labels_open) {
     p->label_buf = malloc(sizeof *p->label_buf * RS_LABELS_FRAME_MAX);
     if (p->label_buf == NULL) {
@@ -101,6 +117,7 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
       .cluster = cfg->cluster,
       .objects = cfg->objects,
       .object_list = cfg->object_list,
+      .tracker = cfg->tracker,
   };
   rc = rs_proc_init(&p->proc, &pc, p->input_err, sizeof p->input_err);
   if (rc != RS_OK) {
@@ -239,6 +256,8 @@ static void publish_stats(rs_pipeline_t *p, const rs_slot_t *s, const rs_proc_re
   st.background_us = (int32_t)(r->stage_ns[RS_STAGE_BACKGROUND] / 1000);
   st.cluster_us = (int32_t)(r->stage_ns[RS_STAGE_CLUSTER] / 1000);
   st.objects_us = (int32_t)(r->stage_ns[RS_STAGE_OBJECTS] / 1000);
+  st.tracks_us = (int32_t)(r->stage_ns[RS_STAGE_TRACKS] / 1000);
+  st.tracks = r->tracks ? (int32_t)r->tracks->count : 0;
   st.publish_us = (int32_t)(pub_ns / 1000);
   st.processing_us = (int32_t)(frame_ns / 1000);
   st.latency_us = m->last_packet_ns > 0 ? (int32_t)((published_ns - m->last_packet_ns) / 1000) : -1;
@@ -253,6 +272,39 @@ static void publish_stats(rs_pipeline_t *p, const rs_slot_t *s, const rs_proc_re
   st.truncated_lists = (int64_t)p->cfg.publish->truncated_lists;
   st.budget_ms = (float)budget_ms;
   rs_publish_stats(p->cfg.publish, &st);
+}
+
+/* sink: the tracks CSV, one line per track alive */
+static void write_tracks(FILE *f, const rs_slot_t *s, const rs_track_list_t *tl) {
+  for (uint32_t i = 0; i < tl->count; i++) {
+    const rs_track_t *t = &tl->track[i];
+    if (t->state == RS_TRACK_LOST) continue; /* kept for re-acquisition, not published */
+    fprintf(f, "%" PRIu64 ",%.6f,%u,%s,%s,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.4f,%.2f,%.2f,%.2f,%u,%u,%u,%.3f,%.4f,%.4f,%.4f\n",
+            s->meta.seq, t->t_state, t->id, rs_track_state_name(t->state), rs_class_name(t->cls), t->x[0], t->x[1],
+            (double)t->z_min, t->x[2], t->x[3], (double)t->speed, (double)t->heading, (double)t->length,
+            (double)t->width, (double)t->height, t->points, t->hits, t->misses, tl->t - t->t_birth, t->P[0][0],
+            t->P[0][1], t->P[1][1]);
+  }
+}
+
+/* the label each cluster's returns get in --labels-out: 2 + its track's id */
+static void track_labels(rs_pipeline_t *p, const rs_proc_report_t *r) {
+  const rs_track_list_t *tl = r->tracks;
+  const uint32_t n = r->objects->count < RS_OBJ_MAX ? r->objects->count : RS_OBJ_MAX;
+  for (uint32_t k = 0; k < n; k++) {
+    uint32_t id = tl->object_track[k], lab = 0;
+    if (id && p->cfg.labels_confirmed_only) {
+      uint32_t lo = 0, hi = tl->count; /* tracks are in id order */
+      while (lo < hi) {
+        uint32_t mid = (lo + hi) / 2;
+        if (tl->track[mid].id < id) lo = mid + 1;
+        else hi = mid;
+      }
+      if (lo == tl->count || tl->track[lo].id != id || tl->track[lo].state == RS_TRACK_TENTATIVE) id = 0;
+    }
+    if (id) lab = id + RS_LABEL_NOISE < id ? 0 : id + RS_LABEL_NOISE;
+    p->label_map[k] = lab;
+  }
 }
 
 /* sink: one line of the frames CSV */
@@ -289,8 +341,17 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
       p->line.worst = p->t_publish.name;
     }
     if (s->meta.last_packet_ns > 0) rs_timing_add(&p->t_latency, published_ns - s->meta.last_packet_ns);
+    if (r.tracks) rs_publish_tracks(p->cfg.publish, &s->meta, r.tracks, rs_publish_utime());
   }
-  if (p->labels_open) rs_labels_write_frame(&p->labels, s, p->label_buf);
+  if (p->tracks_out && r.tracks) write_tracks(p->tracks_out, s, r.tracks);
+  if (p->labels_open) {
+    if (r.tracks) {
+      track_labels(p, &r);
+      rs_labels_write_frame(&p->labels, s, p->label_buf, p->label_map, r.objects->count);
+    } else {
+      rs_labels_write_frame(&p->labels, s, p->label_buf, NULL, 0);
+    }
+  }
   const int64_t dt = rs_now_ns() - t0;
   rs_timing_add(&p->t_frame, dt);
   const double hz = s->meta.rate_hz > 0 ? s->meta.rate_hz : 10.0;
@@ -318,6 +379,10 @@ static void *proc_main(void *arg) {
     maybe_log_line(p);
   }
   if (p->cfg.frames_out) fflush(p->cfg.frames_out);
+  if (p->tracks_out && (fflush(p->tracks_out) != 0 || ferror(p->tracks_out))) {
+    p->input_status = RS_E_IO;
+    snprintf(p->input_err, sizeof p->input_err, "--tracks-out %s: write failed", p->cfg.tracks_out);
+  }
   if (p->labels_open && rs_labels_finish(&p->labels) != RS_OK) {
     p->input_status = RS_E_IO;
     snprintf(p->input_err, sizeof p->input_err, "--labels-out %s: write failed", p->cfg.labels_out);
@@ -349,6 +414,8 @@ void rs_pipeline_join(rs_pipeline_t *p) {
 
 void rs_pipeline_deinit(rs_pipeline_t *p) {
   rs_proc_deinit(&p->proc);
+  if (p->tracks_out) fclose(p->tracks_out);
+  p->tracks_out = NULL;
   free(p->label_buf);
   p->label_buf = NULL;
   if (p->labels_open) rs_labels_finish(&p->labels);
@@ -412,12 +479,26 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
             rs_cluster_method_name(p->cfg.cluster->cfg.method), (unsigned long long)pr->n.clusters,
             pr->n.frames ? (double)pr->n.clusters / (double)pr->n.frames : 0.0, (unsigned long long)pr->n.clustered,
             (unsigned long long)pr->n.noise, (unsigned long long)p->cfg.cluster->overflow_total);
+  if (p->cfg.tracker) {
+    const rs_tracker_t *tr = p->cfg.tracker;
+    fprintf(out, "  tracks: %llu born, %llu confirmed, %llu ended, %u alive; %llu frames with clusters shared by tracks, "
+                 "%llu split parts absorbed, %llu tracks joined to an older one, %llu beyond the %d-track capacity, "
+                 "%llu groups assigned greedily\n",
+            (unsigned long long)tr->n.born, (unsigned long long)tr->n.confirmed, (unsigned long long)tr->n.ended,
+            tr->list.count, (unsigned long long)tr->n.held, (unsigned long long)tr->n.absorbed,
+            (unsigned long long)(tr->n.stitched + tr->n.duplicates), (unsigned long long)tr->n.overflow, RS_TRACK_MAX, (unsigned long long)tr->n.greedy_groups);
+  }
   if (p->cfg.publish) {
     const rs_publish_t *pub = p->cfg.publish;
     fprintf(out, "  lcm: %llu object lists on %s, %llu statistics%s%s, %s; %llu truncated (%llu objects beyond %u), %llu errors\n",
             (unsigned long long)pub->lists, pub->channel, (unsigned long long)pub->stats,
             pub->stats_channel[0] ? " on " : "", pub->stats_channel, pub->url, (unsigned long long)pub->truncated_lists,
             (unsigned long long)pub->objects_dropped, pub->cap, (unsigned long long)pub->errors);
+    if (p->cfg.tracker)
+      fprintf(out, "  lcm: %llu track lists on %s (%llu truncated to %u), %llu track ends on %s\n",
+              (unsigned long long)pub->track_lists, pub->tracks_channel[0] ? pub->tracks_channel : "(none)",
+              (unsigned long long)pub->truncated_track_lists, pub->track_cap, (unsigned long long)pub->track_ends,
+              pub->ends_channel[0] ? pub->ends_channel : "(none)");
   }
   fprintf(out, "  deadline: %llu of %llu frames over budget (",
           (unsigned long long)p->overruns, (unsigned long long)pr->n.frames);

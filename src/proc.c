@@ -32,6 +32,10 @@ int rs_proc_init(rs_proc_t *p, const rs_proc_cfg_t *cfg, char *err, size_t errle
     snprintf(err, errlen, "the object stage needs clustering and an object list");
     return RS_E_INVAL;
   }
+  if (cfg->tracker && cfg->objects == NULL) {
+    snprintf(err, errlen, "the track stage needs the object stage");
+    return RS_E_INVAL;
+  }
   if (cfg->background == NULL && cfg->learn_seconds <= 0) return RS_OK;
   p->beyond_cells = calloc((size_t)RS_MAX_ROWS * RS_MAX_COLS, sizeof *p->beyond_cells);
   if (p->beyond_cells == NULL) {
@@ -163,6 +167,12 @@ void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_pro
       t = stage_end(p, r, RS_STAGE_OBJECTS, t);
       r->objects = p->cfg.object_list;
       p->n.objects += p->cfg.object_list->count;
+      if (p->cfg.tracker) {
+        /* the frame's time is its last packet's: capture time, never the wall clock */
+        rs_track_frame(p->cfg.tracker, p->cfg.object_list, s->meta.t_last);
+        t = stage_end(p, r, RS_STAGE_TRACKS, t);
+        r->tracks = &p->cfg.tracker->list;
+      }
     }
   }
   census(s, r);

@@ -112,6 +112,12 @@ int rs_publish_init(rs_publish_t *p, const rs_publish_cfg_t *cfg) {
   const char *stats = cfg->stats_channel ? cfg->stats_channel : RS_PUB_DEFAULT_STATS;
   if (stats[0] && !copy_name(p->stats_channel, sizeof p->stats_channel, stats, "stats channel", p->err, sizeof p->err))
     return RS_E_INVAL;
+  const char *tch = cfg->tracks_channel ? cfg->tracks_channel : RS_PUB_DEFAULT_TRACKS;
+  if (tch[0] && !copy_name(p->tracks_channel, sizeof p->tracks_channel, tch, "tracks channel", p->err, sizeof p->err))
+    return RS_E_INVAL;
+  const char *ech = cfg->track_ends_channel ? cfg->track_ends_channel : RS_PUB_DEFAULT_TRACK_ENDS;
+  if (ech[0] && !copy_name(p->ends_channel, sizeof p->ends_channel, ech, "track ends channel", p->err, sizeof p->err))
+    return RS_E_INVAL;
   p->max_datagram = cfg->max_datagram ? cfg->max_datagram : RS_PUB_DATAGRAM_MAX;
   if (p->max_datagram < RS_PUB_DATAGRAM_MIN || p->max_datagram > RS_PUB_DATAGRAM_MAX) {
     snprintf(p->err, sizeof p->err, "max datagram: %d must be between %d and %d bytes", p->max_datagram,
@@ -137,6 +143,14 @@ int rs_publish_init(rs_publish_t *p, const rs_publish_cfg_t *cfg) {
   }
   if (cap > RS_PUB_MAX_OBJECTS) cap = RS_PUB_MAX_OBJECTS; /* only if RS_PUB_DATAGRAM_MAX grew */
   p->cap = (uint32_t)cap;
+  roadscan_track_list_t tempty;
+  memset(&tempty, 0, sizeof tempty);
+  tempty.sensor_id = p->sensor_id;
+  roadscan_track_t tone;
+  memset(&tone, 0, sizeof tone);
+  const int tfixed = roadscan_track_list_t_encoded_size(&tempty) + (int)strlen(p->tracks_channel) + 1;
+  const int tcap = (p->max_datagram - tfixed) / __roadscan_track_t_encoded_array_size(&tone, 1);
+  p->track_cap = tcap < 1 ? 1 : (tcap > RS_TRACK_MAX ? RS_TRACK_MAX : (uint32_t)tcap);
   if (cfg->lcm) {
     p->lcm = cfg->lcm;
     return RS_OK;
@@ -271,4 +285,90 @@ bool rs_publish_list_plausible(const void *data, int len) {
   roadscan_object_t one;
   memset(&one, 0, sizeof one);
   return n >= 0 && (int64_t)n * __roadscan_object_t_encoded_array_size(&one, 1) <= len;
+}
+
+static void track_to_wire(const rs_track_t *t, double t_frame, roadscan_track_t *w) {
+  memset(w, 0, sizeof *w);
+  w->id = (int32_t)t->id;
+  w->state = (int8_t)t->state;
+  w->class_id = (int8_t)t->cls;
+  w->age = (float)(t_frame - t->t_birth);
+  w->hits = (int32_t)t->hits;
+  w->misses = (int32_t)t->misses;
+  w->position[0] = (float)t->x[0];
+  w->position[1] = (float)t->x[1];
+  w->position[2] = t->z_min;
+  w->velocity[0] = (float)t->x[2];
+  w->velocity[1] = (float)t->x[3];
+  w->speed = t->speed;
+  w->heading = t->heading;
+  w->length = t->length;
+  w->width = t->width;
+  w->height = t->height;
+  w->points = (int32_t)t->points;
+  w->position_cov[0] = (float)t->P[0][0];
+  w->position_cov[1] = (float)t->P[0][1];
+  w->position_cov[2] = (float)t->P[1][1];
+}
+
+void rs_publish_fill_tracks(rs_publish_t *p, const rs_frame_meta_t *m, const rs_track_list_t *tl, int64_t utime,
+                            roadscan_track_list_t *msg) {
+  memset(msg, 0, sizeof *msg);
+  msg->utime = utime;
+  msg->sensor_id = p->sensor_id;
+  msg->frame_seq = (int64_t)m->seq;
+  msg->t_frame = usec(m->t_last);
+  const uint32_t count = tl->count < RS_TRACK_MAX ? tl->count : RS_TRACK_MAX;
+  uint32_t n = 0, alive = 0; /* lost tracks (kept for re-acquisition) are not published */
+  for (uint32_t i = 0; i < count; i++) alive += tl->track[i].state != RS_TRACK_LOST;
+  msg->num_alive = (int32_t)alive;
+  for (int pass = 0; pass < 2; pass++) /* confirmed and coasting first */
+    for (uint32_t i = 0; i < count && n < p->track_cap; i++)
+      if (tl->track[i].state != RS_TRACK_LOST && (tl->track[i].state != RS_TRACK_TENTATIVE) == (pass == 0))
+        p->track_order[n++] = (uint16_t)i;
+  if (n < alive) {
+    msg->truncated = true;
+    p->truncated_track_lists++;
+  }
+  for (uint32_t i = 0; i < n; i++) track_to_wire(&tl->track[p->track_order[i]], tl->t, &p->track_wire[i]);
+  msg->num_tracks = (int32_t)n;
+  msg->tracks = p->track_wire;
+}
+
+int rs_publish_tracks(rs_publish_t *p, const rs_frame_meta_t *m, const rs_track_list_t *tl, int64_t utime) {
+  int rc = RS_OK;
+  if (p->tracks_channel[0]) {
+    roadscan_track_list_t msg;
+    rs_publish_fill_tracks(p, m, tl, utime, &msg);
+    int len = roadscan_track_list_t_encode(p->buf, 0, (int)sizeof p->buf, &msg);
+    if (len < 0 || lcm_publish(p->lcm, p->tracks_channel, p->buf, (unsigned)len) != 0) {
+      p->errors++;
+      rc = RS_E_LCM;
+    } else {
+      p->track_lists++;
+    }
+  }
+  for (uint32_t i = 0; i < tl->ended && i < RS_TRACK_ENDED_MAX && p->ends_channel[0]; i++) {
+    const rs_track_end_t *e = &tl->end[i];
+    roadscan_track_end_t ev;
+    memset(&ev, 0, sizeof ev);
+    ev.utime = utime;
+    ev.sensor_id = p->sensor_id;
+    ev.id = (int32_t)e->id;
+    ev.class_id = (int8_t)e->cls;
+    ev.t_first = usec(e->t_birth);
+    ev.t_last = usec(e->t_end);
+    ev.duration = (float)(e->t_end - e->t_birth);
+    ev.distance = (float)e->distance;
+    ev.mean_speed = (float)e->mean_speed;
+    ev.max_speed = (float)e->max_speed;
+    int len = roadscan_track_end_t_encode(p->buf, 0, (int)sizeof p->buf, &ev);
+    if (len < 0 || lcm_publish(p->lcm, p->ends_channel, p->buf, (unsigned)len) != 0) {
+      p->errors++;
+      rc = RS_E_LCM;
+    } else {
+      p->track_ends++;
+    }
+  }
+  return rc;
 }

@@ -299,20 +299,32 @@ int main(int argc, char **argv) {
                                        {"objects", required_argument, NULL, 'o'},
                                        {"diagnose", no_argument, NULL, 'd'},
                                        {"model", required_argument, NULL, 'm'},
+                                       {"tracking", no_argument, NULL, 't'},
+                                       {"mot-dump", required_argument, NULL, 'M'},
                                        {"help", no_argument, NULL, 'h'},
                                        {NULL, 0, NULL, 0}};
   bool json = false;
-  const char *objects_path = NULL, *model_path = NULL;
-  bool diagnose = false;
+  const char *objects_path = NULL, *model_path = NULL, *dump_path = NULL;
+  bool diagnose = false, tracking = false;
   int o;
   while ((o = getopt_long(argc, argv, "", opts, NULL)) != -1) {
     if (o == 'j') json = true;
     else if (o == 'o') objects_path = optarg;
     else if (o == 'd') diagnose = true;
     else if (o == 'm') model_path = optarg;
+    else if (o == 't') tracking = true;
+    else if (o == 'M') dump_path = optarg;
     else if (o == 'h') {
       printf("usage: roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE] [--diagnose [--model BG]]\n"
+             "       roadscan-eval --tracking CAPTURE TRUTH PRED [--json] [--mot-dump FILE]\n"
              "Point-label files as in specs/point-labels.md; metrics as in the FSPC paper's Table 3.\n"
+             "  --tracking      also the tracking metrics of PRED's labels (roadscand --labels-out with\n"
+             "                  tracking on: 2 + the track id): MOTA, MOTP, IDF1, id switches,\n"
+             "                  fragmentations, mostly tracked / lost (true instances of >= %d returns\n"
+             "                  and tracks match in a frame when their returns overlap with IoU > 0.5);\n"
+             "                  with --json only these, as one JSON object\n"
+             "  --mot-dump FILE with --tracking: every frame's true and predicted instances and overlaps\n"
+             "                  (CSV frame,truth,pred,iou; a 0 id marks presence alone), for py-motmetrics\n"
              "  --objects FILE  CSV frame,instance,points,x,y,z: the centroid (sensor frame) of every true\n"
              "                  instance of at least %d returns in every frame\n"
              "  --diagnose      where the missed object returns are: in objects with no clustered return\n"
@@ -321,7 +333,7 @@ int main(int argc, char **argv) {
              "  --model BG      with --diagnose: returns predicted as objects by the number of static\n"
              "                  surfaces of their cell in the background model; the false ones by truth\n"
              "                  class, place against their cell's surfaces, and range\n",
-             RS_EVAL_MIN_INSTANCE);
+             RS_EVAL_MIN_INSTANCE, RS_EVAL_MIN_INSTANCE);
       return 0;
     } else {
       return 2;
@@ -329,6 +341,10 @@ int main(int argc, char **argv) {
   }
   if (argc - optind != 3) {
     fprintf(stderr, "usage: roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE] [--diagnose [--model BG]]\n");
+    return 2;
+  }
+  if (dump_path && !tracking) {
+    fprintf(stderr, "roadscan-eval: --mot-dump goes with --tracking\n");
     return 2;
   }
   if (model_path && !diagnose) {
@@ -371,6 +387,20 @@ int main(int argc, char **argv) {
     fprintf(stderr, "roadscan-eval: out of memory\n");
     return 1;
   }
+  FILE *dump = NULL;
+  rs_mot_t *mot = NULL;
+  if (tracking) {
+    if (dump_path && (dump = fopen(dump_path, "w")) == NULL) {
+      fprintf(stderr, "roadscan-eval: --mot-dump %s: cannot write\n", dump_path);
+      return 1;
+    }
+    mot = rs_mot_new(dump);
+    if (mot == NULL) {
+      fprintf(stderr, "roadscan-eval: out of memory\n");
+      return 1;
+    }
+    rs_eval_track(&c.ev, mot);
+  }
   rs_stream_cfg_t scfg = {.log = stderr};
   rs_stream_init(&stream, &scfg);
   char rerr[RS_ERRMSG_SIZE];
@@ -394,8 +424,28 @@ int main(int argc, char **argv) {
     return 1;
   }
   if (c.ev.overflow) fprintf(stderr, "roadscan-eval: warning: too many instances in a frame, instance figures incomplete\n");
-  if (json) rs_eval_print_json(&c.ev.r, stdout);
-  else rs_eval_print(&c.ev.r, stdout);
+  if (mot) {
+    rs_mot_result_t mr;
+    if (rs_mot_finish(mot, &mr) != RS_OK) {
+      fprintf(stderr, "roadscan-eval: out of memory\n");
+      return 1;
+    }
+    if (json) {
+      rs_mot_print_json(&mr, stdout);
+    } else {
+      rs_eval_print(&c.ev.r, stdout);
+      rs_mot_print(&mr, stdout);
+    }
+    rs_mot_free(mot);
+    if (dump && fclose(dump) != 0) {
+      fprintf(stderr, "roadscan-eval: --mot-dump %s: write failed\n", dump_path);
+      return 1;
+    }
+  } else if (json) {
+    rs_eval_print_json(&c.ev.r, stdout);
+  } else {
+    rs_eval_print(&c.ev.r, stdout);
+  }
   if (diagnose) diag_print(&c.dg, json ? stderr : stdout); /* JSON on stdout stays JSON */
   free(c.dg.pts);
   if (model_path) rs_bg_model_free(&bgm);

@@ -29,6 +29,7 @@ static rs_bg_model_t bgmodel;
 static rs_cluster_t cluster;
 static rs_objects_t objects;
 static rs_object_list_t object_list;
+static rs_tracker_t tracker;
 static rs_publish_t publisher;
 
 /* Every option: its command-line name is its config-file key, in `section`. */
@@ -45,6 +46,9 @@ static rs_publish_t publisher;
   X(WINDOW, "window", 1, "cluster") X(EPS, "eps", 1, "cluster") X(MINPTS, "min-pts", 1, "cluster")      \
   X(SEED_SURF, "seed-surfaces", 1, "cluster") X(BORDER_EPS, "border-eps", 1, "cluster")                 \
   X(SPARSE_MINPTS, "sparse-min-pts", 1, "cluster") X(MIN_HALF_W, "min-half-width", 1, "cluster")         \
+  X(NO_TRACKING, "no-tracking", 0, "track") X(TRACKS_OUT, "tracks-out", 1, "track")                    \
+  X(LABELS_TRACKS, "labels-tracks", 1, "track") X(COAST, "coast-seconds", 1, "track")                  \
+  X(TRACKS_CH, "tracks-channel", 1, "lcm") X(ENDS_CH, "track-ends-channel", 1, "lcm")                  \
   X(URL, "lcm-url", 1, "lcm") X(CHANNEL, "channel", 1, "lcm")                                          \
   X(STATS, "stats-channel", 1, "lcm") X(SENSOR_ID, "sensor-id", 1, "lcm")                             \
   X(DATAGRAM, "max-datagram", 1, "lcm") X(NO_PUBLISH, "no-publish", 0, "lcm")                         \
@@ -131,11 +135,21 @@ static void usage(FILE *out) {
           "                       3 cells (far away; default 2: a pair of returns; 3 = as elsewhere)\n"
           "  --min-half-width N   fspc-adaptive: the window reaches at least N columns either side\n"
           "                       (default 2: beyond 120 m returns go missing)\n"
-          "LCM [lcm]: one object list and one statistics message per frame\n"
+          "Tracking [track]: objects followed over time (docs/tracking.md), on with clustering\n"
+          "  --no-tracking        no tracker stage: labels are cluster numbers, no track lists\n"
+          "  --tracks-out FILE    one CSV line per track per frame\n"
+          "  --labels-tracks WHICH  with --labels-out: a clustered return's label is 2 + its track's\n"
+          "                       id; all (default: every track) or confirmed (only confirmed tracks'\n"
+          "                       returns are objects, the rest 2)\n"
+          "  --coast-seconds S    a confirmed track not seen for S seconds ends (default 1)\n"
+          "LCM [lcm]: per frame an object list, a track list and a statistics message; an event per\n"
+          "  track that ends\n"
           "  --lcm-url URL        LCM provider (default %s; memq:// and\n"
           "                       file://PATH?mode=w also work)\n"
           "  --channel NAME       object lists (default %s)\n"
           "  --stats-channel NAME per-frame statistics (default %s; 'none' = not sent)\n"
+          "  --tracks-channel NAME  track lists (default ROADSCAN_TRACKS; 'none' = not sent)\n"
+          "  --track-ends-channel NAME  ended tracks (default ROADSCAN_TRACK_ENDS; 'none' = not sent)\n"
           "  --sensor-id ID       sensor_id field of every message (default roadscan)\n"
           "  --max-datagram N     bytes of one LCM datagram; sets the object cap (default %d, min %d)\n"
           "  --no-publish         do not publish (analysis runs)\n"
@@ -173,7 +187,8 @@ static struct {
   rs_publish_cfg_t pub;
   rs_pose_t pose;
   const char *frames_path, *calib_path, *bg_path;
-  bool quiet, fast, speed_set, cluster_set, have_pose, no_publish, use_syslog;
+  bool quiet, fast, speed_set, cluster_set, have_pose, no_publish, use_syslog, no_tracking;
+  rs_track_cfg_t tcfg;
   double eps;
 } st;
 
@@ -323,6 +338,21 @@ static int apply(int id, const char *val, const char *key, char *err, size_t n) 
     st.pub.max_datagram = (int)l;
     break;
   case O_NO_PUBLISH: return set_flag(key, v, &st.no_publish, err, n);
+  case O_NO_TRACKING: return set_flag(key, v, &st.no_tracking, err, n);
+  case O_TRACKS_OUT: cfg->tracks_out = v; break;
+  case O_LABELS_TRACKS:
+    if (strcmp(v, "all") == 0) cfg->labels_confirmed_only = false;
+    else if (strcmp(v, "confirmed") == 0) cfg->labels_confirmed_only = true;
+    else {
+      snprintf(err, n, "%s: '%s' is not all or confirmed", key, v);
+      return RS_E_INVAL;
+    }
+    break;
+  case O_COAST:
+    if (rs_cfg_double(key, v, 0.1, 60.0, &st.tcfg.coast_s, err, n)) return RS_E_INVAL;
+    break;
+  case O_TRACKS_CH: st.pub.tracks_channel = strcmp(v, "none") == 0 ? "" : v; break;
+  case O_ENDS_CH: st.pub.track_ends_channel = strcmp(v, "none") == 0 ? "" : v; break;
   case O_BUDGET:
     if (rs_cfg_double(key, v, 0.1, 10000.0, &cfg->budget_ms, err, n)) return RS_E_INVAL;
     break;
@@ -399,6 +429,7 @@ int main(int argc, char **argv) {
   cfg->update_window_s = 600.0;
   cfg->summary_s = 10.0;
   rs_cluster_cfg_default(&st.ccfg);
+  rs_track_cfg_default(&st.tcfg);
   char err[RS_ERRMSG_SIZE];
   /* the config file first, whatever its place on the command line */
   for (int i = 1; i < argc; i++) {
@@ -482,7 +513,12 @@ int main(int argc, char **argv) {
     rs_objects_init(&objects, st.have_pose ? &st.pose : NULL);
     cfg->objects = &objects;
     cfg->object_list = &object_list;
+    if (!st.no_tracking) {
+      if (rs_track_init(&tracker, &st.tcfg) != RS_OK) return bad("bad tracking parameters");
+      cfg->tracker = &tracker;
+    }
   }
+  if (cfg->tracks_out && cfg->tracker == NULL) return bad("--tracks-out needs tracking (clustering, no --no-tracking)");
   if (!st.no_publish) {
     int prc = rs_publish_init(&publisher, &st.pub);
     if (prc != RS_OK) {

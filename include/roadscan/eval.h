@@ -34,14 +34,52 @@ typedef struct {
   uint32_t count;
 } rs_eval_pair_t;
 
+struct rs_mot;
 typedef struct {
   rs_eval_result_t r;
+  struct rs_mot *mot;     /* optional tracking metrics */
+  uint64_t frame_no;      /* frames ended so far */
   rs_eval_pair_t *pairs;  /* open addressing */
   uint32_t cap;           /* power of two */
   uint32_t *used;         /* slots used this frame */
   uint32_t nused;
   bool overflow;
 } rs_eval_t;
+
+/* Tracking (multi-object) metrics, CLEAR MOT and identity ones, with the
+ * matching of the point-label metrics: in each frame a true instance (>= 10
+ * returns) and a predicted one (a track's label) match when their returns
+ * overlap with IoU > 0.5 (so each has at most one partner). Predicted
+ * instances: track labels with >= 10 returns in the frame, or matched.
+ * MOTA = 1 - (misses + false positives + id switches) / true instances;
+ * MOTP: the mean IoU of matches (py-motmetrics reports 1 - it);
+ * id switch: a true instance matched to another track than the last time
+ * it was matched; fragmentation: its track coverage interrupted and taken
+ * up again; mostly tracked / lost: matched in >= 80 % / < 20 % of its frames;
+ * IDF1 = 2 IDTP / (true + predicted instances), IDTP the matched frames of
+ * the best one-to-one pairing of true objects and tracks over the whole run
+ * (optimal assignment per connected group). The same as py-motmetrics'
+ * figures on the same matches (tests/crosscheck_motmetrics.py). */
+typedef struct {
+  uint64_t frames, gt, hyp, matches, misses, false_pos, switches, fragmentations;
+  double iou_sum;
+  uint64_t objects, mostly_tracked, partly_tracked, mostly_lost; /* true objects */
+  uint64_t tracks;                                              /* predicted ids */
+  uint64_t idtp;
+  double mota, motp_iou, idf1, idp, idr;
+} rs_mot_result_t;
+
+typedef struct rs_mot rs_mot_t;
+/* NULL when out of memory. dump: optional CSV of every frame's instances and
+ * overlaps (frame,truth,pred,iou; a 0 id marks presence alone). */
+rs_mot_t *rs_mot_new(FILE *dump);
+void rs_mot_free(rs_mot_t *m);
+/* the tracking figures of the eval's frames from now on (rs_eval_end_frame feeds it) */
+void rs_eval_track(rs_eval_t *e, rs_mot_t *m);
+/* RS_OK, or RS_E_NOMEM */
+int rs_mot_finish(rs_mot_t *m, rs_mot_result_t *out);
+void rs_mot_print(const rs_mot_result_t *r, FILE *out);
+void rs_mot_print_json(const rs_mot_result_t *r, FILE *out);
 
 extern const double rs_eval_band_edges[RS_EVAL_BANDS + 1]; /* 0 20 50 100 200 */
 

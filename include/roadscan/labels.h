@@ -63,6 +63,9 @@ typedef struct {
   uint32_t label;
 } rs_label_entry_t;
 #define RS_LABELS_FRAME_MAX (RS_LAYERS * RS_MAX_CELLS)
-void rs_labels_write_frame(rs_labels_writer_t *w, const rs_slot_t *s, rs_label_entry_t *buf);
+/* map: NULL, or the label written for cluster label 3 + k (map[k], k < nmap;
+ * 0 = noise, 2); labels beyond nmap are written as 2. */
+void rs_labels_write_frame(rs_labels_writer_t *w, const rs_slot_t *s, rs_label_entry_t *buf, const uint32_t *map,
+                           uint32_t nmap);
 
 #endif

@@ -51,6 +51,9 @@ typedef struct {
   rs_cluster_t *cluster;       /* optional: clustering work area, configured (processing thread) */
   rs_objects_t *objects;       /* optional with cluster: object work area (rs_objects_init done) */
   rs_object_list_t *object_list; /* required with objects: the frame's objects */
+  rs_tracker_t *tracker;       /* optional with objects: rs_track_init done */
+  const char *tracks_out;      /* optional CSV, one line per track per frame */
+  bool labels_confirmed_only;  /* with a tracker: only confirmed tracks' returns are objects in labels_out */
   rs_publish_t *publish;       /* optional: LCM publisher (rs_publish_init done) */
   double budget_ms;            /* per-frame processing budget; 0 = the frame period */
   double summary_s;            /* > 0: one log line every summary_s seconds */
@@ -87,6 +90,8 @@ typedef struct {
   rs_labels_writer_t labels;   /* the --labels-out sink */
   rs_label_entry_t *label_buf; /* its sort area (allocated at init) */
   bool labels_open;
+  uint32_t label_map[RS_OBJ_MAX]; /* cluster k -> the label written (tracks) */
+  FILE *tracks_out;            /* the --tracks-out sink */
 } rs_pipeline_t;
 
 /* Opens the source; slots: nslots (3..RS_RING_MAX_SLOTS) caller-owned slots.
@@ -102,5 +107,7 @@ void rs_pipeline_deinit(rs_pipeline_t *p);
 void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out);
 /* The frames CSV header (one line, no newline). */
 const char *rs_pipeline_csv_header(void);
+/* The tracks CSV header (one line, no newline). */
+const char *rs_pipeline_tracks_header(void);
 
 #endif

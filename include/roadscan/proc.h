@@ -25,6 +25,7 @@
 #include "roadscan/objects.h"
 #include "roadscan/sensor.h"
 #include "roadscan/timing.h"
+#include "roadscan/track.h"
 
 #include <stdbool.h>
 #include <stdint.h>
@@ -41,6 +42,7 @@ typedef struct {
   rs_cluster_t *cluster;       /* optional: configured clustering work area */
   rs_objects_t *objects;       /* optional with cluster: rs_objects_init done */
   rs_object_list_t *object_list; /* required with objects */
+  rs_tracker_t *tracker;       /* optional with objects: rs_track_init done */
 } rs_proc_cfg_t;
 
 enum { RS_STAGE_BACKGROUND, RS_STAGE_CLUSTER, RS_STAGE_OBJECTS, RS_STAGE_TRACKS, RS_STAGE_COUNT };
@@ -52,6 +54,7 @@ typedef struct {
   uint32_t foreground;               /* returns left by the background (both layers) */
   rs_cluster_stats_t cluster;
   const rs_object_list_t *objects;   /* never NULL: an empty list when no stage made one */
+  const rs_track_list_t *tracks;     /* NULL without a tracker (or before the first clustering) */
   bool model_changed;                /* another background model was taken over before this frame */
   uint32_t filled[RS_LAYERS];        /* cells with a return, per layer */
   float min_range, max_range;        /* of the frame's returns (0 when none) */

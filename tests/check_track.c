@@ -1,0 +1,391 @@
+/* check_track - the tracker on hand-built object sequences with known
+ * answers: ids kept through crossings, stops, occlusion, merged and split
+ * clusters; foliage never confirmed; dt from timestamps; capacity. */
+#include "roadscan/error.h"
+#include "roadscan/track.h"
+#include "testutil.h"
+
+#include <math.h>
+#include <string.h>
+
+static rs_tracker_t tr;
+static rs_object_list_t objs;
+
+static void clear(void) { memset(&objs, 0, sizeof objs); }
+
+/* an object of a frame at time t: box centre, length, width, heading, height, returns */
+static void put(double t, double x, double y, double len, double wid, double head, double h, uint32_t points) {
+  rs_object_t *o = &objs.obj[objs.count];
+  memset(o, 0, sizeof *o);
+  o->id = objs.count + 1;
+  o->points = points;
+  o->sensor.obb_center[0] = (float)x;
+  o->sensor.obb_center[1] = (float)y;
+  o->sensor.obb_length = (float)len;
+  o->sensor.obb_width = (float)wid;
+  o->sensor.obb_heading = (float)head;
+  o->sensor.centroid[0] = (float)x;
+  o->sensor.centroid[1] = (float)y;
+  o->sensor.box_min[2] = -1.8f;
+  o->sensor.box_max[2] = (float)(-1.8 + h);
+  o->t_first = t - 0.01;
+  o->t_last = t + 0.01;
+  objs.count++;
+}
+
+static void car(double t, double x, double y, double head) { put(t, x, y, 4.5, 1.8, head, 1.5, 120); }
+
+static void init_default(void) {
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+}
+
+static const rs_track_t *find_id(uint32_t id) {
+  for (uint32_t i = 0; i < tr.list.count; i++)
+    if (tr.list.track[i].id == id) return &tr.list.track[i];
+  return NULL;
+}
+
+static int confirmed_count(void) {
+  int n = 0;
+  for (uint32_t i = 0; i < tr.list.count; i++) n += tr.list.track[i].state != RS_TRACK_TENTATIVE;
+  return n;
+}
+
+START_TEST(t_constant_velocity) {
+  init_default();
+  uint32_t id = 0;
+  for (int f = 0; f < 40; f++) {
+    double t = 100.0 + 0.1 * f;
+    clear();
+    car(t, -20.0 + 10.0 * 0.1 * f, 8.0, 0.0);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    ck_assert_uint_eq(tr.list.count, 1);
+    const rs_track_t *k = &tr.list.track[0];
+    if (f == 0) id = k->id;
+    ck_assert_uint_eq(k->id, id);
+    ck_assert_uint_eq(tr.list.object_track[0], id);
+    if (f >= 2) ck_assert_int_eq(k->state, RS_TRACK_CONFIRMED); /* the third hit confirms: 0.2 s */
+  }
+  const rs_track_t *k = &tr.list.track[0];
+  ck_assert_double_eq_tol(k->speed, 10.0, 0.2);
+  ck_assert_double_eq_tol(k->x[2], 10.0, 0.2);
+  ck_assert_double_eq_tol(k->x[3], 0.0, 0.2);
+  ck_assert_double_eq_tol(k->heading, 0.0, 0.05);
+  ck_assert_int_eq(k->cls, RS_CLASS_CAR);
+  ck_assert_uint_eq(tr.n.born, 1);
+  ck_assert_str_eq(rs_class_name(k->cls), "car");
+  ck_assert_str_eq(rs_track_state_name(k->state), "confirmed");
+}
+END_TEST
+
+/* two cars on crossing paths pass the crossing one second apart; ids stay
+ * with their cars */
+START_TEST(t_crossing_paths) {
+  init_default();
+  uint32_t ida = 0, idb = 0;
+  for (int f = 0; f < 60; f++) {
+    double t = 0.1 * f;
+    clear();
+    double ax = -20 + 10 * t, by = -30 + 10 * t; /* A at the crossing at t = 2, B at t = 3 */
+    car(t, ax, 0.0, 0.0);
+    car(t, 0.0, by, M_PI / 2);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 3) {
+      ida = tr.list.object_track[0];
+      idb = tr.list.object_track[1];
+      ck_assert_uint_ne(ida, idb);
+    }
+    if (f > 3) {
+      ck_assert_uint_eq(tr.list.object_track[0], ida);
+      ck_assert_uint_eq(tr.list.object_track[1], idb);
+    }
+  }
+  ck_assert_uint_eq(tr.n.born, 2);
+  ck_assert_double_eq_tol(find_id(idb)->heading, M_PI / 2, 0.05);
+}
+END_TEST
+
+/* a car brakes to a stop at the line, waits 30 s, drives off: one id, speed 0 while it waits */
+START_TEST(t_stop_and_go) {
+  init_default();
+  double x = -40, v = 12;
+  uint32_t id = 0;
+  int zero_frames = 0, stopped_frames = 0;
+  for (int f = 0; f < 500; f++) {
+    double t = 0.1 * f;
+    if (t < 3.0) {
+    } else if (v > 0 && t < 10) {
+      v = fmax(0.0, v - 4.0 * 0.1);
+    } else if (t >= 40) {
+      v = fmin(12.0, v + 2.0 * 0.1);
+    }
+    x += v * 0.1;
+    clear();
+    car(t, x, 5.0, 0.0);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    ck_assert_uint_eq(tr.list.count, 1);
+    if (f == 0) id = tr.list.track[0].id;
+    ck_assert_uint_eq(tr.list.track[0].id, id);
+    if (t > 12 && t < 40) {
+      stopped_frames++;
+      zero_frames += tr.list.track[0].speed == 0.0f;
+    }
+  }
+  ck_assert_int_eq(zero_frames, stopped_frames);
+  ck_assert_double_eq_tol(tr.list.track[0].speed, v, 0.5);
+  ck_assert_uint_eq(tr.n.born, 1);
+}
+END_TEST
+
+/* hidden behind a bus for 0.8 s, then seen again: the same id */
+START_TEST(t_occlusion) {
+  init_default();
+  uint32_t id = 0;
+  for (int f = 0; f < 50; f++) {
+    double t = 0.1 * f;
+    clear();
+    if (f < 20 || f >= 28) car(t, -25 + 9 * t, 12.0, 0.0);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 5) id = tr.list.track[0].id;
+    if (f >= 20 && f < 28) {
+      ck_assert_uint_eq(tr.list.count, 1);
+      ck_assert_int_eq(tr.list.track[0].state, RS_TRACK_COASTING);
+    }
+    if (f >= 28) ck_assert_uint_eq(tr.list.object_track[0], id);
+  }
+  ck_assert_uint_eq(tr.n.born, 1);
+  ck_assert_uint_eq(tr.list.ended, 0);
+  /* a car gone for good coasts 1 s, is lost (kept, not published) 2 s more, then ends with an event */
+  int ended_at = -1;
+  for (int f = 50; f < 100 && ended_at < 0; f++) {
+    clear();
+    rs_track_frame(&tr, &objs, 0.1 * f + 0.05);
+    if (f == 55) ck_assert_int_eq(tr.list.track[0].state, RS_TRACK_COASTING);
+    if (f == 65) ck_assert_int_eq(tr.list.track[0].state, RS_TRACK_LOST);
+    if (tr.list.ended) ended_at = f;
+  }
+  ck_assert_int_ge(ended_at, 79);
+  ck_assert_int_le(ended_at, 81);
+  ck_assert_uint_eq(tr.list.end[0].id, id);
+  ck_assert_int_eq(tr.list.end[0].cls, RS_CLASS_CAR);
+  ck_assert_double_eq_tol(tr.list.end[0].max_speed, 9.0, 0.5);
+  ck_assert_double_eq_tol(tr.list.end[0].distance, 9.0 * 4.9, 3.0);
+  ck_assert_double_eq_tol(tr.list.end[0].t_end, 4.9, 0.05);
+  ck_assert_uint_eq(tr.list.count, 0);
+}
+END_TEST
+
+/* a pedestrian hidden for 2 s (longer than the coasting time) is taken up again */
+START_TEST(t_reacquired_after_long_occlusion) {
+  init_default();
+  uint32_t id = 0;
+  for (int f = 0; f < 60; f++) {
+    double t = 0.1 * f;
+    clear();
+    if (f < 20 || f >= 40) put(t, 3.0, 25 - 1.2 * t, 0.5, 0.4, 0.0, 1.7, 40);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 15) id = tr.list.track[0].id;
+    if (f >= 40) ck_assert_uint_eq(tr.list.object_track[0], id);
+  }
+  ck_assert_uint_eq(tr.n.born, 1);
+  ck_assert_int_eq(tr.list.track[0].cls, RS_CLASS_PEDESTRIAN);
+}
+END_TEST
+
+/* two cars queued at the line, their clusters merged into one for 1 s:
+ * both keep their ids, no new track */
+START_TEST(t_queued_merge) {
+  init_default();
+  uint32_t a = 0, b = 0;
+  for (int f = 0; f < 80; f++) {
+    double t = 0.1 * f;
+    /* both drive in, stop at x = 0 and x = -6.5 */
+    double xa = t < 2 ? -20 + 10 * t : 0.0, xb = t < 2 ? -26.5 + 10 * t : -6.5;
+    clear();
+    if (f >= 40 && f < 50) {
+      put(t, 0.5 * (xa + xb), 0.0, 11.0, 1.8, 0.0, 1.5, 240); /* one cluster over both */
+    } else {
+      car(t, xa, 0.0, 0.0);
+      car(t, xb, 0.0, 0.0);
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 10) {
+      a = tr.list.object_track[0];
+      b = tr.list.object_track[1];
+    }
+    if (f > 10 && (f < 40 || f >= 50)) {
+      ck_assert_uint_eq(tr.list.object_track[0], a);
+      ck_assert_uint_eq(tr.list.object_track[1], b);
+    }
+    if (f >= 40 && f < 50) {
+      ck_assert_uint_eq(tr.list.count, 2);
+      ck_assert(tr.list.track[0].held && tr.list.track[1].held);
+      ck_assert_uint_eq(tr.list.object_track[0], a); /* the lower id carries the shared returns */
+    }
+  }
+  ck_assert_uint_eq(tr.n.born, 2);
+  ck_assert_float_eq(find_id(a)->speed, 0.0f);
+}
+END_TEST
+
+/* a car seen as two clusters (front and rear) for 0.5 s: no new track */
+START_TEST(t_split) {
+  init_default();
+  uint32_t id = 0;
+  for (int f = 0; f < 40; f++) {
+    double t = 0.1 * f, x = -30 + 8 * t;
+    clear();
+    if (f >= 20 && f < 25) {
+      put(t, x + 1.3, 10.0, 1.8, 1.8, 0.0, 1.5, 50);
+      put(t, x - 1.3, 10.0, 1.6, 1.8, 0.0, 1.5, 40);
+    } else {
+      car(t, x, 10.0, 0.0);
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 5) id = tr.list.track[0].id;
+    if (f > 5) {
+      ck_assert_int_eq(confirmed_count(), 1);
+      ck_assert_uint_eq(tr.list.object_track[0], id);
+      if (f >= 20 && f < 25) ck_assert_uint_eq(tr.list.object_track[1], id);
+    }
+  }
+  ck_assert_uint_eq(tr.n.born, 1);
+  ck_assert_uint_ge(tr.n.absorbed, 5);
+}
+END_TEST
+
+/* foliage: a cluster at one place, there in half the frames, its centre
+ * jittering by 0.3 m, for 20 s: never confirmed */
+START_TEST(t_foliage_never_confirms) {
+  init_default();
+  uint64_t rng = 12345;
+  for (int f = 0; f < 200; f++) {
+    double t = 0.1 * f;
+    clear();
+    rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+    bool there = (rng >> 33) % 2;
+    double jx = ((double)((rng >> 20) % 1000) / 1000.0 - 0.5) * 0.6, jy = ((double)((rng >> 40) % 1000) / 1000.0 - 0.5) * 0.6;
+    if (there) put(t, 15 + jx, -7 + jy, 1.5, 1.0, 0.3, 1.2, 12);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    ck_assert_int_eq(confirmed_count(), 0);
+  }
+  ck_assert_uint_ge(tr.n.born, 10);
+  ck_assert_uint_eq(tr.n.confirmed, 0);
+}
+END_TEST
+
+/* across column 0 (+Y, azimuth 0): one track */
+START_TEST(t_across_column_zero) {
+  init_default();
+  for (int f = 0; f < 40; f++) {
+    double t = 0.1 * f;
+    clear();
+    car(t, -15 + 8 * t, 6.0, 0.0);
+    rs_track_frame(&tr, &objs, t + 0.05);
+  }
+  ck_assert_uint_eq(tr.n.born, 1);
+  ck_assert_double_eq_tol(tr.list.track[0].x[0], -15 + 8 * 3.9, 0.3);
+}
+END_TEST
+
+/* a lost frame: the time step comes from the timestamps, the speed stays */
+START_TEST(t_lost_frame_dt) {
+  init_default();
+  for (int f = 0; f < 40; f++) {
+    if (f == 20 || f == 21 || f == 30) continue; /* frames lost in the network */
+    double t = 0.1 * f;
+    clear();
+    car(t, 12 * t, -20.0, 0.0);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    ck_assert_uint_eq(tr.list.count, 1);
+    if (f > 10) ck_assert_double_eq_tol(tr.list.track[0].speed, 12.0, 0.4);
+  }
+  ck_assert_uint_eq(tr.n.born, 1);
+  /* a timestamp that runs back is not a negative step */
+  clear();
+  car(1.0, 12 * 3.9, -20.0, 0.0);
+  rs_track_frame(&tr, &objs, 1.05);
+  ck_assert_uint_eq(tr.list.count, 1);
+  ck_assert(isfinite(tr.list.track[0].x[0]));
+}
+END_TEST
+
+/* more objects than tracks: RS_TRACK_MAX tracks, the rest counted */
+START_TEST(t_capacity) {
+  init_default();
+  clear();
+  for (int k = 0; k < RS_TRACK_MAX + 88; k++) put(0.0, (k % 30) * 10.0, (k / 30) * 10.0, 0.5, 0.5, 0.0, 1.7, 20);
+  rs_track_frame(&tr, &objs, 0.05);
+  ck_assert_uint_eq(tr.list.count, RS_TRACK_MAX);
+  ck_assert_uint_eq(tr.n.overflow, 88);
+  ck_assert_uint_eq(tr.list.track[RS_TRACK_MAX - 1].id, RS_TRACK_MAX);
+  /* ids are never reused */
+  clear();
+  for (int f = 1; f < 15; f++) rs_track_frame(&tr, &objs, 0.1 * f + 0.05);
+  ck_assert_uint_eq(tr.list.count, 0);
+  put(2.0, 0, 0, 0.5, 0.5, 0.0, 1.7, 20);
+  rs_track_frame(&tr, &objs, 2.05);
+  ck_assert_uint_eq(tr.list.track[0].id, RS_TRACK_MAX + 1);
+}
+END_TEST
+
+/* many objects in one crowded spot: a large group is assigned greedily, boundedly */
+START_TEST(t_crowd_and_config) {
+  init_default();
+  for (int f = 0; f < 5; f++) {
+    clear();
+    for (int k = 0; k < 120; k++) put(0.1 * f, (k % 12) * 0.6, (k / 12) * 0.6, 0.5, 0.5, 0.0, 1.7, 10);
+    rs_track_frame(&tr, &objs, 0.1 * f + 0.05);
+  }
+  ck_assert_uint_eq(tr.n.born, 120);
+  ck_assert_uint_ge(tr.n.greedy_groups, 1);
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  c.coast_s = 0;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
+  rs_track_cfg_default(&c);
+  c.gate_m = NAN;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
+}
+END_TEST
+
+/* the same input gives the same tracks, bit for bit */
+START_TEST(t_deterministic) {
+  static rs_track_list_t first;
+  for (int run = 0; run < 2; run++) {
+    init_default();
+    for (int f = 0; f < 30; f++) {
+      double t = 0.1 * f;
+      clear();
+      for (int k = 0; k < 20; k++) car(t, -30 + 10 * t + k * 0.3, k * 4.0, 0.0);
+      rs_track_frame(&tr, &objs, t + 0.05);
+    }
+    if (run == 0) first = tr.list;
+  }
+  ck_assert_uint_eq(first.count, tr.list.count);
+  ck_assert_int_eq(memcmp(first.track, tr.list.track, sizeof first.track[0] * first.count), 0);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("track");
+  TCase *tc = tcase_create("sequences");
+  tcase_set_timeout(tc, 60);
+  tcase_add_test(tc, t_constant_velocity);
+  tcase_add_test(tc, t_crossing_paths);
+  tcase_add_test(tc, t_stop_and_go);
+  tcase_add_test(tc, t_occlusion);
+  tcase_add_test(tc, t_reacquired_after_long_occlusion);
+  tcase_add_test(tc, t_queued_merge);
+  tcase_add_test(tc, t_split);
+  tcase_add_test(tc, t_foliage_never_confirms);
+  tcase_add_test(tc, t_across_column_zero);
+  tcase_add_test(tc, t_lost_frame_dt);
+  tcase_add_test(tc, t_capacity);
+  tcase_add_test(tc, t_crowd_and_config);
+  tcase_add_test(tc, t_deterministic);
+  suite_add_tcase(s, tc);
+  return tu_run(s);
+}
