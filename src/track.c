@@ -12,6 +12,9 @@
 #include "roadscan/sort.h"
 
 #include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define PI 3.14159265358979323846
@@ -55,6 +58,46 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
   return RS_OK;
 }
 
+/* the parameters by name, with their ranges (rs_track_cfg_set) */
+typedef struct {
+  const char *name;
+  size_t off;
+  double lo, hi;
+  bool integer;
+} knob_t;
+#define KNOB(f, lo, hi) {#f, offsetof(rs_track_cfg_t, f), lo, hi, false}
+static const knob_t knobs[] = {
+    KNOB(q_accel, 0.01, 100.0),       KNOB(meas_sd, 0.01, 5.0),         KNOB(meas_sd_per_m, 0.0, 2.0),
+    KNOB(gate_chi2, 1.0, 100.0),      KNOB(gate_m, 0.5, 20.0),          KNOB(max_speed, 1.0, 100.0),
+    KNOB(init_speed_sd, 0.1, 100.0),  KNOB(init_small_speed_sd, 0.1, 100.0),
+    {"birth_points", offsetof(rs_track_cfg_t, birth_points), 1, 10000, true},
+    {"confirm_hits", offsetof(rs_track_cfg_t, confirm_hits), 1, 100, true},
+    KNOB(confirm_move_m, 0.0, 20.0),  KNOB(confirm_still_s, 0.0, 60.0), KNOB(tentative_miss_s, 0.01, 10.0),
+    KNOB(coast_s, 0.01, 60.0),        KNOB(lost_s, 0.0, 60.0),          KNOB(still_speed, 0.0, 5.0),
+    KNOB(size_weight, 0.0, 100.0),
+};
+
+int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
+  for (size_t k = 0; k < sizeof knobs / sizeof knobs[0]; k++) {
+    if (strcmp(knobs[k].name, name) != 0) continue;
+    char *end;
+    double v = strtod(value, &end);
+    if (end == value || *end != '\0' || !(v >= knobs[k].lo && v <= knobs[k].hi) ||
+        (knobs[k].integer && v != floor(v))) {
+      snprintf(err, n, "tracking parameter %s: '%s' is not a%s number from %g to %g", name, value,
+               knobs[k].integer ? " whole" : "", knobs[k].lo, knobs[k].hi);
+      return RS_E_INVAL;
+    }
+    if (knobs[k].integer) *(int *)((char *)c + knobs[k].off) = (int)v;
+    else *(double *)((char *)c + knobs[k].off) = v;
+    return RS_OK;
+  }
+  size_t used = (size_t)snprintf(err, n, "no tracking parameter '%s'; there are:", name);
+  for (size_t k = 0; k < sizeof knobs / sizeof knobs[0] && used < n; k++)
+    used += (size_t)snprintf(err + used, n - used, " %s", knobs[k].name);
+  return RS_E_INVAL;
+}
+
 const char *rs_track_state_name(rs_track_state_t s) {
   switch (s) {
   case RS_TRACK_TENTATIVE: return "tentative";
@@ -87,7 +130,7 @@ static void meas(const rs_tracker_t *tr, const rs_object_t *o, double *z, double
 static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o, double *z, double *sd) {
   meas(tr, o, z, sd);
   if (t == NULL || t->state == RS_TRACK_TENTATIVE || t->hits < 5 || t->length < 1.5f) return;
-  const double c = cos(t->heading), s = sin(t->heading);
+  const double c = t->hcos, s = t->hsin;
   const double dh = (double)o->sensor.obb_heading - t->heading;
   const double a = 0.5 * o->sensor.obb_length, b = 0.5 * o->sensor.obb_width;
   const double ext_u = 2.0 * (a * fabs(cos(dh)) + b * fabs(sin(dh))), ext_v = 2.0 * (a * fabs(sin(dh)) + b * fabs(cos(dh)));
@@ -164,13 +207,18 @@ static void update(rs_track_t *t, const double z[2], double sd) {
     for (int j = 0; j < 4; j++) t->P[i][j] = P[i][j];
 }
 
+static void set_heading(rs_track_t *t, float h) {
+  t->heading = h;
+  t->hcos = cosf(h);
+  t->hsin = sinf(h);
+}
+
 static double obj_time(const rs_object_t *o, double t_frame) {
   return o->points > 0 && o->t_last >= o->t_first ? 0.5 * (o->t_first + o->t_last) : t_frame;
 }
 
-/* is (px, py) inside object o's oriented box grown by m? */
-static bool in_box(const rs_object_t *o, double px, double py, double m) {
-  const double c = cos(o->sensor.obb_heading), s = sin(o->sensor.obb_heading);
+/* is (px, py) inside object o's oriented box (heading cosine c, sine s) grown by m? */
+static bool in_box(const rs_object_t *o, double c, double s, double px, double py, double m) {
   const double dx = px - o->sensor.obb_center[0], dy = py - o->sensor.obb_center[1];
   const double u = dx * c + dy * s, v = -dx * s + dy * c;
   return fabs(u) <= 0.5 * o->sensor.obb_length + m && fabs(v) <= 0.5 * o->sensor.obb_width + m;
@@ -179,7 +227,7 @@ static bool in_box(const rs_object_t *o, double px, double py, double m) {
 /* inside track t's box (at its current state) grown by RS_TRACK_SPLIT_MARGIN
  * along its length and half that across */
 static bool in_track_box(const rs_track_t *t, double px, double py) {
-  const double c = cos(t->heading), s = sin(t->heading);
+  const double c = t->hcos, s = t->hsin;
   const double dx = px - t->x[0], dy = py - t->x[1];
   const double u = dx * c + dy * s, v = -dx * s + dy * c;
   return fabs(u) <= 0.5 * t->length + RS_TRACK_SPLIT_MARGIN && fabs(v) <= 0.5 * t->width + 0.5 * RS_TRACK_SPLIT_MARGIN;
@@ -188,6 +236,51 @@ static bool in_track_box(const rs_track_t *t, double px, double py) {
 /* ---- object lookup grid (hash of 4 m cells) ----------------------------- */
 static uint32_t bucket(long gx, long gy) {
   return (uint32_t)(((unsigned long)gx * 73856093ul) ^ ((unsigned long)gy * 19349663ul)) & (GRID_BUCKETS - 1);
+}
+
+/* ---- track lookup grid: tracks by their position (4 m cells, hashed) ---- */
+static void track_grid(rs_tracker_t *tr, double t_frame) {
+  for (int b = 0; b < GRID_BUCKETS; b++) tr->tgrid_head[b] = -1;
+  for (uint32_t i = 0; i < tr->list.count; i++) {
+    const rs_track_t *t = &tr->list.track[i];
+    double dt = t_frame - t->t_state;
+    if (dt < 0) dt = 0;
+    tr->tpos[i][0] = t->x[0] + t->x[2] * dt;
+    tr->tpos[i][1] = t->x[1] + t->x[3] * dt;
+    tr->tcell[i][0] = (long)floor(tr->tpos[i][0] / GRID);
+    tr->tcell[i][1] = (long)floor(tr->tpos[i][1] / GRID);
+    const uint32_t bk = bucket(tr->tcell[i][0], tr->tcell[i][1]);
+    tr->tgrid_next[i] = tr->tgrid_head[bk];
+    tr->tgrid_head[bk] = (int32_t)i;
+  }
+}
+
+/* the tracks whose grid position lies within r (at most 30 m) of (x, y), in
+ * index order (so in id order), into tr->near; returns how many */
+static uint32_t tracks_near(rs_tracker_t *tr, double x, double y, double r) {
+  if (r > 30.0) r = 30.0;
+  uint32_t n = 0;
+  const long g0x = (long)floor((x - r) / GRID), g1x = (long)floor((x + r) / GRID);
+  const long g0y = (long)floor((y - r) / GRID), g1y = (long)floor((y + r) / GRID);
+  for (long gx = g0x; gx <= g1x; gx++)
+    for (long gy = g0y; gy <= g1y; gy++)
+      for (int32_t i = tr->tgrid_head[bucket(gx, gy)], guard = 0; i >= 0 && guard < RS_TRACK_MAX;
+           i = tr->tgrid_next[i], guard++) {
+        if (tr->tcell[i][0] != gx || tr->tcell[i][1] != gy) continue;
+        const double dx = tr->tpos[i][0] - x, dy = tr->tpos[i][1] - y;
+        if (dx * dx + dy * dy <= r * r) tr->near[n++] = (uint16_t)i;
+      }
+  /* index order: insertion sort (n is small) */
+  for (uint32_t a = 1; a < n; a++) {
+    uint16_t v = tr->near[a];
+    uint32_t b = a;
+    while (b > 0 && tr->near[b - 1] > v) {
+      tr->near[b] = tr->near[b - 1];
+      b--;
+    }
+    tr->near[b] = v;
+  }
+  return n;
 }
 
 /* ---- assignment ------------------------------------------------------------ */
@@ -257,40 +350,43 @@ static void assign(rs_tracker_t *tr, uint32_t nobj) {
     uint16_t a = find(c, tr->edge[e].t), b = find(c, (uint16_t)(RS_TRACK_MAX + tr->edge[e].o));
     if (a != b) c[a > b ? a : b] = a < b ? a : b;
   }
-  /* one pass per group, at its first edge */
-  uint8_t *done = tr->done;
-  for (uint32_t e = 0; e < ne; e++) done[find(c, tr->edge[e].t)] = 0;
-  for (uint32_t e0 = 0; e0 < ne; e0++) {
-    const uint16_t root = find(c, tr->edge[e0].t);
-    if (done[root]) continue;
-    done[root] = 1;
+  /* edges grouped by their group's root (a stable counting sort: within a
+   * group, edges keep their order, by track and then cost) */
+  uint32_t *start = tr->root_start;
+  memset(start, 0, sizeof(uint32_t) * (RS_TRACK_MAX + RS_OBJ_MAX + 1));
+  for (uint32_t e = 0; e < ne; e++) {
+    tr->eroot[e] = find(c, tr->edge[e].t);
+    start[tr->eroot[e] + 1]++;
+  }
+  for (uint32_t r = 0; r < RS_TRACK_MAX + RS_OBJ_MAX; r++) start[r + 1] += start[r];
+  for (uint32_t e = 0; e < ne; e++) tr->gedge[start[tr->eroot[e]]++] = tr->edge[e];
+  /* start[r] is now the end of group r's edges */
+  for (uint32_t e0 = 0, e1; e0 < ne; e0 = e1) {
+    const uint16_t root = find(c, tr->gedge[e0].t);
+    e1 = start[root];
     int ntg = 0, nog = 0;
     bool greedy = false;
     /* the group's tracks and objects, in order of first appearance */
-    for (uint32_t e = e0; e < ne && !greedy; e++) {
-      if (find(c, tr->edge[e].t) != root) continue;
+    for (uint32_t e = e0; e < e1 && !greedy; e++) {
       int a = -1, b = -1;
       for (int i = 0; i < ntg; i++)
-        if (tr->gt[i] == tr->edge[e].t) a = i;
+        if (tr->gt[i] == tr->gedge[e].t) a = i;
       for (int i = 0; i < nog; i++)
-        if (tr->go[i] == tr->edge[e].o) b = i;
+        if (tr->go[i] == tr->gedge[e].o) b = i;
       if (a < 0) {
         if (ntg == RS_TRACK_GROUP_MAX) greedy = true;
-        else tr->gt[ntg++] = tr->edge[e].t;
+        else tr->gt[ntg++] = tr->gedge[e].t;
       }
       if (b < 0 && !greedy) {
         if (nog == RS_TRACK_GROUP_MAX) greedy = true;
-        else tr->go[nog++] = tr->edge[e].o;
+        else tr->go[nog++] = tr->gedge[e].o;
       }
     }
     if (greedy) {
       tr->n.greedy_groups++;
-      /* the group's edges, cheapest first (ties: track, then object) */
-      uint32_t ng = 0;
-      for (uint32_t e = e0; e < ne; e++)
-        if (find(c, tr->edge[e].t) == root) tr->gedge[ng++] = tr->edge[e];
-      rs_sort(tr->gedge, ng, sizeof tr->gedge[0], cmp_edge);
-      for (uint32_t e = 0; e < ng; e++) {
+      /* cheapest first (ties: track, then object) */
+      rs_sort(tr->gedge + e0, e1 - e0, sizeof tr->gedge[0], cmp_edge);
+      for (uint32_t e = e0; e < e1; e++) {
         rs_track_t *t = &tr->list.track[tr->gedge[e].t];
         if (t->object >= 0 || tr->taken_by[tr->gedge[e].o] >= 0) continue;
         t->object = tr->gedge[e].o;
@@ -301,12 +397,11 @@ static void assign(rs_tracker_t *tr, uint32_t nobj) {
     const int n = ntg > nog ? ntg : nog;
     for (int i = 0; i < n; i++)
       for (int j = 0; j < n; j++) tr->cost[i][j] = BIG;
-    for (uint32_t e = e0; e < ne; e++) {
-      if (find(c, tr->edge[e].t) != root) continue;
+    for (uint32_t e = e0; e < e1; e++) {
       int a = 0, b = 0;
-      while (tr->gt[a] != tr->edge[e].t) a++;
-      while (tr->go[b] != tr->edge[e].o) b++;
-      tr->cost[a][b] = tr->edge[e].c;
+      while (tr->gt[a] != tr->gedge[e].t) a++;
+      while (tr->go[b] != tr->gedge[e].o) b++;
+      tr->cost[a][b] = tr->gedge[e].c;
     }
     int as[RS_TRACK_GROUP_MAX];
     hungarian(tr->cost, n, as);
@@ -344,7 +439,7 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
           meas_for(tr, t, o, z, &sd);
           const double tk = tr->obj_t[k];
           predict_pos(tr, t, tk, p, S);
-          const double dx = z[0] - p[0], dy = z[1] - p[1], d = hypot(dx, dy);
+          const double dx = z[0] - p[0], dy = z[1] - p[1], d = sqrt(dx * dx + dy * dy);
           const double unseen = tk - t->t_update; /* the gate grows while a track is not seen */
           if (d > (unseen > 0.5 ? fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (unseen - 0.5)) : cf->gate_m)) continue;
           const double dtu = tk - t->t_update; /* the speed the pairing implies, from the last measurement */
@@ -412,9 +507,9 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   t->points = o->points;
   const double sp = hypot(t->x[2], t->x[3]);
   if (sp > 1.0 && t->hits >= 2) {
-    t->heading = (float)atan2(t->x[3], t->x[2]);
+    set_heading(t, (float)atan2(t->x[3], t->x[2]));
   } else if (first) {
-    t->heading = o->sensor.obb_heading;
+    set_heading(t, o->sensor.obb_heading);
   }
 }
 
@@ -469,20 +564,26 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     L->track[i].held = false;
   }
   /* clusters over two confirmed tracks whose predictions are apart: held */
+  track_grid(tr, t_frame);
   for (uint32_t k = 0; k < nobj; k++) {
     const rs_object_t *o = &objs->obj[k];
     if (o->points == 0 || o->sensor.obb_length < 0.8f) continue;
+    const double oc = cos(o->sensor.obb_heading), os = sin(o->sensor.obb_heading);
     int in = 0;
     double first[2] = {0, 0};
     float first_len = 0.0f;
     uint32_t most_points = 0;
     bool apart = false;
-    for (uint32_t i = 0; i < L->count; i++) {
+    /* (a track moves at most max_speed x 1 s between its grid position and the object's time) */
+    const uint32_t nn = tracks_near(tr, o->sensor.obb_center[0], o->sensor.obb_center[1],
+                                    0.5 * (o->sensor.obb_length + o->sensor.obb_width) + 0.3 + 0.1 * cf->max_speed);
+    for (uint32_t q = 0; q < nn; q++) {
+      const uint32_t i = tr->near[q];
       const rs_track_t *t = &L->track[i];
       if (t->state == RS_TRACK_TENTATIVE || t->state == RS_TRACK_LOST) continue;
       double p[2], S[3];
       predict_pos(tr, t, tr->obj_t[k], p, S);
-      if (!in_box(o, p[0], p[1], 0.3)) continue;
+      if (!in_box(o, oc, os, p[0], p[1], 0.3)) continue;
       /* apart: two objects side by side (pedestrians 0.7 m, cars in a queue 6 m) */
       if (in == 0) first[0] = p[0], first[1] = p[1], first_len = t->length;
       else if (hypot(p[0] - first[0], p[1] - first[1]) >= 0.25 * (first_len + t->length) + 0.4) apart = true;
@@ -492,12 +593,12 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     /* and the cluster holds more than either track's last object did */
     if (in < 2 || !apart || 5 * (uint64_t)o->points < 6 * (uint64_t)most_points) continue;
     tr->shared[k] = 1;
-    for (uint32_t i = 0; i < L->count; i++) {
-      rs_track_t *t = &L->track[i];
+    for (uint32_t q = 0; q < nn; q++) {
+      rs_track_t *t = &L->track[tr->near[q]];
       if (t->state == RS_TRACK_TENTATIVE || t->state == RS_TRACK_LOST || t->held) continue;
       double p[2], S[3];
       predict_pos(tr, t, tr->obj_t[k], p, S);
-      if (!in_box(o, p[0], p[1], 0.3)) continue;
+      if (!in_box(o, oc, os, p[0], p[1], 0.3)) continue;
       t->held = true;
       tr->n.held++;
       if (L->object_track[k] == 0) L->object_track[k] = t->id;
@@ -521,7 +622,9 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   for (uint32_t k = 0; k < nobj; k++) {
     if (tr->taken_by[k] >= 0 || tr->shared[k] || objs->obj[k].points == 0) continue;
     const double zx = objs->obj[k].sensor.obb_center[0], zy = objs->obj[k].sensor.obb_center[1];
-    for (uint32_t i = 0; i < L->count; i++) {
+    const uint32_t nn = tracks_near(tr, zx, zy, 10.0); /* half a bus, the margin and an update's step */
+    for (uint32_t q = 0; q < nn; q++) {
+      const uint32_t i = tr->near[q];
       const rs_track_t *t = &L->track[i];
       if (t->object < 0 && (t->state == RS_TRACK_TENTATIVE || t->state == RS_TRACK_LOST)) continue;
       if (!in_track_box(t, zx, zy)) continue;
@@ -542,7 +645,9 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     if (y->object < 0 || y->id == 0) continue;
     int best = -1;
     double best_m2 = cf->gate_chi2;
-    for (uint32_t j = 0; j < L->count; j++) {
+    const uint32_t nn = tracks_near(tr, y->x[0], y->x[1], 2.0 * cf->gate_m + 0.15 * cf->max_speed);
+    for (uint32_t q = 0; q < nn; q++) {
+      const uint32_t j = tr->near[q];
       const rs_track_t *o = &L->track[j];
       if (j == i || o->id == 0 || o->object >= 0 || o->held) continue;
       if (!(o->state == RS_TRACK_COASTING || o->state == RS_TRACK_LOST)) continue;
@@ -584,12 +689,49 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     o->hits += y->hits;
     o->object = y->object;
     o->state = RS_TRACK_CONFIRMED;
-    if (hypot(o->x[2], o->x[3]) > 1.0) o->heading = y->heading;
+    if (hypot(o->x[2], o->x[3]) > 1.0) set_heading(o, y->heading);
     for (uint32_t k = 0; k < nobj; k++)
       if (L->object_track[k] == yid) L->object_track[k] = o->id;
     y->object = -1;
     y->id = 0; /* removed below */
     tr->n.stitched++;
+  }
+  /* duplicates, ended without an event: a tentative track inside the box of
+   * a confirmed one at least its size (a fragment of its object); a
+   * confirmed one unseen this frame, predicted where an older track of its
+   * size was seen (the older one follows the object) */
+  for (uint32_t i = 0; i < L->count; i++) {
+    rs_track_t *t = &L->track[i];
+    if (t->id == 0) continue;
+    const bool tentative = t->state == RS_TRACK_TENTATIVE;
+    if (!tentative && (t->object >= 0 || t->held)) continue;
+    double px = t->x[0], py = t->x[1];
+    if (!tentative) {
+      double dt = t_frame - t->t_state;
+      if (dt < 0) dt = 0;
+      px += t->x[2] * dt;
+      py += t->x[3] * dt;
+    }
+    const uint32_t nn = tracks_near(tr, px, py, tentative ? 8.0 : 5.0);
+    bool dup = false;
+    const rs_track_t *o = NULL;
+    for (uint32_t q = 0; q < nn && !dup; q++) {
+      o = &L->track[tr->near[q]];
+      if (o == t || o->id == 0) continue;
+      if (tentative) {
+        dup = (o->state == RS_TRACK_CONFIRMED || o->state == RS_TRACK_COASTING) && o->length >= t->length &&
+              in_track_box(o, t->x[0], t->x[1]);
+      } else if (o->id < t->id && o->object >= 0) {
+        const double lmax = fmax(o->length, t->length), lmin = fmin(o->length, t->length);
+        const double dx = o->x[0] - px, dy = o->x[1] - py, r = fmax(0.5, 0.35 * o->length);
+        dup = dx * dx + dy * dy <= r * r && lmin >= 0.5 * lmax - 0.5;
+      }
+    }
+    if (!dup) continue;
+    for (uint32_t k = 0; k < nobj && t->object >= 0; k++) /* its fragment's returns go to the track it is part of */
+      if (L->object_track[k] == t->id) L->object_track[k] = o->id;
+    t->id = 0;
+    tr->n.duplicates++;
   }
   /* states, confirmation, ends (compacting the list, id order kept) */
   uint32_t w = 0;
@@ -606,13 +748,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     bool ends = false;
     if (t->state == RS_TRACK_TENTATIVE) {
       const double moved = hypot(t->x[0] - t->px0, t->x[1] - t->py0);
-      bool inside = false; /* a fragment of a confirmed track's object */
-      for (uint32_t j = 0; j < L->count && !inside; j++)
-        inside = (L->track[j].state == RS_TRACK_CONFIRMED || L->track[j].state == RS_TRACK_COASTING) &&
-                 L->track[j].length >= t->length &&
-                 in_track_box(&L->track[j], t->x[0], t->x[1]);
-      if ((!updated && since > cf->tentative_miss_s) || inside) {
-        if (inside) tr->n.duplicates++;
+      if (!updated && since > cf->tentative_miss_s) {
         ends = true;
       } else if (updated && t->hits >= (uint32_t)cf->confirm_hits &&
                  ((moved >= cf->confirm_move_m && moved >= 0.5 * t->distance) ||
@@ -621,17 +757,6 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
         tr->n.confirmed++;
       }
     } else {
-      bool dup = false; /* unseen, predicted where an older track of its size was seen: a duplicate */
-      for (uint32_t j = 0; j < L->count && !updated && !t->held && !dup; j++) {
-        const rs_track_t *o = &L->track[j];
-        if (o->id == 0 || o->id >= t->id || o->object < 0) continue;
-        const double lmax = fmax(o->length, t->length), lmin = fmin(o->length, t->length);
-        dup = hypot(o->x[0] - t->x[0], o->x[1] - t->x[1]) <= fmax(0.5, 0.35 * o->length) && lmin >= 0.5 * lmax - 0.5;
-      }
-      if (dup) {
-        tr->n.duplicates++;
-        continue; /* ends without an event: the older track follows its object */
-      }
       if (since > cf->coast_s + cf->lost_s) ends = true;
       else if (updated || t->held) t->state = RS_TRACK_CONFIRMED;
       else t->state = since > cf->coast_s ? RS_TRACK_LOST : RS_TRACK_COASTING;

@@ -37,6 +37,31 @@ static void on_raw(const lcm_recv_buf_t *rbuf, const char *channel, void *user) 
   rx.len[rx.n++] = (int)rbuf->data_size;
 }
 
+/* track lists (and ends) of the pipeline test */
+static struct {
+  int n, ends;
+  int len[MAX_MSGS];
+  uint8_t *data[MAX_MSGS];
+} trx;
+
+static void on_tracks(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
+  (void)user;
+  if (strcmp(channel, "TRK_END") == 0) {
+    roadscan_track_end_t e;
+    ck_assert_int_eq(roadscan_track_end_t_decode(rbuf->data, 0, (int)rbuf->data_size, &e), (int)rbuf->data_size);
+    ck_assert_int_gt(e.id, 0);
+    ck_assert_float_ge(e.duration, 0.0f);
+    ck_assert_int_ge(e.t_last, e.t_first);
+    roadscan_track_end_t_decode_cleanup(&e);
+    trx.ends++;
+    return;
+  }
+  if (trx.n == MAX_MSGS) return;
+  trx.data[trx.n] = malloc(rbuf->data_size);
+  memcpy(trx.data[trx.n], rbuf->data, rbuf->data_size);
+  trx.len[trx.n++] = (int)rbuf->data_size;
+}
+
 static void rx_clear(void) {
   for (int i = 0; i < rx.n; i++) free(rx.data[i]);
   rx.n = 0;
@@ -307,6 +332,7 @@ static rs_pipeline_t pipe;
 static rs_bg_model_t model;
 static rs_cluster_t cluster;
 static rs_objects_t objects;
+static rs_tracker_t tracker;
 
 START_TEST(t_pipeline_end_to_end) {
   static tu_site_t site;
@@ -321,7 +347,12 @@ START_TEST(t_pipeline_end_to_end) {
   rs_objects_init(&objects, NULL);
   lcm_t *lcm = lcm_create("memq://");
   lcm_subscription_t *sub = lcm_subscribe(lcm, "OBJ", on_raw, NULL);
-  rs_publish_cfg_t pcfg = {.channel = "OBJ", .stats_channel = "", .lcm = lcm};
+  lcm_subscription_t *tsub = lcm_subscribe(lcm, "TRK.*", on_tracks, NULL);
+  rs_publish_cfg_t pcfg = {.channel = "OBJ", .stats_channel = "", .tracks_channel = "TRK", .track_ends_channel = "TRK_END",
+                           .lcm = lcm};
+  rs_track_cfg_t tcfg;
+  rs_track_cfg_default(&tcfg);
+  ck_assert_int_eq(rs_track_init(&tracker, &tcfg), RS_OK);
   ck_assert_int_eq(rs_publish_init(&pub, &pcfg), RS_OK);
   rs_pipeline_cfg_t cfg;
   memset(&cfg, 0, sizeof cfg);
@@ -334,6 +365,7 @@ START_TEST(t_pipeline_end_to_end) {
   cfg.cluster = &cluster;
   cfg.objects = &objects;
   cfg.object_list = &list;
+  cfg.tracker = &tracker;
   cfg.publish = &pub;
   ck_assert_int_eq(rs_pipeline_init(&pipe, &cfg, slots, 4), RS_OK);
   ck_assert_int_eq(rs_pipeline_start(&pipe), RS_OK);
@@ -367,6 +399,40 @@ START_TEST(t_pipeline_end_to_end) {
   /* a cluster that misses part of a car (taken by the background or left as noise)
    * moves its centroid: the tolerance of tu_centroids_check */
   tu_centroids_check(&cent, "lcm (memq, in process)");
+  /* one track list per frame, in order; ids unique in a list; objects followed
+   * from list to list under one id; every track that ended confirmed said so */
+  ck_assert_int_eq(trx.n, (int)frames);
+  int longest = 0;
+  static int run[RS_TRACK_MAX * 8];
+  memset(run, 0, sizeof run);
+  for (int i = 0; i < trx.n; i++) {
+    roadscan_track_list_t m;
+    ck_assert_int_eq(roadscan_track_list_t_decode(trx.data[i], 0, trx.len[i], &m), trx.len[i]);
+    ck_assert_int_eq(m.frame_seq, i);
+    ck_assert_int_ge(m.num_alive, m.num_tracks);
+    static int seen_in[RS_TRACK_MAX * 8];
+    for (int k = 0; k < m.num_tracks; k++) {
+      const roadscan_track_t *t = &m.tracks[k];
+      ck_assert_int_gt(t->id, 0);
+      ck_assert_int_lt(t->id, RS_TRACK_MAX * 8);
+      ck_assert_int_ne(seen_in[t->id], i + 1); /* once per list */
+      seen_in[t->id] = i + 1;
+      ck_assert(t->state >= 0 && t->state <= 2);
+      ck_assert(t->class_id >= 0 && t->class_id < RS_CLASS_COUNT);
+      ck_assert(isfinite(t->speed) && t->speed >= 0.0f && t->speed < 60.0f);
+      ck_assert_float_ge(t->position_cov[0], 0.0f);
+      if (t->state == 1) {
+        run[t->id]++;
+        if (run[t->id] > longest) longest = run[t->id];
+      }
+    }
+    roadscan_track_list_t_decode_cleanup(&m);
+  }
+  ck_assert_int_ge(longest, 20); /* a vehicle followed for 2 s under one id */
+  ck_assert_int_eq(trx.ends, (int)pub.track_ends);
+  for (int i = 0; i < trx.n; i++) free(trx.data[i]);
+  trx.n = 0;
+  lcm_unsubscribe(lcm, tsub);
   rx_clear();
   rs_publish_deinit(&pub);
   lcm_unsubscribe(lcm, sub);

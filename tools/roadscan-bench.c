@@ -17,8 +17,10 @@
 #include "roadscan/stream.h"
 #include "roadscan/synth.h"
 #include "roadscan/timing.h"
+#include "roadscan/track.h"
 
 #include <getopt.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -30,13 +32,15 @@ static rs_bg_model_t bgm;
 /* per-frame stage timings of a capture run with a background model: the
  * daemon's stages (rs_proc_frame, as roadscand runs it), then each
  * clustering method alone on the same frame */
-enum { ST_DECODE, ST_ASSEMBLY, ST_BACKGROUND, ST_CLUSTER, ST_OBJECTS, ST_ENCODE, ST_PROCESSING,
+enum { ST_DECODE, ST_ASSEMBLY, ST_BACKGROUND, ST_CLUSTER, ST_OBJECTS, ST_TRACKS, ST_ENCODE, ST_PROCESSING,
        ST_FSPC, ST_FSPC_ADAPTIVE, ST_DBSCAN, ST_CCL, ST_COUNT };
-static const char *stage_names[ST_COUNT] = {"decode", "assembly", "background", "cluster", "objects", "lcm encode",
-                                            "processing (all stages)", "fspc", "fspc-adaptive", "dbscan", "ccl"};
+static const char *stage_names[ST_COUNT] = {"decode", "assembly", "background", "cluster", "objects", "tracks",
+                                            "lcm encode", "processing (all stages)", "fspc", "fspc-adaptive", "dbscan",
+                                            "ccl"};
 static const char *stage_cols[ST_COUNT] = {"decode_us", "assembly_us", "background_us", "cluster_us", "objects_us",
-                                           "encode_us", "processing_us", "fspc_us", "fspc_adaptive_us", "dbscan_us",
-                                           "ccl_us"};
+                                           "tracks_us", "encode_us", "processing_us", "fspc_us", "fspc_adaptive_us",
+                                           "dbscan_us", "ccl_us"};
+static rs_tracker_t tracker;
 static rs_objects_t objects;
 static rs_object_list_t object_list;
 static rs_publish_t publisher;
@@ -79,6 +83,8 @@ typedef struct {
   double fg_sum;
   uint32_t fg_max;
   uint64_t encode_errors;
+  double tracks_sum;
+  uint32_t tracks_max;
 } stages_t;
 static stages_t sg;
 
@@ -94,6 +100,13 @@ static void frame_stages(rs_slot_t *s) {
   t[ST_BACKGROUND] = r.stage_ns[RS_STAGE_BACKGROUND];
   t[ST_CLUSTER] = r.stage_ns[RS_STAGE_CLUSTER];
   t[ST_OBJECTS] = r.stage_ns[RS_STAGE_OBJECTS];
+  t[ST_TRACKS] = r.stage_ns[RS_STAGE_TRACKS];
+  if (r.tracks) {
+    uint32_t alive = 0;
+    for (uint32_t i = 0; i < r.tracks->count; i++) alive += r.tracks->track[i].state != RS_TRACK_LOST;
+    sg.tracks_sum += alive;
+    if (alive > sg.tracks_max) sg.tracks_max = alive;
+  }
   t[ST_PROCESSING] = r.total_ns;
   int64_t a = rs_now_ns();
   roadscan_object_list_t msg;
@@ -136,7 +149,10 @@ static void print_stages(void) {
     stage_t[k].name = stage_names[k];
     rs_timing_print(&stage_t[k], stdout);
   }
-  printf("stage ratio of medians: objects/cluster %.2f\n", median_us(ST_OBJECTS) / median_us(ST_CLUSTER));
+  printf("tracks alive per frame: mean %.0f, max %u\n", sg.frames ? sg.tracks_sum / (double)sg.frames : 0.0,
+         sg.tracks_max);
+  printf("stage ratio of medians: objects/cluster %.2f, tracks/cluster %.2f\n",
+         median_us(ST_OBJECTS) / median_us(ST_CLUSTER), median_us(ST_TRACKS) / median_us(ST_CLUSTER));
   printf("ratios of medians: FSPC/DBSCAN %.4f (DBSCAN %.0fx slower), FSPC/CCL %.2f, FSPC-adaptive/FSPC %.2f\n",
          median_us(ST_FSPC) / median_us(ST_DBSCAN), median_us(ST_DBSCAN) / median_us(ST_FSPC),
          median_us(ST_FSPC) / median_us(ST_CCL), median_us(ST_FSPC_ADAPTIVE) / median_us(ST_FSPC));
@@ -174,6 +190,65 @@ static uint64_t run_pass(const rs_sensor_t *s, const pkts_t *p, rs_asm_t *a, int
     }
   }
   return points;
+}
+
+/* The tracker alone on n synthetic objects crossing a site at 10 Hz for the
+ * given seconds (straight lines at 1-15 m/s, box centres with 0.2 m noise,
+ * a few objects leaving and new ones entering every frame): the stage's time
+ * per frame at that many tracks. */
+static int tracker_bench(int n, double seconds) {
+  static rs_object_list_t ol;
+  rs_track_cfg_t tc;
+  rs_track_cfg_default(&tc);
+  rs_track_init(&tracker, &tc);
+  rs_timing_t t;
+  rs_timing_init(&t, "tracks/frame");
+  uint64_t rng = 88172645463325252ull;
+#define RND() (rng ^= rng << 13, rng ^= rng >> 7, rng ^= rng << 17, (double)(rng >> 11) / 9007199254740992.0)
+  static double px[RS_OBJ_MAX], py[RS_OBJ_MAX], vx[RS_OBJ_MAX], vy[RS_OBJ_MAX];
+  for (int k = 0; k < n; k++) {
+    px[k] = -150 + 300 * RND();
+    py[k] = -150 + 300 * RND();
+    double sp = 1 + 14 * RND(), a = 6.283185307179586 * RND();
+    vx[k] = sp * cos(a);
+    vy[k] = sp * sin(a);
+  }
+  const int frames = (int)(seconds * 10.0);
+  uint64_t alive_sum = 0;
+  for (int f = 0; f < frames; f++) {
+    const double tf = 1700000000.0 + 0.1 * f;
+    memset(&ol, 0, sizeof ol);
+    ol.count = (uint32_t)n;
+    for (int k = 0; k < n; k++) {
+      px[k] += 0.1 * vx[k];
+      py[k] += 0.1 * vy[k];
+      if (fabs(px[k]) > 150 || fabs(py[k]) > 150) { /* left: another one enters */
+        px[k] = -150 + 300 * RND();
+        py[k] = -150 + 300 * RND();
+      }
+      rs_object_t *o = &ol.obj[k];
+      o->id = (uint32_t)k + 1;
+      o->points = 40;
+      o->sensor.obb_center[0] = (float)(px[k] + 0.2 * (RND() - 0.5));
+      o->sensor.obb_center[1] = (float)(py[k] + 0.2 * (RND() - 0.5));
+      o->sensor.obb_length = 4.5f;
+      o->sensor.obb_width = 1.8f;
+      o->sensor.obb_heading = (float)atan2(vy[k], vx[k]);
+      o->sensor.box_min[2] = -1.8f;
+      o->sensor.box_max[2] = -0.3f;
+      o->t_first = o->t_last = tf - 0.05;
+    }
+    const int64_t a = rs_now_ns();
+    rs_track_frame(&tracker, &ol, tf);
+    const int64_t b = rs_now_ns();
+    if (f >= 10) rs_timing_add(&t, b - a); /* once the tracks exist */
+    alive_sum += tracker.list.count;
+  }
+#undef RND
+  printf("tracker alone, %d synthetic objects at 10 Hz for %.0f s (one core): tracks alive mean %.0f\n", n, seconds,
+         frames ? (double)alive_sum / frames : 0.0);
+  rs_timing_print(&t, stdout);
+  return 0;
 }
 
 static double packet_rate(const rs_model_info_t *mi, bool dual) {
@@ -264,8 +339,11 @@ static int capture(const char *path, rs_model_t force, int repeat) {
     rs_cluster_init(&proc_cluster, &cc, &s);
     rs_objects_init(&objects, NULL);
     char perr[RS_ERRMSG_SIZE];
+    rs_track_cfg_t tc;
+    rs_track_cfg_default(&tc);
+    rs_track_init(&tracker, &tc);
     rs_proc_cfg_t prc = {.background = &bgm, .lossless = true, .cluster = &proc_cluster, .objects = &objects,
-                         .object_list = &object_list};
+                         .object_list = &object_list, .tracker = &tracker};
     if (rs_proc_init(&proc, &prc, perr, sizeof perr) != RS_OK) {
       fprintf(stderr, "roadscan-bench: %s\n", perr);
       return 1;
@@ -319,7 +397,7 @@ static int capture(const char *path, rs_model_t force, int repeat) {
 }
 
 int main(int argc, char **argv) {
-  enum { O_SECONDS = 256, O_MODEL, O_SENSOR, O_CSV, O_REPEAT, O_BEST, O_CLUSTER, O_HELP };
+  enum { O_SECONDS = 256, O_MODEL, O_SENSOR, O_CSV, O_REPEAT, O_BEST, O_CLUSTER, O_TRACKER, O_HELP };
   static const struct option opts[] = {{"seconds", required_argument, NULL, O_SECONDS},
                                        {"model", required_argument, NULL, O_MODEL},
                                        {"sensor", required_argument, NULL, O_SENSOR},
@@ -327,12 +405,14 @@ int main(int argc, char **argv) {
                                        {"repeat", required_argument, NULL, O_REPEAT},
                                        {"best-of", required_argument, NULL, O_BEST},
                                        {"cluster", required_argument, NULL, O_CLUSTER},
+                                       {"tracker", required_argument, NULL, O_TRACKER},
                                        {"help", no_argument, NULL, O_HELP},
                                        {NULL, 0, NULL, 0}};
   double seconds = 1.0;
   long repeat = 5;
   sg.best_of = 1;
   sg.method = RS_CLUSTER_FSPC_ADAPTIVE;
+  long tracker_n = 0;
   rs_model_t force = RS_MODEL_UNKNOWN;
   char err[RS_ERRMSG_SIZE];
   int c;
@@ -343,6 +423,9 @@ int main(int argc, char **argv) {
       break;
     case O_REPEAT:
       if (rs_cfg_long("--repeat", optarg, 1, 1000, &repeat, err, sizeof err)) goto bad;
+      break;
+    case O_TRACKER:
+      if (rs_cfg_long("--tracker", optarg, 1, RS_TRACK_MAX, &tracker_n, err, sizeof err)) goto bad;
       break;
     case O_CLUSTER: {
       int m = rs_cluster_method_from_name(optarg);
@@ -375,6 +458,7 @@ int main(int argc, char **argv) {
       break;
     case O_HELP:
       printf("usage: roadscan-bench [--seconds S]   (synthetic packets of every model: decode + assembly)\n"
+             "       roadscan-bench --tracker N [--seconds S]   (the tracker alone on N synthetic objects)\n"
              "       roadscan-bench CAPTURE [--sensor NAME] [--repeat N]   (decode + assembly)\n"
              "       roadscan-bench CAPTURE --model MODEL [--cluster METHOD] [--csv FILE] [--best-of N]\n"
              "         every frame: the daemon's stages as roadscand runs them (background, --cluster\n"
@@ -387,6 +471,7 @@ int main(int argc, char **argv) {
     default: return 2;
     }
   }
+  if (tracker_n > 0) return tracker_bench((int)tracker_n, seconds < 10 ? 30.0 : seconds);
   if (optind < argc) {
     int rc = capture(argv[optind], force, (int)repeat);
     if (sg.csv && fclose(sg.csv) != 0) rc = 1;

@@ -48,6 +48,7 @@ static rs_publish_t publisher;
   X(SPARSE_MINPTS, "sparse-min-pts", 1, "cluster") X(MIN_HALF_W, "min-half-width", 1, "cluster")         \
   X(NO_TRACKING, "no-tracking", 0, "track") X(TRACKS_OUT, "tracks-out", 1, "track")                    \
   X(LABELS_TRACKS, "labels-tracks", 1, "track") X(COAST, "coast-seconds", 1, "track")                  \
+  X(TRACK_SET, "track-set", 1, "track")                                                               \
   X(TRACKS_CH, "tracks-channel", 1, "lcm") X(ENDS_CH, "track-ends-channel", 1, "lcm")                  \
   X(URL, "lcm-url", 1, "lcm") X(CHANNEL, "channel", 1, "lcm")                                          \
   X(STATS, "stats-channel", 1, "lcm") X(SENSOR_ID, "sensor-id", 1, "lcm")                             \
@@ -141,7 +142,9 @@ static void usage(FILE *out) {
           "  --labels-tracks WHICH  with --labels-out: a clustered return's label is 2 + its track's\n"
           "                       id; all (default: every track) or confirmed (only confirmed tracks'\n"
           "                       returns are objects, the rest 2)\n"
-          "  --coast-seconds S    a confirmed track not seen for S seconds ends (default 1)\n"
+          "  --coast-seconds S    a confirmed track not seen for S seconds is no longer published (default 1;\n"
+          "                       it is kept 2 s more for the object to be taken up again, then ends)\n"
+          "  --track-set NAME=VALUE  one tracker parameter (docs/tracking.md; repeatable)\n"
           "LCM [lcm]: per frame an object list, a track list and a statistics message; an event per\n"
           "  track that ends\n"
           "  --lcm-url URL        LCM provider (default %s; memq:// and\n"
@@ -351,6 +354,18 @@ static int apply(int id, const char *val, const char *key, char *err, size_t n) 
   case O_COAST:
     if (rs_cfg_double(key, v, 0.1, 60.0, &st.tcfg.coast_s, err, n)) return RS_E_INVAL;
     break;
+  case O_TRACK_SET: {
+    char name[64];
+    const char *eq = strchr(v, '=');
+    if (eq == NULL || eq == v || (size_t)(eq - v) >= sizeof name) {
+      snprintf(err, n, "%s: '%s' is not NAME=VALUE", key, v);
+      return RS_E_INVAL;
+    }
+    memcpy(name, v, (size_t)(eq - v));
+    name[eq - v] = '\0';
+    if (rs_track_cfg_set(&st.tcfg, name, eq + 1, err, n) != RS_OK) return RS_E_INVAL;
+    break;
+  }
   case O_TRACKS_CH: st.pub.tracks_channel = strcmp(v, "none") == 0 ? "" : v; break;
   case O_ENDS_CH: st.pub.track_ends_channel = strcmp(v, "none") == 0 ? "" : v; break;
   case O_BUDGET:

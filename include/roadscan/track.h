@@ -58,6 +58,7 @@
 #include "roadscan/objects.h"
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #define RS_TRACK_MAX 512         /* tracks alive at once */
@@ -117,6 +118,7 @@ typedef struct {
   double prev[2];            /* position at the previous frame (path length) */
   float length, width, height, z_min; /* smoothed box */
   float heading;             /* radians from +X, counter-clockwise, (-pi, pi] */
+  float hcos, hsin;          /* its cosine and sine */
   float speed;               /* reported (0 when still) */
   float max_speed, sum_speed;
   uint32_t speed_n;
@@ -171,13 +173,23 @@ typedef struct {
   double cost[RS_TRACK_GROUP_MAX][RS_TRACK_GROUP_MAX];
   uint32_t edges;                      /* gated pairs this round */
   rs_track_edge_t edge[RS_TRACK_MAX * RS_TRACK_EDGES_PER_TRACK];
-  rs_track_edge_t gedge[RS_TRACK_MAX * RS_TRACK_EDGES_PER_TRACK]; /* one group's, sorted (greedy) */
-  uint8_t done[RS_TRACK_MAX + RS_OBJ_MAX];
+  rs_track_edge_t gedge[RS_TRACK_MAX * RS_TRACK_EDGES_PER_TRACK]; /* the same, grouped */
+  uint16_t eroot[RS_TRACK_MAX * RS_TRACK_EDGES_PER_TRACK];
+  uint32_t root_start[RS_TRACK_MAX + RS_OBJ_MAX + 1];
   int32_t grid_head[RS_TRACK_GRID_BUCKETS];
   int32_t grid_next[RS_OBJ_MAX];
+  int32_t tgrid_head[RS_TRACK_GRID_BUCKETS];  /* tracks by position */
+  int32_t tgrid_next[RS_TRACK_MAX];
+  double tpos[RS_TRACK_MAX][2];
+  long tcell[RS_TRACK_MAX][2];
+  uint16_t near[RS_TRACK_MAX];
 } rs_tracker_t;
 
 void rs_track_cfg_default(rs_track_cfg_t *c);
+/* Sets one parameter by its field name ("q_accel", "coast_s", ...) from text,
+ * within its range; RS_E_INVAL with a message naming it (and, for an unknown
+ * name, every name) otherwise. */
+int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n);
 /* RS_E_INVAL for a parameter out of range. */
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg);
 /* One frame: its objects and its time (s, capture clock). */
