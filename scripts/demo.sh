@@ -25,8 +25,10 @@ echo "== a simulated intersection at rush hour: learn its static scene, subtract
 build/bin/roadscan-sim --sensor VLP-32C --scenario rush --seconds 90 --seed 11 -o out/site.pcap --labels out/site.csv
 build/bin/roadscan-learn out/site.pcap -o out/site.bg --image out/site-background.png
 build/bin/roadscan-sim --sensor VLP-32C --scenario rush --seconds 10 --seed 7 -o out/rush.pcap --labels out/rush-truth.csv
-build/bin/roadscand --pcap out/rush.pcap --fast --background out/site.bg --labels-out out/rush-pred.csv --quiet
-build/bin/roadscan-eval out/rush.pcap out/rush-truth.csv out/rush-pred.csv
+build/bin/roadscand --pcap out/rush.pcap --fast --background out/site.bg --labels-out out/rush-pred.csv \
+  --tracks-out out/rush-tracks.csv --quiet
+echo "== its objects followed over time (labels: 2 + track id; out/rush-tracks.csv: one line per track per frame)"
+build/bin/roadscan-eval --tracking out/rush.pcap out/rush-truth.csv out/rush-pred.csv
 build/bin/roadscan-render out/rush.pcap --frame 50 --background out/site.bg --range 60 -o out/rush-frame50.png
 echo "== the daemon at the original timing, publishing object lists over LCM; roadscan-listen prints them"
 if ip route get 239.255.76.67 >/dev/null 2>&1; then

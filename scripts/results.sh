@@ -28,7 +28,7 @@ doc=docs/results.md
 } > "$doc"
 score() { # tag capture truth model method -> one table row
   local tag=$1 cap=$2 truth=$3 model=$4 m=$5 bench=$6
-  $bin/roadscand --pcap "$cap" --fast --background "$model" --cluster $m --no-publish \
+  $bin/roadscand --pcap "$cap" --fast --background "$model" --cluster $m --no-publish --no-tracking \
     --labels-out "$out/$tag-$m.csv" --quiet 2>/dev/null
   $bin/roadscan-eval "$cap" "$truth" "$out/$tag-$m.csv" --json > "$out/$tag-$m.json" 2>/dev/null
   python3 - "$m" "$out/$tag-$m.json" "$bench" <<'PY'
