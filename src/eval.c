@@ -282,6 +282,8 @@ typedef struct {
 
 struct rs_mot {
   FILE *dump;
+  rs_mot_instance_fn on_instance;
+  void *user;
   rs_mot_result_t r;
   map_t gmap, hmap, cmap;
   mot_gt_t *gt;
@@ -313,6 +315,11 @@ void rs_mot_free(rs_mot_t *m) {
 }
 
 void rs_eval_track(rs_eval_t *e, rs_mot_t *m) { e->mot = m; }
+
+void rs_mot_on_instance(rs_mot_t *m, rs_mot_instance_fn fn, void *user) {
+  m->on_instance = fn;
+  m->user = user;
+}
 
 static uint32_t gt_index(rs_mot_t *m, uint32_t id) {
   bool fresh;
@@ -393,6 +400,7 @@ static void mot_frame(rs_eval_t *e, rs_mot_t *m) {
       }
     }
     mot_gt_t *G = &m->gt[g];
+    if (m->on_instance) m->on_instance(m->user, fno, t, match);
     if (!match) {
       m->r.misses++;
       if (G->matched) G->pending = true;

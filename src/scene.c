@@ -955,6 +955,30 @@ static void pose(const rs_scene_t *sc, const agent_t *a, double t, double *cx, d
   *hd = atan2(rt->dy, rt->dx);
 }
 
+int rs_scene_states(const rs_scene_t *sc, double t, rs_agent_state_t *out, int max) {
+  static const char *const names[] = {"car", "van", "truck", "bus", "cyclist", "pedestrian"};
+  int n = 0;
+  for (int i = 0; i < sc->agent_hwm && n < max; i++) {
+    const agent_t *a = &sc->agents[i];
+    if (!a->active) continue;
+    double cx, cy, hd;
+    pose(sc, a, t, &cx, &cy, &hd);
+    rs_agent_state_t *o = &out[n++];
+    o->id = a->id;
+    o->cls = a->type < 6 ? names[a->type] : "?";
+    o->x = cx - sc->ox;
+    o->y = cy - sc->oy;
+    const double v = a->route < 0 ? 0.0 : a->v;
+    o->vx = v * cos(hd);
+    o->vy = v * sin(hd);
+    o->heading = hd;
+    o->length = a->l;
+    o->width = a->w;
+    o->height = a->h;
+  }
+  return n;
+}
+
 /* azimuth span of an agent over the next traffic step (cheap culling) */
 static void coarse_span(rs_scene_t *sc, agent_t *a) {
   double cx, cy, hd;

@@ -24,9 +24,10 @@
 #define EDGES_PER_TRACK RS_TRACK_EDGES_PER_TRACK
 
 void rs_track_cfg_default(rs_track_cfg_t *c) {
-  c->q_accel = 2.0;
+  c->q_accel = 1.0;
+  c->q_long = 1.0;
   c->meas_sd = 0.15;
-  c->meas_sd_per_m = 0.25;
+  c->meas_sd_per_m = 0.1;
   c->gate_chi2 = 13.8;
   c->gate_m = 4.0;
   c->max_speed = 50.0;
@@ -44,7 +45,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
-  if (!(cfg->q_accel > 0 && cfg->q_accel < 1000) || !(cfg->meas_sd > 0 && cfg->meas_sd < 10) ||
+  if (!(cfg->q_accel > 0 && cfg->q_accel < 1000) || !(cfg->q_long > 0 && cfg->q_long < 1000) || !(cfg->meas_sd > 0 && cfg->meas_sd < 10) ||
       !(cfg->meas_sd_per_m >= 0 && cfg->meas_sd_per_m < 10) || !(cfg->gate_chi2 > 0) || !(cfg->gate_m > 0 && cfg->gate_m <= 20) ||
       !(cfg->max_speed > 0 && cfg->max_speed <= 100) || !(cfg->init_speed_sd > 0) || !(cfg->init_small_speed_sd > 0) || cfg->birth_points < 1 ||
       cfg->confirm_hits < 1 || !(cfg->confirm_move_m >= 0) || !(cfg->confirm_still_s >= 0) ||
@@ -67,7 +68,7 @@ typedef struct {
 } knob_t;
 #define KNOB(f, lo, hi) {#f, offsetof(rs_track_cfg_t, f), lo, hi, false}
 static const knob_t knobs[] = {
-    KNOB(q_accel, 0.01, 100.0),       KNOB(meas_sd, 0.01, 5.0),         KNOB(meas_sd_per_m, 0.0, 2.0),
+    KNOB(q_accel, 0.01, 100.0),       KNOB(q_long, 0.01, 100.0),       KNOB(meas_sd, 0.01, 5.0),         KNOB(meas_sd_per_m, 0.0, 2.0),
     KNOB(gate_chi2, 1.0, 100.0),      KNOB(gate_m, 0.5, 20.0),          KNOB(max_speed, 1.0, 100.0),
     KNOB(init_speed_sd, 0.1, 100.0),  KNOB(init_small_speed_sd, 0.1, 100.0),
     {"birth_points", offsetof(rs_track_cfg_t, birth_points), 1, 10000, true},
@@ -140,26 +141,48 @@ static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_objec
   const double su = pu >= 0 ? miss_u : -miss_u, sv = pv >= 0 ? miss_v : -miss_v;
   z[0] += su * c - sv * s;
   z[1] += su * s + sv * c;
+  *sd += 0.5 * (miss_u + miss_v); /* the move is a guess: less sure the more it moves */
+}
+
+/* The acceleration spectral density of track t on the ground plane (xx, xy,
+ * yy): q_long along its motion and q_accel across it when it moves faster
+ * than 1 m/s (vehicles speed up and brake along their heading far more than
+ * they swerve), q_accel both ways otherwise. */
+static void accel_density(const rs_tracker_t *tr, const rs_track_t *t, double q[3]) {
+  const double vx = t->x[2], vy = t->x[3], v2 = vx * vx + vy * vy;
+  const double ql = tr->cfg.q_long, qc = tr->cfg.q_accel;
+  if (v2 < 1.0 || ql == qc) {
+    q[0] = q[2] = qc;
+    q[1] = 0.0;
+    return;
+  }
+  const double cx = vx * vx / v2, cy = vy * vy / v2, cxy = vx * vy / v2;
+  q[0] = ql * cx + qc * cy;
+  q[1] = (ql - qc) * cxy;
+  q[2] = ql * cy + qc * cx;
 }
 
 /* predicted position and its covariance (2 x 2) of track t at time tk */
 static void predict_pos(const rs_tracker_t *tr, const rs_track_t *t, double tk, double p[2], double S[3]) {
   double dt = tk - t->t_state;
   if (dt < 0) dt = 0;
-  const double q = tr->cfg.q_accel, q11 = q * dt * dt * dt / 3.0;
+  double q[3];
+  accel_density(tr, t, q);
+  const double d3 = dt * dt * dt / 3.0;
   p[0] = t->x[0] + t->x[2] * dt;
   p[1] = t->x[1] + t->x[3] * dt;
   /* S = H F P F' H' + H Q H' (xx, xy, yy) */
-  S[0] = t->P[0][0] + dt * (t->P[0][2] + t->P[2][0]) + dt * dt * t->P[2][2] + q11;
-  S[1] = t->P[0][1] + dt * (t->P[0][3] + t->P[2][1]) + dt * dt * t->P[2][3];
-  S[2] = t->P[1][1] + dt * (t->P[1][3] + t->P[3][1]) + dt * dt * t->P[3][3] + q11;
+  S[0] = t->P[0][0] + dt * (t->P[0][2] + t->P[2][0]) + dt * dt * t->P[2][2] + q[0] * d3;
+  S[1] = t->P[0][1] + dt * (t->P[0][3] + t->P[2][1]) + dt * dt * t->P[2][3] + q[1] * d3;
+  S[2] = t->P[1][1] + dt * (t->P[1][3] + t->P[3][1]) + dt * dt * t->P[3][3] + q[2] * d3;
 }
 
 /* x, P to time tk (constant velocity, full white-noise-acceleration Q) */
 static void predict(const rs_tracker_t *tr, rs_track_t *t, double tk) {
   double dt = tk - t->t_state;
   if (dt <= 0) return;
-  const double q = tr->cfg.q_accel;
+  double q[3];
+  accel_density(tr, t, q);
   const double F[4][4] = {{1, 0, dt, 0}, {0, 1, 0, dt}, {0, 0, 1, 0}, {0, 0, 0, 1}};
   double FP[4][4], P[4][4];
   for (int i = 0; i < 4; i++)
@@ -174,9 +197,17 @@ static void predict(const rs_tracker_t *tr, rs_track_t *t, double tk) {
       for (int k = 0; k < 4; k++) s += FP[i][k] * F[j][k];
       P[i][j] = s;
     }
-  const double a = q * dt * dt * dt / 3.0, b = q * dt * dt / 2.0, c = q * dt;
-  P[0][0] += a; P[1][1] += a; P[2][2] += c; P[3][3] += c;
-  P[0][2] += b; P[2][0] += b; P[1][3] += b; P[3][1] += b;
+  /* Q = [S dt^3/3, S dt^2/2; S dt^2/2, S dt], S the 2 x 2 density */
+  const double a = dt * dt * dt / 3.0, b = dt * dt / 2.0, c = dt;
+  const int pos[2] = {0, 1}, vel[2] = {2, 3};
+  for (int i = 0; i < 2; i++)
+    for (int j = 0; j < 2; j++) {
+      const double sij = i == j ? q[2 * i] : q[1];
+      P[pos[i]][pos[j]] += sij * a;
+      P[pos[i]][vel[j]] += sij * b;
+      P[vel[i]][pos[j]] += sij * b;
+      P[vel[i]][vel[j]] += sij * c;
+    }
   for (int i = 0; i < 4; i++)
     for (int j = 0; j < 4; j++) t->P[i][j] = P[i][j];
   t->x[0] += t->x[2] * dt;
@@ -674,24 +705,36 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     if (best < 0) continue;
     rs_track_t *o = &L->track[best];
     const uint32_t yid = y->id;
-    predict(tr, o, y->t_state);
-    o->distance += hypot(y->x[0] - o->prev[0], y->x[1] - o->prev[1]);
-    memcpy(o->x, y->x, sizeof o->x);
-    for (int a = 0; a < 4; a++)
-      for (int b = 0; b < 4; b++) o->P[a][b] = y->P[a][b];
-    o->t_state = y->t_state;
-    o->t_update = y->t_update;
-    o->last_z[0] = y->last_z[0];
-    o->last_z[1] = y->last_z[1];
-    o->prev[0] = y->x[0];
-    o->prev[1] = y->x[1];
-    o->points = y->points;
-    o->hits += y->hits;
-    o->object = y->object;
+    /* the older track takes the younger one's object: a Kalman update of its
+     * own state (its velocity, learned over many frames, is kept), unless the
+     * younger one has seen more */
+    const int32_t k = y->object;
+    if (y->hits > o->hits) {
+      predict(tr, o, y->t_state);
+      o->distance += hypot(y->x[0] - o->prev[0], y->x[1] - o->prev[1]);
+      memcpy(o->x, y->x, sizeof o->x);
+      for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++) o->P[a][b] = y->P[a][b];
+      o->t_state = y->t_state;
+      o->t_update = y->t_update;
+      o->last_z[0] = y->last_z[0];
+      o->last_z[1] = y->last_z[1];
+      o->points = y->points;
+      o->hits += y->hits;
+      if (hypot(o->x[2], o->x[3]) > 1.0) set_heading(o, y->heading);
+    } else {
+      const double ox = o->x[0], oy = o->x[1];
+      take(tr, o, &objs->obj[k], tr->obj_t[k]);
+      o->distance += hypot(o->x[0] - ox, o->x[1] - oy);
+      o->hits += y->hits - 1;
+    }
+    o->prev[0] = o->x[0];
+    o->prev[1] = o->x[1];
+    o->object = k;
     o->state = RS_TRACK_CONFIRMED;
-    if (hypot(o->x[2], o->x[3]) > 1.0) set_heading(o, y->heading);
-    for (uint32_t k = 0; k < nobj; k++)
-      if (L->object_track[k] == yid) L->object_track[k] = o->id;
+    tr->taken_by[k] = (int32_t)best;
+    for (uint32_t q = 0; q < nobj; q++)
+      if (L->object_track[q] == yid) L->object_track[q] = o->id;
     y->object = -1;
     y->id = 0; /* removed below */
     tr->n.stitched++;

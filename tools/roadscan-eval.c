@@ -71,6 +71,256 @@ typedef struct {
 
 static rs_stream_t stream;
 
+/* ---- --truth-states with --tracks: speeds, positions, confirmation delay ---- */
+typedef struct {
+  double t, x, y, vx, vy;
+  bool vehicle;
+} st_row_t;
+typedef struct {
+  uint64_t key; /* frame << 32 | track id */
+  double t, x, y, speed;
+  bool confirmed;
+} trk_row_t;
+typedef struct {
+  st_row_t *rows; /* sorted by id, then t */
+  uint32_t *ids;
+  size_t n, cap;
+  trk_row_t *trk; /* sorted by key */
+  size_t nt, tcap;
+  double period;  /* s per frame */
+  double frame0_t; int64_t frame0;
+  /* tallies */
+  double se_speed[2], se_pos[2];     /* [0] vehicles within 80 m, [1] all */
+  uint64_t n_speed[2];
+  double abs_speed_sum[2];
+  uint32_t *first_inst;              /* per truth id (index): first frame as an instance, +1 */
+  uint32_t *first_conf;              /* first frame matched to a confirmed track, +1 */
+  uint32_t max_id;
+  bool oom;
+  char err[600];
+} sp_t;
+static sp_t sp;
+
+/* truth id -> [first, end) of its rows: rows are in file order (time), grouped by a stable pass */
+typedef struct {
+  uint32_t first, count;
+} span_t;
+static span_t *spans;
+static st_row_t *by_id;
+
+static int load_states(const char *path) {
+  FILE *f = fopen(path, "r");
+  if (!f) {
+    snprintf(sp.err, sizeof sp.err, "--truth-states %s: cannot read", path);
+    return -1;
+  }
+  char line[512];
+  if (!fgets(line, sizeof line, f) || strncmp(line, "t,id,class,x,y,vx,vy", 20) != 0) {
+    snprintf(sp.err, sizeof sp.err, "--truth-states %s: not a roadscan-sim --truth-states file", path);
+    fclose(f);
+    return -1;
+  }
+  long ln = 1;
+  while (fgets(line, sizeof line, f)) {
+    ln++;
+    double t, x, y, vx, vy;
+    unsigned id;
+    char cls[32];
+    if (sscanf(line, "%lf,%u,%31[^,],%lf,%lf,%lf,%lf", &t, &id, cls, &x, &y, &vx, &vy) != 7 || id > 10000000) {
+      snprintf(sp.err, sizeof sp.err, "--truth-states %s:%ld: bad line", path, ln);
+      fclose(f);
+      return -1;
+    }
+    if (sp.n == sp.cap) {
+      size_t nc = sp.cap ? 2 * sp.cap : 65536;
+      st_row_t *nr = realloc(sp.rows, nc * sizeof *nr);
+      uint32_t *ni = realloc(sp.ids, nc * sizeof *ni);
+      if (!nr || !ni) {
+        free(nr ? nr : sp.rows);
+        sp.rows = NULL;
+        fclose(f);
+        snprintf(sp.err, sizeof sp.err, "out of memory");
+        return -1;
+      }
+      sp.rows = nr;
+      sp.ids = ni;
+      sp.cap = nc;
+    }
+    bool veh = strcmp(cls, "pedestrian") != 0 && strcmp(cls, "cyclist") != 0;
+    sp.rows[sp.n] = (st_row_t){t, x, y, vx, vy, veh};
+    sp.ids[sp.n++] = id;
+    if (id > sp.max_id) sp.max_id = id;
+  }
+  fclose(f);
+  /* group by id, keeping time order: counting sort */
+  spans = calloc((size_t)sp.max_id + 2, sizeof *spans);
+  by_id = malloc(sizeof *by_id * (sp.n ? sp.n : 1));
+  sp.first_inst = calloc((size_t)sp.max_id + 2, sizeof *sp.first_inst);
+  sp.first_conf = calloc((size_t)sp.max_id + 2, sizeof *sp.first_conf);
+  if (!spans || !by_id || !sp.first_inst || !sp.first_conf) {
+    snprintf(sp.err, sizeof sp.err, "out of memory");
+    return -1;
+  }
+  for (size_t i = 0; i < sp.n; i++) spans[sp.ids[i]].count++;
+  uint32_t acc = 0;
+  for (uint32_t id = 0; id <= sp.max_id; id++) {
+    spans[id].first = acc;
+    acc += spans[id].count;
+    spans[id].count = 0;
+  }
+  for (size_t i = 0; i < sp.n; i++) by_id[spans[sp.ids[i]].first + spans[sp.ids[i]].count++] = sp.rows[i];
+  return 0;
+}
+
+static int cmp_trk(const void *a, const void *b) {
+  uint64_t x = ((const trk_row_t *)a)->key, y = ((const trk_row_t *)b)->key;
+  return (x > y) - (x < y);
+}
+
+static int load_tracks(const char *path) {
+  FILE *f = fopen(path, "r");
+  if (!f) {
+    snprintf(sp.err, sizeof sp.err, "--tracks %s: cannot read", path);
+    return -1;
+  }
+  char line[1024];
+  if (!fgets(line, sizeof line, f) || strncmp(line, "frame,t,track,state,class,x,y", 29) != 0) {
+    snprintf(sp.err, sizeof sp.err, "--tracks %s: not a roadscand --tracks-out file", path);
+    fclose(f);
+    return -1;
+  }
+  long ln = 1;
+  int64_t fmin = -1, fmax = -1;
+  double tmin = 0, tmax = 0;
+  while (fgets(line, sizeof line, f)) {
+    ln++;
+    long long frame;
+    double t, x, y, z, vx, vy, speed;
+    unsigned id;
+    char state[32], cls[32];
+    if (sscanf(line, "%lld,%lf,%u,%31[^,],%31[^,],%lf,%lf,%lf,%lf,%lf,%lf", &frame, &t, &id, state, cls, &x, &y, &z, &vx,
+               &vy, &speed) != 11 || frame < 0) {
+      snprintf(sp.err, sizeof sp.err, "--tracks %s:%ld: bad line", path, ln);
+      fclose(f);
+      return -1;
+    }
+    if (sp.nt == sp.tcap) {
+      size_t nc = sp.tcap ? 2 * sp.tcap : 65536;
+      trk_row_t *nr = realloc(sp.trk, nc * sizeof *nr);
+      if (!nr) {
+        fclose(f);
+        snprintf(sp.err, sizeof sp.err, "out of memory");
+        return -1;
+      }
+      sp.trk = nr;
+      sp.tcap = nc;
+    }
+    sp.trk[sp.nt++] = (trk_row_t){(uint64_t)frame << 32 | id, t, x, y, speed, strcmp(state, "tentative") != 0};
+    if (fmin < 0 || frame < fmin) fmin = frame, tmin = t;
+    if (frame > fmax) fmax = frame, tmax = t;
+  }
+  fclose(f);
+  qsort(sp.trk, sp.nt, sizeof *sp.trk, cmp_trk);
+  sp.period = fmax > fmin ? (tmax - tmin) / (double)(fmax - fmin) : 0.1;
+  sp.frame0 = fmin;
+  sp.frame0_t = tmin;
+  return 0;
+}
+
+/* the truth state of id at time t (linear between the turns' states); false when unknown */
+static bool truth_at(uint32_t id, double t, st_row_t *out) {
+  if (id > sp.max_id || spans[id].count == 0) return false;
+  const st_row_t *r = by_id + spans[id].first;
+  const uint32_t n = spans[id].count;
+  if (t < r[0].t - 0.15 || t > r[n - 1].t + 0.15) return false;
+  uint32_t lo = 0, hi = n;
+  while (lo < hi) { /* first row after t */
+    uint32_t mid = (lo + hi) / 2;
+    if (r[mid].t <= t) lo = mid + 1;
+    else hi = mid;
+  }
+  if (lo == 0 || lo == n) {
+    *out = r[lo == 0 ? 0 : n - 1];
+    const double dt = t - out->t;
+    out->x += out->vx * dt;
+    out->y += out->vy * dt;
+    return true;
+  }
+  const st_row_t *a = &r[lo - 1], *b = &r[lo];
+  const double w = (t - a->t) / (b->t - a->t);
+  *out = *a;
+  out->x = a->x + w * (b->x - a->x);
+  out->y = a->y + w * (b->y - a->y);
+  out->vx = a->vx + w * (b->vx - a->vx);
+  out->vy = a->vy + w * (b->vy - a->vy);
+  return true;
+}
+
+static void on_instance(void *user, uint64_t frame, uint32_t truth, uint32_t pred) {
+  (void)user;
+  if (truth <= sp.max_id && sp.first_inst[truth] == 0) sp.first_inst[truth] = (uint32_t)frame + 1;
+  if (pred < 3) return;
+  const uint64_t key = frame << 32 | (pred - 2);
+  size_t lo = 0, hi = sp.nt;
+  while (lo < hi) {
+    size_t mid = (lo + hi) / 2;
+    if (sp.trk[mid].key < key) lo = mid + 1;
+    else hi = mid;
+  }
+  if (lo == sp.nt || sp.trk[lo].key != key || !sp.trk[lo].confirmed) return;
+  const trk_row_t *k = &sp.trk[lo];
+  if (truth <= sp.max_id && sp.first_conf[truth] == 0) sp.first_conf[truth] = (uint32_t)frame + 1;
+  st_row_t s;
+  if (!truth_at(truth, k->t, &s)) return;
+  const double ds = k->speed - hypot(s.vx, s.vy), dp = hypot(k->x - s.x, k->y - s.y);
+  for (int c = 0; c < 2; c++) {
+    if (c == 0 && !(s.vehicle && hypot(s.x, s.y) <= 80.0)) continue;
+    sp.se_speed[c] += ds * ds;
+    sp.abs_speed_sum[c] += fabs(ds);
+    sp.se_pos[c] += dp * dp;
+    sp.n_speed[c]++;
+  }
+}
+
+static int cmp_dbl(const void *a, const void *b) {
+  double x = *(const double *)a, y = *(const double *)b;
+  return (x > y) - (x < y);
+}
+
+static void print_speeds(FILE *out, bool json) {
+  size_t n = 0, within = 0;
+  double *lat = malloc(sizeof *lat * ((size_t)sp.max_id + 1));
+  for (uint32_t id = 0; lat && id <= sp.max_id; id++) {
+    if (!sp.first_inst[id] || !sp.first_conf[id]) continue;
+    const double d = ((double)sp.first_conf[id] - (double)sp.first_inst[id]) * sp.period;
+    lat[n++] = d < 0 ? 0 : d;
+    within += d <= 0.3 + 1e-6;
+  }
+  if (lat) qsort(lat, n, sizeof *lat, cmp_dbl);
+  const double med = n ? lat[n / 2] : NAN, p90 = n ? lat[(n * 9) / 10 < n ? (n * 9) / 10 : n - 1] : NAN;
+  const double rmse_v = sp.n_speed[0] ? sqrt(sp.se_speed[0] / sp.n_speed[0]) : NAN;
+  const double rmse_a = sp.n_speed[1] ? sqrt(sp.se_speed[1] / sp.n_speed[1]) : NAN;
+  const double pos_v = sp.n_speed[0] ? sqrt(sp.se_pos[0] / sp.n_speed[0]) : NAN;
+  const double pos_a = sp.n_speed[1] ? sqrt(sp.se_pos[1] / sp.n_speed[1]) : NAN;
+  const double bias_v = sp.n_speed[0] ? sp.abs_speed_sum[0] / sp.n_speed[0] : NAN;
+  if (json) {
+    fprintf(out, "\"speed_rmse_vehicles_80m\": %.4f, \"speed_mae_vehicles_80m\": %.4f, \"speed_rmse_all\": %.4f, "
+                 "\"position_rmse_vehicles_80m\": %.4f, \"position_rmse_all\": %.4f, \"speed_samples_vehicles_80m\": %llu, "
+                 "\"confirmation_delay_median_s\": %.3f, \"confirmation_delay_p90_s\": %.3f, "
+                 "\"confirmed_within_0_3s\": %.4f, \"objects_confirmed\": %zu",
+            rmse_v, bias_v, rmse_a, pos_v, pos_a, (unsigned long long)sp.n_speed[0], med, p90,
+            n ? (double)within / (double)n : NAN, n);
+  } else {
+    fprintf(out, "  speed of confirmed tracks against the truth: RMSE %.3f m/s (mean absolute %.3f) for vehicles within "
+                 "80 m (%llu samples), %.3f m/s for all; position RMSE %.2f m (vehicles within 80 m), %.2f m (all)\n",
+            rmse_v, bias_v, (unsigned long long)sp.n_speed[0], rmse_a, pos_v, pos_a);
+    fprintf(out, "  confirmation after an object's first frame of >= %d returns: median %.2f s, 90 %% within %.2f s, "
+                 "%.1f %% within 0.3 s (%zu objects)\n",
+            RS_EVAL_MIN_INSTANCE, med, p90, n ? 100.0 * (double)within / (double)n : NAN, n);
+  }
+  free(lat);
+}
+
 static void add_instance(ctx_t *c, uint32_t label, const rs_point_t *p) {
   if (c->last >= c->ninst || c->inst[c->last].label != label) {
     uint32_t i = 0;
@@ -301,10 +551,12 @@ int main(int argc, char **argv) {
                                        {"model", required_argument, NULL, 'm'},
                                        {"tracking", no_argument, NULL, 't'},
                                        {"mot-dump", required_argument, NULL, 'M'},
+                                       {"truth-states", required_argument, NULL, 'S'},
+                                       {"tracks", required_argument, NULL, 'T'},
                                        {"help", no_argument, NULL, 'h'},
                                        {NULL, 0, NULL, 0}};
   bool json = false;
-  const char *objects_path = NULL, *model_path = NULL, *dump_path = NULL;
+  const char *objects_path = NULL, *model_path = NULL, *dump_path = NULL, *states_path = NULL, *tracks_path = NULL;
   bool diagnose = false, tracking = false;
   int o;
   while ((o = getopt_long(argc, argv, "", opts, NULL)) != -1) {
@@ -314,9 +566,12 @@ int main(int argc, char **argv) {
     else if (o == 'm') model_path = optarg;
     else if (o == 't') tracking = true;
     else if (o == 'M') dump_path = optarg;
+    else if (o == 'S') states_path = optarg;
+    else if (o == 'T') tracks_path = optarg;
     else if (o == 'h') {
       printf("usage: roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE] [--diagnose [--model BG]]\n"
              "       roadscan-eval --tracking CAPTURE TRUTH PRED [--json] [--mot-dump FILE]\n"
+             "                     [--truth-states S --tracks T]\n"
              "Point-label files as in specs/point-labels.md; metrics as in the FSPC paper's Table 3.\n"
              "  --tracking      also the tracking metrics of PRED's labels (roadscand --labels-out with\n"
              "                  tracking on: 2 + the track id): MOTA, MOTP, IDF1, id switches,\n"
@@ -325,6 +580,11 @@ int main(int argc, char **argv) {
              "                  with --json only these, as one JSON object\n"
              "  --mot-dump FILE with --tracking: every frame's true and predicted instances and overlaps\n"
              "                  (CSV frame,truth,pred,iou; a 0 id marks presence alone), for py-motmetrics\n"
+             "  --truth-states S --tracks T  with --tracking: roadscan-sim --truth-states and roadscand\n"
+             "                  --tracks-out of the same run: the speed and position error of confirmed tracks\n"
+             "                  against their matched object's true state at the track's time (RMSE; vehicles\n"
+             "                  within 80 m and all), and how long after an object's first frame of >= %d\n"
+             "                  returns a confirmed track matches it\n"
              "  --objects FILE  CSV frame,instance,points,x,y,z: the centroid (sensor frame) of every true\n"
              "                  instance of at least %d returns in every frame\n"
              "  --diagnose      where the missed object returns are: in objects with no clustered return\n"
@@ -333,7 +593,7 @@ int main(int argc, char **argv) {
              "  --model BG      with --diagnose: returns predicted as objects by the number of static\n"
              "                  surfaces of their cell in the background model; the false ones by truth\n"
              "                  class, place against their cell's surfaces, and range\n",
-             RS_EVAL_MIN_INSTANCE, RS_EVAL_MIN_INSTANCE);
+             RS_EVAL_MIN_INSTANCE, RS_EVAL_MIN_INSTANCE, RS_EVAL_MIN_INSTANCE);
       return 0;
     } else {
       return 2;
@@ -341,6 +601,10 @@ int main(int argc, char **argv) {
   }
   if (argc - optind != 3) {
     fprintf(stderr, "usage: roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE] [--diagnose [--model BG]]\n");
+    return 2;
+  }
+  if ((states_path || tracks_path) && !(tracking && states_path && tracks_path)) {
+    fprintf(stderr, "roadscan-eval: --truth-states and --tracks go together, with --tracking\n");
     return 2;
   }
   if (dump_path && !tracking) {
@@ -400,6 +664,13 @@ int main(int argc, char **argv) {
       return 1;
     }
     rs_eval_track(&c.ev, mot);
+    if (states_path) {
+      if (load_states(states_path) != 0 || load_tracks(tracks_path) != 0) {
+        fprintf(stderr, "roadscan-eval: %s\n", sp.err);
+        return 1;
+      }
+      rs_mot_on_instance(mot, on_instance, NULL);
+    }
   }
   rs_stream_cfg_t scfg = {.log = stderr};
   rs_stream_init(&stream, &scfg);
@@ -430,11 +701,24 @@ int main(int argc, char **argv) {
       fprintf(stderr, "roadscan-eval: out of memory\n");
       return 1;
     }
-    if (json) {
+    if (json && states_path) { /* one object: the tracking figures and the speeds' */
+      char *buf = NULL;
+      size_t len = 0;
+      FILE *mf = open_memstream(&buf, &len);
+      if (mf == NULL) return 1;
+      rs_mot_print_json(&mr, mf);
+      fclose(mf);
+      while (len > 0 && (buf[len - 1] == '\n' || buf[len - 1] == '}')) buf[--len] = '\0';
+      printf("%s, ", buf);
+      free(buf);
+      print_speeds(stdout, true);
+      printf("}\n");
+    } else if (json) {
       rs_mot_print_json(&mr, stdout);
     } else {
       rs_eval_print(&c.ev.r, stdout);
       rs_mot_print(&mr, stdout);
+      if (states_path) print_speeds(stdout, false);
     }
     rs_mot_free(mot);
     if (dump && fclose(dump) != 0) {

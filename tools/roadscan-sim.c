@@ -63,12 +63,14 @@ static void usage(FILE *out) {
           "  --seed N               random seed (default 1)\n"
           "  --start-time T         capture time of the first packet, s since 1970 (default 1700000000)\n"
           "  -o, --output FILE      the capture (pcap, Ethernet)\n"
-          "  --labels FILE          ground truth: labels 2 (foliage, spurious) and 3+ (object ids)\n",
+          "  --labels FILE          ground truth: labels 2 (foliage, spurious) and 3+ (object ids)\n"
+          "  --truth-states FILE    every road user's true state at the start of every turn (CSV t,id,class,\n"
+          "                         x,y,vx,vy,heading,length,width,height; sensor frame, capture time)\n",
           rs_model_names(), rs_scene_keys());
 }
 
 int main(int argc, char **argv) {
-  enum { O_SENSOR = 256, O_SCEN, O_SFILE, O_SET, O_SECONDS, O_HZ, O_MODE, O_SEED, O_LABELS, O_START, O_HELP };
+  enum { O_SENSOR = 256, O_SCEN, O_SFILE, O_SET, O_SECONDS, O_HZ, O_MODE, O_SEED, O_LABELS, O_START, O_STATES, O_HELP };
   static const struct option opts[] = {
       {"sensor", required_argument, NULL, O_SENSOR},      {"model", required_argument, NULL, O_SENSOR},
       {"scenario", required_argument, NULL, O_SCEN},      {"scenario-file", required_argument, NULL, O_SFILE},
@@ -76,9 +78,10 @@ int main(int argc, char **argv) {
       {"hz", required_argument, NULL, O_HZ},              {"return-mode", required_argument, NULL, O_MODE},
       {"seed", required_argument, NULL, O_SEED},          {"output", required_argument, NULL, 'o'},
       {"labels", required_argument, NULL, O_LABELS},      {"start-time", required_argument, NULL, O_START},
-      {"help", no_argument, NULL, O_HELP},                {NULL, 0, NULL, 0}};
+      {"truth-states", required_argument, NULL, O_STATES}, {"help", no_argument, NULL, O_HELP},
+      {NULL, 0, NULL, 0}};
   rs_model_t model = RS_MODEL_VLP32C;
-  const char *scenario = "light", *sfile = NULL, *out = NULL, *labels = NULL;
+  const char *scenario = "light", *sfile = NULL, *out = NULL, *labels = NULL, *states_path = NULL;
   const char *sets[64];
   int nsets = 0;
   double seconds = 10.0, hz = 10.0, t0 = 1700000000.0;
@@ -127,6 +130,7 @@ int main(int argc, char **argv) {
       break;
     case 'o': out = optarg; break;
     case O_LABELS: labels = optarg; break;
+    case O_STATES: states_path = optarg; break;
     case O_HELP: usage(stdout); return 0;
     default: usage(stderr); return 2;
     }
@@ -197,6 +201,16 @@ int main(int argc, char **argv) {
     fprintf(stderr, "roadscan-sim: %s: cannot write\n", labels);
     return 1;
   }
+  FILE *states = NULL;
+  static rs_agent_state_t agents[4096];
+  if (states_path) {
+    states = fopen(states_path, "w");
+    if (states == NULL) {
+      fprintf(stderr, "roadscan-sim: %s: cannot write\n", states_path);
+      return 1;
+    }
+    fprintf(states, "t,id,class,x,y,vx,vy,heading,length,width,height\n");
+  }
 
   const bool dual = mode == RS_MODE_DUAL, vls = mi->blocks_per_cycle > 1;
   const int nb = vls && dual ? 8 : RS_BLOCKS;
@@ -230,6 +244,14 @@ int main(int argc, char **argv) {
       if (turns < MAX_TURNS) turn_points[turns++] = cur_turn;
       cur_turn = 0;
       rs_scene_new_turn(sc);
+      if (states) { /* the road users at the turn's start */
+        rs_scene_prepare(sc, t_pkt * 1e-6, 0.0, 0.0);
+        const int na = rs_scene_states(sc, t_pkt * 1e-6, agents, (int)(sizeof agents / sizeof agents[0]));
+        for (int i = 0; i < na; i++)
+          fprintf(states, "%.6f,%u,%s,%.3f,%.3f,%.3f,%.3f,%.4f,%.2f,%.2f,%.2f\n", t0 + t_pkt * 1e-6, agents[i].id,
+                  agents[i].cls, agents[i].x, agents[i].y, agents[i].vx, agents[i].vy, agents[i].heading,
+                  agents[i].length, agents[i].width, agents[i].height);
+      }
     }
     last_az = fmod(az0, 360.0);
     rs_scene_prepare(sc, t_pkt * 1e-6, fmod(az0 - 8.0 + 720.0, 360.0), fmod(az_end + 8.0, 360.0));
@@ -306,6 +328,10 @@ int main(int argc, char **argv) {
           (unsigned long long)points, (unsigned long long)object_points, med, mx, rs_scene_object_count(sc), el,
           build_s, seconds / el);
   rs_scene_destroy(sc);
+  if (states && fclose(states) != 0) {
+    fprintf(stderr, "roadscan-sim: %s: write failed\n", states_path);
+    return 1;
+  }
   if (lrc != RS_OK || lw.rejected) {
     fprintf(stderr, "roadscan-sim: %s: write failed\n", labels);
     return 1;

@@ -74,6 +74,9 @@ typedef struct rs_mot rs_mot_t;
  * overlaps (frame,truth,pred,iou; a 0 id marks presence alone). */
 rs_mot_t *rs_mot_new(FILE *dump);
 void rs_mot_free(rs_mot_t *m);
+/* Called for every true instance of every frame: the track label it matched, or 0. */
+typedef void (*rs_mot_instance_fn)(void *user, uint64_t frame, uint32_t truth, uint32_t pred);
+void rs_mot_on_instance(rs_mot_t *m, rs_mot_instance_fn fn, void *user);
 /* the tracking figures of the eval's frames from now on (rs_eval_end_frame feeds it) */
 void rs_eval_track(rs_eval_t *e, rs_mot_t *m);
 /* RS_OK, or RS_E_NOMEM */

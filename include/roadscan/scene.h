@@ -93,6 +93,19 @@ void rs_scene_prepare(rs_scene_t *sc, double t, double az_from, double az_to);
  * static table (slow; tests). */
 void rs_scene_cast(rs_scene_t *sc, int slot, int block_az, int laser, double az, rs_rng_t *rng, rs_ray_t *out);
 
+/* A road user's true state (sensor frame: the world less the sensor's
+ * origin, +X right, +Y forward; metres, m/s, radians from +X). */
+typedef struct {
+  uint16_t id;          /* its truth label */
+  const char *cls;      /* car, van, truck, bus, cyclist, pedestrian */
+  double x, y;          /* centre of its footprint */
+  double vx, vy, heading;
+  double length, width, height;
+} rs_agent_state_t;
+/* The road users in the scene at time t (s since the capture start; traffic
+ * advanced by rs_scene_prepare), up to max; returns how many. */
+int rs_scene_states(const rs_scene_t *sc, double t, rs_agent_state_t *out, int max);
+
 /* Objects currently in the scene (for statistics and tests). */
 int rs_scene_object_count(const rs_scene_t *sc);
 /* Frame-level noise state (foliage flicker changes per turn). */

@@ -7,8 +7,10 @@
  *
  * State: per track a constant-velocity Kalman filter on the ground plane of
  * the sensor frame, x = (px, py, vx, vy), with the full white-noise-
- * acceleration process noise (q the acceleration spectral density):
- *   Q = q [dt^3/3 I, dt^2/2 I; dt^2/2 I, dt I].
+ * acceleration process noise (S the 2 x 2 acceleration spectral density):
+ *   Q = [S dt^3/3, S dt^2/2; S dt^2/2, S dt],
+ * S = q_long along the motion and q_accel across it for a track faster than
+ * 1 m/s (vehicles speed up and brake along their heading), q_accel I else.
  * The measurement is the centre of the object's oriented box, taken at the
  * object's own time (the middle of its first and last return: a turn lasts
  * 0.1 s, a car at 15 m/s moves 1.5 m in it), with a noise that grows with
@@ -85,9 +87,10 @@ typedef enum {
 } rs_class_t;
 
 typedef struct {
-  double q_accel;          /* m^2/s^3, process noise (default 2) */
+  double q_accel;          /* m^2/s^3, process noise (across the motion of a moving track; default 1) */
+  double q_long;           /* m^2/s^3, the same along its motion (default 1) */
   double meas_sd;          /* m, measurement noise of a small object (default 0.15) */
-  double meas_sd_per_m;    /* m of noise per m of box length (default 0.08) */
+  double meas_sd_per_m;    /* m of noise per m of box length (default 0.1) */
   double gate_chi2;        /* Mahalanobis gate, 2 dof (default 13.8: 99.9 %) */
   double gate_m;           /* Euclidean gate from the prediction (default 4) */
   double max_speed;        /* implied speed gate, m/s (default 50) */
