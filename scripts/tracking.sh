@@ -14,17 +14,20 @@ mkdir -p "$out" out/tracking
 doc=docs/tracking-results.md
 capture() { # tag sensor preset seed_learn seed_test [site args]
   local tag=$1 sensor=$2 sc=$3 sl=$4 st=$5; shift 5
-  [ -f "$out/$tag.bg" ] && [ -f "$out/$tag.pcap" ] && [ -f "$out/$tag-truth.csv" ] && return 0
-  $bin/roadscan-sim --sensor "$sensor" --scenario "$sc" "$@" --seconds 150 --seed "$sl" -o "$out/$tag-learn.pcap" --labels "$out/$tag-learn.csv" 2>/dev/null
-  $bin/roadscan-sim --sensor "$sensor" --scenario "$sc" "$@" --seconds 30 --seed "$st" -o "$out/$tag.pcap" --labels "$out/$tag-truth.csv" 2>/dev/null
-  $bin/roadscan-learn "$out/$tag-learn.pcap" -o "$out/$tag.bg" 2>/dev/null
+  if [ ! -f "$out/$tag.bg" ]; then
+    $bin/roadscan-sim --sensor "$sensor" --scenario "$sc" "$@" --seconds 150 --seed "$sl" -o "$out/$tag-learn.pcap" --labels "$out/$tag-learn.csv" 2>/dev/null
+    $bin/roadscan-learn "$out/$tag-learn.pcap" -o "$out/$tag.bg" 2>/dev/null
+  fi
+  # the test capture with its true states (the capture is the same with or without --truth-states)
+  [ -f "$out/$tag.pcap" ] && [ -f "$out/$tag-truth.csv" ] && [ -f "$out/$tag-states.csv" ] && return 0
+  $bin/roadscan-sim --sensor "$sensor" --scenario "$sc" "$@" --seconds 30 --seed "$st" -o "$out/$tag.pcap" --labels "$out/$tag-truth.csv" --truth-states "$out/$tag-states.csv" 2>/dev/null
 }
 row() { # tag label
   local tag=$1 label=$2
   $bin/roadscand --pcap "$out/$tag.pcap" --fast --background "$out/$tag.bg" --no-publish --quiet \
     --labels-out out/tracking/$tag-labels.csv --tracks-out out/tracking/$tag-tracks.csv 2>/dev/null
   $bin/roadscan-eval --tracking "$out/$tag.pcap" "$out/$tag-truth.csv" out/tracking/$tag-labels.csv --json \
-    > out/tracking/$tag.json 2>/dev/null
+    --truth-states "$out/$tag-states.csv" --tracks out/tracking/$tag-tracks.csv > out/tracking/$tag.json 2>/dev/null
   python3 - "$label" out/tracking/$tag.json <<'PY'
 import json, sys
 label, path = sys.argv[1:3]
@@ -32,7 +35,8 @@ j = json.load(open(path))
 pct = lambda v: f"{100 * v:.2f} %"
 print(f"| {label} | {pct(j['mota'])} | {pct(j['idf1'])} | {pct(j['motp_iou'])} | {j['id_switches']} | "
       f"{j['fragmentations']} | {j['misses']} | {j['false_positives']} | {j['gt']} | "
-      f"{j['mostly_tracked']} / {j['partly_tracked']} / {j['mostly_lost']} of {j['objects']} | {j['tracks']} |")
+      f"{j['mostly_tracked']} / {j['partly_tracked']} / {j['mostly_lost']} of {j['objects']} | {j['tracks']} | "
+      f"{j['speed_rmse_vehicles_80m']:.2f} | {j['position_rmse_vehicles_80m']:.2f} | {pct(j['confirmed_within_0_3s'])} |")
 PY
 }
 {
@@ -43,10 +47,13 @@ PY
   echo "--tracks-out T\` (default settings: fspc-adaptive, tracking on), \`roadscan-eval --tracking CAPTURE TRUTH L\`."
   echo "A true instance (>= 10 returns in a frame) and a track match when their returns overlap with IoU > 0.5;"
   echo "the figures equal py-motmetrics' on the same matches (\`ctest -R crosscheck_mot\`). MOTP is the mean IoU"
-  echo "of matches. MT / PT / ML: true objects tracked in >= 80 %, 20-80 %, < 20 % of their frames."
+  echo "of matches. MT / PT / ML: true objects tracked in >= 80 %, 20-80 %, < 20 % of their frames. Speed and"
+  echo "position: confirmed tracks against their matched object's true state (\`roadscan-sim --truth-states\`) at"
+  echo "the track's time, RMSE over vehicles within 80 m (m/s, m). Confirmed in 0.3 s: the share of objects whose"
+  echo "first match by a confirmed track comes at most 0.3 s after their first frame of >= 10 returns."
   echo
-  echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks |"
-  echo "|---|---|---|---|---|---|---|---|---|---|---|"
+  echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks | speed RMSE | position RMSE | confirmed in 0.3 s |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 } > "$doc"
 for sensor in VLP-32C VLP-16; do
   for sc in light rush; do
