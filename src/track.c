@@ -272,12 +272,15 @@ static uint32_t bucket(long gx, long gy) {
 /* ---- track lookup grid: tracks by their position (4 m cells, hashed) ---- */
 static void track_grid(rs_tracker_t *tr, double t_frame) {
   for (int b = 0; b < GRID_BUCKETS; b++) tr->tgrid_head[b] = -1;
+  tr->vmax = 0.0;
   for (uint32_t i = 0; i < tr->list.count; i++) {
     const rs_track_t *t = &tr->list.track[i];
     double dt = t_frame - t->t_state;
     if (dt < 0) dt = 0;
     tr->tpos[i][0] = t->x[0] + t->x[2] * dt;
     tr->tpos[i][1] = t->x[1] + t->x[3] * dt;
+    const double v = sqrt(t->x[2] * t->x[2] + t->x[3] * t->x[3]);
+    if (v > tr->vmax) tr->vmax = v;
     tr->tcell[i][0] = (long)floor(tr->tpos[i][0] / GRID);
     tr->tcell[i][1] = (long)floor(tr->tpos[i][1] / GRID);
     const uint32_t bk = bucket(tr->tcell[i][0], tr->tcell[i][1]);
@@ -607,7 +610,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     bool apart = false;
     /* (a track moves at most max_speed x 1 s between its grid position and the object's time) */
     const uint32_t nn = tracks_near(tr, o->sensor.obb_center[0], o->sensor.obb_center[1],
-                                    0.5 * (o->sensor.obb_length + o->sensor.obb_width) + 0.3 + 0.1 * cf->max_speed);
+                                    0.5 * (o->sensor.obb_length + o->sensor.obb_width) + 0.3 + 0.1 * tr->vmax);
     for (uint32_t q = 0; q < nn; q++) {
       const uint32_t i = tr->near[q];
       const rs_track_t *t = &L->track[i];
@@ -671,17 +674,25 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
    * a younger one of its size is, follows the same object (a duplicate). The
    * older track takes the object over (its id continues), the younger one
    * ends without an event */
-  for (uint32_t i = 0; i < L->count; i++) {
+  uint32_t nunseen = 0; /* the coasting and lost tracks not held, in index order */
+  for (uint32_t j = 0; j < L->count; j++) {
+    const rs_track_t *o = &L->track[j];
+    if (o->id != 0 && o->object < 0 && !o->held && (o->state == RS_TRACK_COASTING || o->state == RS_TRACK_LOST))
+      tr->near[nunseen++] = (uint16_t)j;
+  }
+  for (uint32_t i = 0; i < L->count && nunseen > 0; i++) {
     rs_track_t *y = &L->track[i];
     if (y->object < 0 || y->id == 0) continue;
     int best = -1;
     double best_m2 = cf->gate_chi2;
-    const uint32_t nn = tracks_near(tr, y->x[0], y->x[1], 2.0 * cf->gate_m + 0.15 * cf->max_speed);
-    for (uint32_t q = 0; q < nn; q++) {
+    for (uint32_t q = 0; q < nunseen; q++) {
       const uint32_t j = tr->near[q];
       const rs_track_t *o = &L->track[j];
-      if (j == i || o->id == 0 || o->object >= 0 || o->held) continue;
-      if (!(o->state == RS_TRACK_COASTING || o->state == RS_TRACK_LOST)) continue;
+      if (j == i || o->id == 0 || o->object >= 0) continue; /* (stitched this frame) */
+      /* far from its position at the frame's time: out of every gate below (at most 2 gate_m from its
+       * prediction at y's time, which is within 0.15 s x max_speed of it) */
+      const double gx = y->x[0] - tr->tpos[j][0], gy = y->x[1] - tr->tpos[j][1], gr = 2.0 * cf->gate_m + 0.15 * cf->max_speed;
+      if (gx * gx + gy * gy > gr * gr) continue;
       double p[2], S[3];
       predict_pos(tr, o, y->t_state, p, S);
       const double dx = y->x[0] - p[0], dy = y->x[1] - p[1];
@@ -689,8 +700,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
         /* they were seen together: the same object only when the older one, unseen, is predicted where the
          * younger one is (within a third of its length) and they are of a size */
         const double lmax = fmax(o->length, y->length), lmin = fmin(o->length, y->length);
-        if (o->id > y->id || hypot(dx, dy) > fmax(0.5, 0.35 * y->length) || lmin < 0.5 * lmax - 0.5) continue;
-      } else if (hypot(dx, dy) > fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (y->t_state - o->t_update))) {
+        if (o->id > y->id || sqrt(dx * dx + dy * dy) > fmax(0.5, 0.35 * y->length) || lmin < 0.5 * lmax - 0.5) continue;
+      } else if (sqrt(dx * dx + dy * dy) > fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (y->t_state - o->t_update))) {
         continue;
       }
       const double s00 = S[0] + y->P[0][0], s01 = S[1] + y->P[0][1], s11 = S[2] + y->P[1][1];

@@ -185,6 +185,7 @@ typedef struct {
   int32_t tgrid_next[RS_TRACK_MAX];
   double tpos[RS_TRACK_MAX][2];
   long tcell[RS_TRACK_MAX][2];
+  double vmax;                         /* the fastest track's speed this frame */
   uint16_t near[RS_TRACK_MAX];
 } rs_tracker_t;
 
