@@ -22,12 +22,19 @@ capture() { # tag sensor preset seed_learn seed_test [site args]
   [ -f "$out/$tag.pcap" ] && [ -f "$out/$tag-truth.csv" ] && [ -f "$out/$tag-states.csv" ] && return 0
   $bin/roadscan-sim --sensor "$sensor" --scenario "$sc" "$@" --seconds 30 --seed "$st" -o "$out/$tag.pcap" --labels "$out/$tag-truth.csv" --truth-states "$out/$tag-states.csv" 2>/dev/null
 }
+# counting lines across the four approaches 30 m from the centre of the intersection (its roads are 14 m
+# wide; the sensor's pole stands at -11.5, -11.5 of it) and across one sidewalk, in the sensor frame
+lines=(--count-line "east 41.5 4.5 41.5 18.5" --count-line "west -18.5 4.5 -18.5 18.5"
+       --count-line "north 4.5 41.5 18.5 41.5" --count-line "south 4.5 -18.5 18.5 -18.5"
+       --count-line "walk 31.5 19.5 31.5 23.5")
 row() { # tag label
   local tag=$1 label=$2
   $bin/roadscand --pcap "$out/$tag.pcap" --fast --background "$out/$tag.bg" --no-publish --quiet \
-    --labels-out out/tracking/$tag-labels.csv --tracks-out out/tracking/$tag-tracks.csv 2>/dev/null
+    --labels-out out/tracking/$tag-labels.csv --tracks-out out/tracking/$tag-tracks.csv \
+    --counts-out out/tracking/$tag-counts.csv "${lines[@]}" 2>/dev/null
   $bin/roadscan-eval --tracking "$out/$tag.pcap" "$out/$tag-truth.csv" out/tracking/$tag-labels.csv --json \
-    --truth-states "$out/$tag-states.csv" --tracks out/tracking/$tag-tracks.csv > out/tracking/$tag.json 2>/dev/null
+    --truth-states "$out/$tag-states.csv" --tracks out/tracking/$tag-tracks.csv \
+    --counts out/tracking/$tag-counts.csv "${lines[@]}" > out/tracking/$tag.json 2>/dev/null
   python3 - "$label" out/tracking/$tag.json <<'PY'
 import json, sys
 label, path = sys.argv[1:3]
@@ -36,7 +43,11 @@ pct = lambda v: f"{100 * v:.2f} %"
 print(f"| {label} | {pct(j['mota'])} | {pct(j['idf1'])} | {pct(j['motp_iou'])} | {j['id_switches']} | "
       f"{j['fragmentations']} | {j['misses']} | {j['false_positives']} | {j['gt']} | "
       f"{j['mostly_tracked']} / {j['partly_tracked']} / {j['mostly_lost']} of {j['objects']} | {j['tracks']} | "
-      f"{j['speed_rmse_vehicles_80m']:.2f} | {j['position_rmse_vehicles_80m']:.2f} | {pct(j['confirmed_within_0_3s'])} |")
+      f"{j['speed_rmse_vehicles_80m']:.2f} | {j['position_rmse_vehicles_80m']:.2f} | {pct(j['confirmed_within_0_3s'])} | "
+      + f"{sum(v['counted'] for k, v in j.items() if k.startswith('count_'))} / "
+      + f"{sum(v['true'] for k, v in j.items() if k.startswith('count_'))} | "
+      + ", ".join(f"{k[6:].replace('_', ' ')} {v['counted']}/{v['true']}" for k, v in j.items()
+                  if k.startswith('count_') and (v['true'] or v['counted'])) + " |")
 PY
 }
 {
@@ -50,10 +61,13 @@ PY
   echo "of matches. MT / PT / ML: true objects tracked in >= 80 %, 20-80 %, < 20 % of their frames. Speed and"
   echo "position: confirmed tracks against their matched object's true state (\`roadscan-sim --truth-states\`) at"
   echo "the track's time, RMSE over vehicles within 80 m (m/s, m). Confirmed in 0.3 s: the share of objects whose"
-  echo "first match by a confirmed track comes at most 0.3 s after their first frame of >= 10 returns."
+  echo "first match by a confirmed track comes at most 0.3 s after their first frame of >= 10 returns. Counts:"
+  echo "crossings of five lines (the four approaches 30 m from the centre, one sidewalk; \`--count-line\` in"
+  echo "this script) counted / true (every road user of the true states once per line), then per line and"
+  echo "direction."
   echo
-  echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks | speed RMSE | position RMSE | confirmed in 0.3 s |"
-  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+  echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks | speed RMSE | position RMSE | confirmed in 0.3 s | crossings | per line |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 } > "$doc"
 for sensor in VLP-32C VLP-16; do
   for sc in light rush; do

@@ -16,6 +16,8 @@
 
 #define TAKE_TIMEOUT_MS 100
 
+const char *rs_pipeline_counts_header(void) { return "t_start,t_end,line,direction,class,count"; }
+
 const char *rs_pipeline_tracks_header(void) {
   return "frame,t,track,state,class,x,y,z,vx,vy,speed,heading,length,width,height,points,hits,misses,age,"
          "cov_xx,cov_xy,cov_yy";
@@ -33,6 +35,8 @@ static void undo_init(rs_pipeline_t *p) {
   rs_proc_deinit(&p->proc);
   if (p->tracks_out) fclose(p->tracks_out);
   p->tracks_out = NULL;
+  if (p->counts_out) fclose(p->counts_out);
+  p->counts_out = NULL;
   free(p->label_buf);
   p->label_buf = NULL;
   rs_capture_close(&p->cap);
@@ -97,6 +101,15 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
     }
     fprintf(p->tracks_out, "%s\n", rs_pipeline_tracks_header());
   }
+  if (cfg->counts_out) {
+    p->counts_out = fopen(cfg->counts_out, "w");
+    if (p->counts_out == NULL) {
+      snprintf(p->input_err, sizeof p->input_err, "--counts-out %s: cannot write", cfg->counts_out);
+      undo_init(p);
+      return RS_E_IO;
+    }
+    fprintf(p->counts_out, "%s\n", rs_pipeline_counts_header());
+  }
   if (p->labels_open) {
     p->label_buf = malloc(sizeof *p->label_buf * RS_LABELS_FRAME_MAX);
     if (p->label_buf == NULL) {
@@ -118,6 +131,7 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
       .objects = cfg->objects,
       .object_list = cfg->object_list,
       .tracker = cfg->tracker,
+      .counter = cfg->counter,
   };
   rc = rs_proc_init(&p->proc, &pc, p->input_err, sizeof p->input_err);
   if (rc != RS_OK) {
@@ -307,6 +321,30 @@ static void track_labels(rs_pipeline_t *p, const rs_proc_report_t *r) {
   }
 }
 
+/* sink: the counts of a closed interval: per line and direction every class
+ * counted and the sum ("all", also when 0: an empty interval is a figure) */
+static void write_counts(FILE *f, const rs_counter_t *c, const rs_count_interval_t *iv) {
+  for (int l = 0; l < c->nlines; l++)
+    for (int d = 0; d < 2; d++) {
+      const uint32_t *v = d == 0 ? iv->line[l].forward : iv->line[l].backward;
+      uint32_t sum = 0;
+      for (int k = 0; k < RS_CLASS_COUNT; k++) {
+        sum += v[k];
+        if (v[k])
+          fprintf(f, "%.3f,%.3f,%s,%s,%s,%u\n", iv->t_start, iv->t_end, c->lines[l].name, d == 0 ? "forward" : "backward",
+                  rs_class_name((rs_class_t)k), v[k]);
+      }
+      fprintf(f, "%.3f,%.3f,%s,%s,all,%u\n", iv->t_start, iv->t_end, c->lines[l].name, d == 0 ? "forward" : "backward",
+              sum);
+    }
+}
+
+static void count_sinks(rs_pipeline_t *p, const rs_count_interval_t *iv) {
+  if (iv == NULL) return;
+  if (p->cfg.publish) rs_publish_counts(p->cfg.publish, p->cfg.counter, iv, rs_publish_utime());
+  if (p->counts_out) write_counts(p->counts_out, p->cfg.counter, iv);
+}
+
 /* sink: one line of the frames CSV */
 static void write_frame_line(FILE *f, const rs_slot_t *s, const rs_proc_report_t *r, int64_t frame_ns) {
   const rs_frame_meta_t *m = &s->meta;
@@ -324,7 +362,7 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
   const int64_t t0 = rs_now_ns();
   rs_proc_report_t r;
   rs_proc_frame(&p->proc, s, &p->stream.sensor, &r);
-  for (int k = 0; k < RS_STAGE_COUNT; k++)
+  for (int k = 0; k < RS_STAGES; k++)
     if (r.ran[k] && r.stage_ns[k] > p->line.worst_ns) {
       p->line.worst_ns = r.stage_ns[k];
       p->line.worst = rs_proc_stage_name(k);
@@ -344,6 +382,7 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
     if (r.tracks) rs_publish_tracks(p->cfg.publish, &s->meta, r.tracks, rs_publish_utime());
   }
   if (p->tracks_out && r.tracks) write_tracks(p->tracks_out, s, r.tracks);
+  count_sinks(p, r.counts);
   if (p->labels_open) {
     if (r.tracks) {
       track_labels(p, &r);
@@ -378,7 +417,14 @@ static void *proc_main(void *arg) {
     rs_ring_release(&p->ring, idx);
     maybe_log_line(p);
   }
+  rs_proc_report_t end;
+  rs_proc_finish(&p->proc, &end); /* the last counting interval */
+  count_sinks(p, end.counts);
   if (p->cfg.frames_out) fflush(p->cfg.frames_out);
+  if (p->counts_out && (fflush(p->counts_out) != 0 || ferror(p->counts_out))) {
+    p->input_status = RS_E_IO;
+    snprintf(p->input_err, sizeof p->input_err, "--counts-out %s: write failed", p->cfg.counts_out);
+  }
   if (p->tracks_out && (fflush(p->tracks_out) != 0 || ferror(p->tracks_out))) {
     p->input_status = RS_E_IO;
     snprintf(p->input_err, sizeof p->input_err, "--tracks-out %s: write failed", p->cfg.tracks_out);
@@ -416,6 +462,8 @@ void rs_pipeline_deinit(rs_pipeline_t *p) {
   rs_proc_deinit(&p->proc);
   if (p->tracks_out) fclose(p->tracks_out);
   p->tracks_out = NULL;
+  if (p->counts_out) fclose(p->counts_out);
+  p->counts_out = NULL;
   free(p->label_buf);
   p->label_buf = NULL;
   if (p->labels_open) rs_labels_finish(&p->labels);
@@ -488,6 +536,26 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
             tr->list.count, (unsigned long long)tr->n.held, (unsigned long long)tr->n.absorbed,
             (unsigned long long)(tr->n.stitched + tr->n.duplicates), (unsigned long long)tr->n.overflow, RS_TRACK_MAX, (unsigned long long)tr->n.greedy_groups);
   }
+  if (p->cfg.counter) {
+    const rs_counter_t *c = p->cfg.counter;
+    fprintf(out, "  counts (%llu intervals of %.0f s):", (unsigned long long)c->intervals, c->interval_s);
+    for (int l = 0; l < c->nlines; l++) {
+      for (int d = 0; d < 2; d++) {
+        const uint32_t *v = d == 0 ? c->total[l].forward : c->total[l].backward;
+        uint32_t sum = 0;
+        for (int k = 0; k < RS_CLASS_COUNT; k++) sum += v[k];
+        fprintf(out, "%s %s %s %u", l || d ? ";" : "", c->lines[l].name, d == 0 ? "forward" : "backward", sum);
+        bool any = false;
+        for (int k = 0; k < RS_CLASS_COUNT; k++)
+          if (v[k]) {
+            fprintf(out, "%s%s %u", any ? ", " : " (", rs_class_name((rs_class_t)k), v[k]);
+            any = true;
+          }
+        if (any) fprintf(out, ")");
+      }
+    }
+    fprintf(out, "\n");
+  }
   if (p->cfg.publish) {
     const rs_publish_t *pub = p->cfg.publish;
     fprintf(out, "  lcm: %llu object lists on %s, %llu statistics%s%s, %s; %llu truncated (%llu objects beyond %u), %llu errors\n",
@@ -513,7 +581,7 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
   rs_stream_print_errors(n, out);
   fprintf(out, "\n  timings (CLOCK_MONOTONIC):\n");
   rs_timing_print(&p->t_packet, out);
-  for (int k = 0; k < RS_STAGE_COUNT; k++)
+  for (int k = 0; k < RS_STAGES; k++)
     if (pr->t_stage[k].n) rs_timing_print(&pr->t_stage[k], out);
   if (p->t_publish.n) rs_timing_print(&p->t_publish, out);
   rs_timing_print(&p->t_frame, out);

@@ -13,11 +13,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const stage_names[RS_STAGE_COUNT] = {"background/frame", "cluster/frame", "objects/frame",
-                                                        "tracks/frame"};
+static const char *const stage_names[RS_STAGES] = {"background/frame", "cluster/frame", "objects/frame",
+                                                   "tracks/frame", "counting/frame"};
 
 const char *rs_proc_stage_name(int stage) {
-  return stage >= 0 && stage < RS_STAGE_COUNT ? stage_names[stage] : "?";
+  return stage >= 0 && stage < RS_STAGES ? stage_names[stage] : "?";
 }
 
 static const rs_object_list_t no_objects;
@@ -25,7 +25,7 @@ static const rs_object_list_t no_objects;
 int rs_proc_init(rs_proc_t *p, const rs_proc_cfg_t *cfg, char *err, size_t errlen) {
   memset(p, 0, sizeof *p);
   p->cfg = *cfg;
-  for (int k = 0; k < RS_STAGE_COUNT; k++) rs_timing_init(&p->t_stage[k], stage_names[k]);
+  for (int k = 0; k < RS_STAGES; k++) rs_timing_init(&p->t_stage[k], stage_names[k]);
   rs_timing_init(&p->t_frame, "processing/frame");
   p->n.min_range = 1e30;
   if (cfg->objects && (cfg->cluster == NULL || cfg->object_list == NULL)) {
@@ -34,6 +34,10 @@ int rs_proc_init(rs_proc_t *p, const rs_proc_cfg_t *cfg, char *err, size_t errle
   }
   if (cfg->tracker && cfg->objects == NULL) {
     snprintf(err, errlen, "the track stage needs the object stage");
+    return RS_E_INVAL;
+  }
+  if (cfg->counter && cfg->tracker == NULL) {
+    snprintf(err, errlen, "counting needs the track stage");
     return RS_E_INVAL;
   }
   if (cfg->background == NULL && cfg->learn_seconds <= 0) return RS_OK;
@@ -172,6 +176,11 @@ void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_pro
         rs_track_frame(p->cfg.tracker, p->cfg.object_list, s->meta.t_last);
         t = stage_end(p, r, RS_STAGE_TRACKS, t);
         r->tracks = &p->cfg.tracker->list;
+        p->last_t = s->meta.t_last;
+        if (p->cfg.counter) {
+          if (rs_count_frame(p->cfg.counter, r->tracks, s->meta.t_last)) r->counts = &p->cfg.counter->closed;
+          t = stage_end(p, r, RS_STAGE_COUNTING, t);
+        }
       }
     }
   }
@@ -188,4 +197,10 @@ void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_pro
   }
   r->total_ns = rs_now_ns() - t0;
   rs_timing_add(&p->t_frame, r->total_ns);
+}
+
+void rs_proc_finish(rs_proc_t *p, rs_proc_report_t *r) {
+  memset(r, 0, sizeof *r);
+  r->objects = &no_objects;
+  if (p->cfg.counter && rs_count_flush(p->cfg.counter, p->last_t)) r->counts = &p->cfg.counter->closed;
 }

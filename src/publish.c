@@ -115,6 +115,9 @@ int rs_publish_init(rs_publish_t *p, const rs_publish_cfg_t *cfg) {
   const char *tch = cfg->tracks_channel ? cfg->tracks_channel : RS_PUB_DEFAULT_TRACKS;
   if (tch[0] && !copy_name(p->tracks_channel, sizeof p->tracks_channel, tch, "tracks channel", p->err, sizeof p->err))
     return RS_E_INVAL;
+  const char *cch = cfg->counts_channel ? cfg->counts_channel : RS_PUB_DEFAULT_COUNTS;
+  if (cch[0] && !copy_name(p->counts_channel, sizeof p->counts_channel, cch, "counts channel", p->err, sizeof p->err))
+    return RS_E_INVAL;
   const char *ech = cfg->track_ends_channel ? cfg->track_ends_channel : RS_PUB_DEFAULT_TRACK_ENDS;
   if (ech[0] && !copy_name(p->ends_channel, sizeof p->ends_channel, ech, "track ends channel", p->err, sizeof p->err))
     return RS_E_INVAL;
@@ -371,4 +374,33 @@ int rs_publish_tracks(rs_publish_t *p, const rs_frame_meta_t *m, const rs_track_
     }
   }
   return rc;
+}
+
+_Static_assert(RS_CLASS_COUNT == 6, "count_line_t has 6 classes (lcmtypes/roadscan.lcm)");
+
+int rs_publish_counts(rs_publish_t *p, const rs_counter_t *c, const rs_count_interval_t *iv, int64_t utime) {
+  if (!p->counts_channel[0]) return RS_OK;
+  roadscan_counts_t msg;
+  memset(&msg, 0, sizeof msg);
+  msg.utime = utime;
+  msg.sensor_id = p->sensor_id;
+  msg.t_start = usec(iv->t_start);
+  msg.t_end = usec(iv->t_end);
+  msg.num_lines = c->nlines;
+  for (int l = 0; l < c->nlines; l++) {
+    roadscan_count_line_t *w = &p->count_wire[l];
+    w->name = (char *)c->lines[l].name;
+    for (int k = 0; k < RS_CLASS_COUNT; k++) {
+      w->forward[k] = (int32_t)iv->line[l].forward[k];
+      w->backward[k] = (int32_t)iv->line[l].backward[k];
+    }
+  }
+  msg.lines = p->count_wire;
+  int len = roadscan_counts_t_encode(p->buf, 0, (int)sizeof p->buf, &msg);
+  if (len < 0 || lcm_publish(p->lcm, p->counts_channel, p->buf, (unsigned)len) != 0) {
+    p->errors++;
+    return RS_E_LCM;
+  }
+  p->counts++;
+  return RS_OK;
 }

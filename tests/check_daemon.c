@@ -431,6 +431,28 @@ START_TEST(t_tracks_outputs) {
   } else {
     printf("t_tracks_outputs: --speed 2 dropped %ld frames on this machine: byte comparison not made\n", dropped);
   }
+  /* counts: a CSV per closed interval, the summary's totals */
+  char cf[600];
+  snprintf(cf, sizeof cf, "%s", tu_tmp("trk-counts.csv"));
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s --no-publish --count-line \"east 31.5 4.5 31.5 18.5\" "
+           "--count-line \"west -8.5 4.5 -8.5 18.5\" --count-interval 1 --counts-out %s", cap, model, cf);
+  ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
+  ck_assert_ptr_nonnull(strstr(out, "counts ("));
+  ck_assert_ptr_nonnull(strstr(out, "east forward"));
+  f = fopen(cf, "r");
+  ck_assert_ptr_nonnull(f);
+  ck_assert_ptr_nonnull(fgets(line, sizeof line, f));
+  ck_assert_str_eq(line, "t_start,t_end,line,direction,class,count\n");
+  int all_rows = 0;
+  while (fgets(line, sizeof line, f)) all_rows += strstr(line, ",all,") != NULL;
+  fclose(f);
+  ck_assert_int_ge(all_rows, 4 * 3); /* 2 lines x 2 directions x >= 3 intervals of 1 s */
+  ck_assert_int_eq(all_rows % 4, 0);
+  ck_assert_int_eq(tu_exec("./roadscand --pcap x --count-line \"a 1 2 3\"", &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "not NAME X1 Y1 X2 Y2"));
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --background %s --counts-out %s", cap, model, cf);
+  ck_assert_int_eq(tu_exec(cmd, &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "--counts-out needs a --count-line"));
   /* errors */
   snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --tracks-out %s", cap, b);
   ck_assert_int_eq(tu_exec(cmd, &out), 2);

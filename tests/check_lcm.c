@@ -44,8 +44,27 @@ static struct {
   uint8_t *data[MAX_MSGS];
 } trx;
 
+static struct {
+  int n;
+  long forward, backward;
+} crx;
+
 static void on_tracks(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
   (void)user;
+  if (strcmp(channel, "TRK_CNT") == 0) {
+    roadscan_counts_t c;
+    ck_assert_int_eq(roadscan_counts_t_decode(rbuf->data, 0, (int)rbuf->data_size, &c), (int)rbuf->data_size);
+    ck_assert_int_eq(c.num_lines, 2);
+    ck_assert_int_gt(c.t_end, c.t_start);
+    for (int l = 0; l < c.num_lines; l++)
+      for (int k = 0; k < 6; k++) {
+        crx.forward += c.lines[l].forward[k];
+        crx.backward += c.lines[l].backward[k];
+      }
+    roadscan_counts_t_decode_cleanup(&c);
+    crx.n++;
+    return;
+  }
   if (strcmp(channel, "TRK_END") == 0) {
     roadscan_track_end_t e;
     ck_assert_int_eq(roadscan_track_end_t_decode(rbuf->data, 0, (int)rbuf->data_size, &e), (int)rbuf->data_size);
@@ -333,6 +352,7 @@ static rs_bg_model_t model;
 static rs_cluster_t cluster;
 static rs_objects_t objects;
 static rs_tracker_t tracker;
+static rs_counter_t counter;
 
 START_TEST(t_pipeline_end_to_end) {
   static tu_site_t site;
@@ -349,7 +369,13 @@ START_TEST(t_pipeline_end_to_end) {
   lcm_subscription_t *sub = lcm_subscribe(lcm, "OBJ", on_raw, NULL);
   lcm_subscription_t *tsub = lcm_subscribe(lcm, "TRK.*", on_tracks, NULL);
   rs_publish_cfg_t pcfg = {.channel = "OBJ", .stats_channel = "", .tracks_channel = "TRK", .track_ends_channel = "TRK_END",
-                           .lcm = lcm};
+                           .counts_channel = "TRK_CNT", .lcm = lcm};
+  /* the site's roads, in the sensor frame (the intersection's centre is at 11.5, 11.5) */
+  rs_count_line_t lines[2];
+  char lerr[RS_ERRMSG_SIZE];
+  ck_assert_int_eq(rs_count_parse_line("east 31.5 4.5 31.5 18.5", &lines[0], lerr, sizeof lerr), RS_OK);
+  ck_assert_int_eq(rs_count_parse_line("west -8.5 4.5 -8.5 18.5", &lines[1], lerr, sizeof lerr), RS_OK);
+  ck_assert_int_eq(rs_count_init(&counter, lines, 2, NULL, 1.0, lerr, sizeof lerr), RS_OK);
   rs_track_cfg_t tcfg;
   rs_track_cfg_default(&tcfg);
   ck_assert_int_eq(rs_track_init(&tracker, &tcfg), RS_OK);
@@ -366,6 +392,7 @@ START_TEST(t_pipeline_end_to_end) {
   cfg.objects = &objects;
   cfg.object_list = &list;
   cfg.tracker = &tracker;
+  cfg.counter = &counter;
   cfg.publish = &pub;
   ck_assert_int_eq(rs_pipeline_init(&pipe, &cfg, slots, 4), RS_OK);
   ck_assert_int_eq(rs_pipeline_start(&pipe), RS_OK);
@@ -430,6 +457,18 @@ START_TEST(t_pipeline_end_to_end) {
   }
   ck_assert_int_ge(longest, 20); /* a vehicle followed for 2 s under one id */
   ck_assert_int_eq(trx.ends, (int)pub.track_ends);
+  /* one counts message per interval of 1 s (the last one closed at the end), the sums the counter's */
+  ck_assert_int_ge(crx.n, 5);
+  ck_assert_int_eq(crx.n, (int)counter.intervals);
+  long fwd = 0, bwd = 0;
+  for (int l = 0; l < 2; l++)
+    for (int k = 0; k < RS_CLASS_COUNT; k++) {
+      fwd += counter.total[l].forward[k];
+      bwd += counter.total[l].backward[k];
+    }
+  ck_assert_int_eq(crx.forward, fwd);
+  ck_assert_int_eq(crx.backward, bwd);
+  printf("lcm: %d counts messages, %ld forward and %ld backward crossings\n", crx.n, fwd, bwd);
   for (int i = 0; i < trx.n; i++) free(trx.data[i]);
   trx.n = 0;
   lcm_unsubscribe(lcm, tsub);

@@ -11,6 +11,7 @@
  * where the object returns the prediction missed are, and (with the
  * background model) where its false positives are. Single-threaded. */
 #include "roadscan/background.h"
+#include "roadscan/count.h"
 #include "roadscan/eval.h"
 #include "roadscan/labels.h"
 #include "roadscan/stream.h"
@@ -287,6 +288,74 @@ static int cmp_dbl(const void *a, const void *b) {
   return (x > y) - (x < y);
 }
 
+/* ---- --counts with --count-line: true crossings from the states ---- */
+static rs_count_line_t clines[RS_COUNT_LINES];
+static int nclines;
+
+/* per line and direction: crossings counted (from the counts CSV) and true ones */
+static uint64_t pred_count[RS_COUNT_LINES][2], true_count[RS_COUNT_LINES][2];
+
+static int load_counts(const char *path) {
+  FILE *f = fopen(path, "r");
+  if (!f) {
+    snprintf(sp.err, sizeof sp.err, "--counts %s: cannot read", path);
+    return -1;
+  }
+  char line[512];
+  if (!fgets(line, sizeof line, f) || strncmp(line, "t_start,t_end,line,direction,class,count", 40) != 0) {
+    snprintf(sp.err, sizeof sp.err, "--counts %s: not a roadscand --counts-out file", path);
+    fclose(f);
+    return -1;
+  }
+  long ln = 1;
+  while (fgets(line, sizeof line, f)) {
+    ln++;
+    double a, b;
+    char name[64], dir[16], cls[32];
+    unsigned n;
+    if (sscanf(line, "%lf,%lf,%63[^,],%15[^,],%31[^,],%u", &a, &b, name, dir, cls, &n) != 6) {
+      snprintf(sp.err, sizeof sp.err, "--counts %s:%ld: bad line", path, ln);
+      fclose(f);
+      return -1;
+    }
+    if (strcmp(cls, "all") != 0) continue;
+    for (int l = 0; l < nclines; l++)
+      if (strcmp(clines[l].name, name) == 0) pred_count[l][strcmp(dir, "forward") == 0 ? 0 : 1] += n;
+  }
+  fclose(f);
+  return 0;
+}
+
+/* every road user once per line, in the direction of its first crossing (as the counter counts tracks) */
+static void true_crossings(void) {
+  for (uint32_t id = 0; id <= sp.max_id; id++) {
+    const st_row_t *r = by_id + spans[id].first;
+    for (int l = 0; l < nclines; l++)
+      for (uint32_t k = 1; k < spans[id].count; k++) {
+        const int d = rs_count_crosses(&clines[l], r[k - 1].x, r[k - 1].y, r[k].x, r[k].y);
+        if (d == 0) continue;
+        true_count[l][d > 0 ? 0 : 1]++;
+        break;
+      }
+  }
+}
+
+static void print_counts(FILE *out, bool json) {
+  for (int l = 0; l < nclines; l++)
+    for (int d = 0; d < 2; d++) {
+      const double err = true_count[l][d] ? fabs((double)pred_count[l][d] - (double)true_count[l][d]) / (double)true_count[l][d]
+                                          : (pred_count[l][d] ? INFINITY : 0.0);
+      if (json)
+        fprintf(out, ", \"count_%s_%s\": {\"counted\": %llu, \"true\": %llu, \"error\": %.4f}", clines[l].name,
+                d == 0 ? "forward" : "backward", (unsigned long long)pred_count[l][d],
+                (unsigned long long)true_count[l][d], isfinite(err) ? err : -1.0);
+      else
+        fprintf(out, "  line %s %s: counted %llu, true %llu (error %.1f %%)\n", clines[l].name,
+                d == 0 ? "forward" : "backward", (unsigned long long)pred_count[l][d],
+                (unsigned long long)true_count[l][d], 100.0 * err);
+    }
+}
+
 static void print_speeds(FILE *out, bool json) {
   size_t n = 0, within = 0;
   double *lat = malloc(sizeof *lat * ((size_t)sp.max_id + 1));
@@ -553,10 +622,13 @@ int main(int argc, char **argv) {
                                        {"mot-dump", required_argument, NULL, 'M'},
                                        {"truth-states", required_argument, NULL, 'S'},
                                        {"tracks", required_argument, NULL, 'T'},
+                                       {"counts", required_argument, NULL, 'C'},
+                                       {"count-line", required_argument, NULL, 'L'},
                                        {"help", no_argument, NULL, 'h'},
                                        {NULL, 0, NULL, 0}};
   bool json = false;
-  const char *objects_path = NULL, *model_path = NULL, *dump_path = NULL, *states_path = NULL, *tracks_path = NULL;
+  const char *objects_path = NULL, *model_path = NULL, *dump_path = NULL, *states_path = NULL, *tracks_path = NULL,
+             *counts_path = NULL;
   bool diagnose = false, tracking = false;
   int o;
   while ((o = getopt_long(argc, argv, "", opts, NULL)) != -1) {
@@ -568,10 +640,19 @@ int main(int argc, char **argv) {
     else if (o == 'M') dump_path = optarg;
     else if (o == 'S') states_path = optarg;
     else if (o == 'T') tracks_path = optarg;
+    else if (o == 'C') counts_path = optarg;
+    else if (o == 'L') {
+      char lerr[RS_ERRMSG_SIZE];
+      if (nclines == RS_COUNT_LINES || rs_count_parse_line(optarg, &clines[nclines], lerr, sizeof lerr) != RS_OK) {
+        fprintf(stderr, "roadscan-eval: %s\n", nclines == RS_COUNT_LINES ? "too many --count-line" : lerr);
+        return 2;
+      }
+      nclines++;
+    }
     else if (o == 'h') {
       printf("usage: roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE] [--diagnose [--model BG]]\n"
              "       roadscan-eval --tracking CAPTURE TRUTH PRED [--json] [--mot-dump FILE]\n"
-             "                     [--truth-states S --tracks T]\n"
+             "                     [--truth-states S --tracks T [--counts C --count-line \"NAME X1 Y1 X2 Y2\" ...]]\n"
              "Point-label files as in specs/point-labels.md; metrics as in the FSPC paper's Table 3.\n"
              "  --tracking      also the tracking metrics of PRED's labels (roadscand --labels-out with\n"
              "                  tracking on: 2 + the track id): MOTA, MOTP, IDF1, id switches,\n"
@@ -585,6 +666,9 @@ int main(int argc, char **argv) {
              "                  against their matched object's true state at the track's time (RMSE; vehicles\n"
              "                  within 80 m and all), and how long after an object's first frame of >= %d\n"
              "                  returns a confirmed track matches it\n"
+             "  --counts C --count-line L  roadscand --counts-out with the same --count-line (sensor frame, no\n"
+             "                  --pose): per line and direction the crossings counted against the true ones\n"
+             "                  (every road user of the states once per line) and the relative error\n"
              "  --objects FILE  CSV frame,instance,points,x,y,z: the centroid (sensor frame) of every true\n"
              "                  instance of at least %d returns in every frame\n"
              "  --diagnose      where the missed object returns are: in objects with no clustered return\n"
@@ -601,6 +685,10 @@ int main(int argc, char **argv) {
   }
   if (argc - optind != 3) {
     fprintf(stderr, "usage: roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE] [--diagnose [--model BG]]\n");
+    return 2;
+  }
+  if ((counts_path || nclines) && !(counts_path && nclines && states_path)) {
+    fprintf(stderr, "roadscan-eval: --counts and --count-line go together, with --truth-states\n");
     return 2;
   }
   if ((states_path || tracks_path) && !(tracking && states_path && tracks_path)) {
@@ -670,6 +758,13 @@ int main(int argc, char **argv) {
         return 1;
       }
       rs_mot_on_instance(mot, on_instance, NULL);
+      if (counts_path) {
+        if (load_counts(counts_path) != 0) {
+          fprintf(stderr, "roadscan-eval: %s\n", sp.err);
+          return 1;
+        }
+        true_crossings();
+      }
     }
   }
   rs_stream_cfg_t scfg = {.log = stderr};
@@ -712,6 +807,7 @@ int main(int argc, char **argv) {
       printf("%s, ", buf);
       free(buf);
       print_speeds(stdout, true);
+      print_counts(stdout, true);
       printf("}\n");
     } else if (json) {
       rs_mot_print_json(&mr, stdout);
@@ -719,6 +815,7 @@ int main(int argc, char **argv) {
       rs_eval_print(&c.ev.r, stdout);
       rs_mot_print(&mr, stdout);
       if (states_path) print_speeds(stdout, false);
+      if (counts_path) print_counts(stdout, false);
     }
     rs_mot_free(mot);
     if (dump && fclose(dump) != 0) {

@@ -30,6 +30,7 @@ static rs_cluster_t cluster;
 static rs_objects_t objects;
 static rs_object_list_t object_list;
 static rs_tracker_t tracker;
+static rs_counter_t counter;
 static rs_publish_t publisher;
 
 /* Every option: its command-line name is its config-file key, in `section`. */
@@ -49,6 +50,8 @@ static rs_publish_t publisher;
   X(NO_TRACKING, "no-tracking", 0, "track") X(TRACKS_OUT, "tracks-out", 1, "track")                    \
   X(LABELS_TRACKS, "labels-tracks", 1, "track") X(COAST, "coast-seconds", 1, "track")                  \
   X(TRACK_SET, "track-set", 1, "track")                                                               \
+  X(COUNT_LINE, "count-line", 1, "count") X(COUNT_INTERVAL, "count-interval", 1, "count")              \
+  X(COUNTS_OUT, "counts-out", 1, "count") X(COUNTS_CH, "counts-channel", 1, "lcm")                     \
   X(TRACKS_CH, "tracks-channel", 1, "lcm") X(ENDS_CH, "track-ends-channel", 1, "lcm")                  \
   X(URL, "lcm-url", 1, "lcm") X(CHANNEL, "channel", 1, "lcm")                                          \
   X(STATS, "stats-channel", 1, "lcm") X(SENSOR_ID, "sensor-id", 1, "lcm")                             \
@@ -135,7 +138,8 @@ static void usage(FILE *out) {
           "  --sparse-min-pts N   fspc-adaptive: lowest minPts where the smallest object covers fewer than\n"
           "                       3 cells (far away; default 2: a pair of returns; 3 = as elsewhere)\n"
           "  --min-half-width N   fspc-adaptive: the window reaches at least N columns either side\n"
-          "                       (default 2: beyond 120 m returns go missing)\n"
+          "                       (default 2: beyond 120 m returns go missing)\n");
+  fprintf(out,
           "Tracking [track]: objects followed over time (docs/tracking.md), on with clustering\n"
           "  --no-tracking        no tracker stage: labels are cluster numbers, no track lists\n"
           "  --tracks-out FILE    one CSV line per track per frame\n"
@@ -145,6 +149,13 @@ static void usage(FILE *out) {
           "  --coast-seconds S    a confirmed track not seen for S seconds is no longer published (default 1;\n"
           "                       it is kept 2 s more for the object to be taken up again, then ends)\n"
           "  --track-set NAME=VALUE  one tracker parameter (docs/tracking.md; repeatable)\n"
+          "Counting [count]: confirmed tracks crossing lines of the site\n"
+          "  --count-line \"NAME X1 Y1 X2 Y2\"  a line from (X1, Y1) to (X2, Y2), metres, in the site frame\n"
+          "                       with --pose (the sensor frame otherwise); repeatable, up to 16; each track\n"
+          "                       counts once per line, forward (from the right of the line to its left,\n"
+          "                       looking from X1 Y1 to X2 Y2) or backward, by class\n"
+          "  --count-interval S   counts per interval of S seconds of sensor time (default 60)\n"
+          "  --counts-out FILE    CSV t_start,t_end,line,direction,class,count per closed interval\n"
           "LCM [lcm]: per frame an object list, a track list and a statistics message; an event per\n"
           "  track that ends\n"
           "  --lcm-url URL        LCM provider (default %s; memq:// and\n"
@@ -153,6 +164,7 @@ static void usage(FILE *out) {
           "  --stats-channel NAME per-frame statistics (default %s; 'none' = not sent)\n"
           "  --tracks-channel NAME  track lists (default ROADSCAN_TRACKS; 'none' = not sent)\n"
           "  --track-ends-channel NAME  ended tracks (default ROADSCAN_TRACK_ENDS; 'none' = not sent)\n"
+          "  --counts-channel NAME  counts per interval (default ROADSCAN_COUNTS; 'none' = not sent)\n"
           "  --sensor-id ID       sensor_id field of every message (default roadscan)\n"
           "  --max-datagram N     bytes of one LCM datagram; sets the object cap (default %d, min %d)\n"
           "  --no-publish         do not publish (analysis runs)\n"
@@ -192,6 +204,9 @@ static struct {
   const char *frames_path, *calib_path, *bg_path;
   bool quiet, fast, speed_set, cluster_set, have_pose, no_publish, use_syslog, no_tracking;
   rs_track_cfg_t tcfg;
+  rs_count_line_t lines[RS_COUNT_LINES];
+  int nlines;
+  double count_interval;
   double eps;
 } st;
 
@@ -366,6 +381,19 @@ static int apply(int id, const char *val, const char *key, char *err, size_t n) 
     if (rs_track_cfg_set(&st.tcfg, name, eq + 1, err, n) != RS_OK) return RS_E_INVAL;
     break;
   }
+  case O_COUNT_LINE:
+    if (st.nlines == RS_COUNT_LINES) {
+      snprintf(err, n, "%s: at most %d lines", key, RS_COUNT_LINES);
+      return RS_E_INVAL;
+    }
+    if (rs_count_parse_line(v, &st.lines[st.nlines], err, n) != RS_OK) return RS_E_INVAL;
+    st.nlines++;
+    break;
+  case O_COUNT_INTERVAL:
+    if (rs_cfg_double(key, v, 1.0, 86400.0, &st.count_interval, err, n)) return RS_E_INVAL;
+    break;
+  case O_COUNTS_OUT: cfg->counts_out = v; break;
+  case O_COUNTS_CH: st.pub.counts_channel = strcmp(v, "none") == 0 ? "" : v; break;
   case O_TRACKS_CH: st.pub.tracks_channel = strcmp(v, "none") == 0 ? "" : v; break;
   case O_ENDS_CH: st.pub.track_ends_channel = strcmp(v, "none") == 0 ? "" : v; break;
   case O_BUDGET:
@@ -445,6 +473,7 @@ int main(int argc, char **argv) {
   cfg->summary_s = 10.0;
   rs_cluster_cfg_default(&st.ccfg);
   rs_track_cfg_default(&st.tcfg);
+  st.count_interval = 60.0;
   char err[RS_ERRMSG_SIZE];
   /* the config file first, whatever its place on the command line */
   for (int i = 1; i < argc; i++) {
@@ -534,6 +563,15 @@ int main(int argc, char **argv) {
     }
   }
   if (cfg->tracks_out && cfg->tracker == NULL) return bad("--tracks-out needs tracking (clustering, no --no-tracking)");
+  if ((st.nlines > 0 || cfg->counts_out) && cfg->tracker == NULL)
+    return bad("counting needs tracking (clustering, no --no-tracking)");
+  if (cfg->counts_out && st.nlines == 0) return bad("--counts-out needs a --count-line");
+  if (st.nlines > 0) {
+    if (rs_count_init(&counter, st.lines, st.nlines, st.have_pose ? &st.pose : NULL, st.count_interval, err,
+                      sizeof err) != RS_OK)
+      return bad(err);
+    cfg->counter = &counter;
+  }
   if (!st.no_publish) {
     int prc = rs_publish_init(&publisher, &st.pub);
     if (prc != RS_OK) {

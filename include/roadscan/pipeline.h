@@ -53,6 +53,8 @@ typedef struct {
   rs_object_list_t *object_list; /* required with objects: the frame's objects */
   rs_tracker_t *tracker;       /* optional with objects: rs_track_init done */
   const char *tracks_out;      /* optional CSV, one line per track per frame */
+  rs_counter_t *counter;       /* optional with tracker: counting lines (rs_count_init done) */
+  const char *counts_out;      /* optional CSV, the counts of every closed interval */
   bool labels_confirmed_only;  /* with a tracker: only confirmed tracks' returns are objects in labels_out */
   rs_publish_t *publish;       /* optional: LCM publisher (rs_publish_init done) */
   double budget_ms;            /* per-frame processing budget; 0 = the frame period */
@@ -92,6 +94,7 @@ typedef struct {
   bool labels_open;
   uint32_t label_map[RS_OBJ_MAX]; /* cluster k -> the label written (tracks) */
   FILE *tracks_out;            /* the --tracks-out sink */
+  FILE *counts_out;            /* the --counts-out sink */
 } rs_pipeline_t;
 
 /* Opens the source; slots: nslots (3..RS_RING_MAX_SLOTS) caller-owned slots.
@@ -107,6 +110,8 @@ void rs_pipeline_deinit(rs_pipeline_t *p);
 void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out);
 /* The frames CSV header (one line, no newline). */
 const char *rs_pipeline_csv_header(void);
+/* The counts CSV header (one line, no newline). */
+const char *rs_pipeline_counts_header(void);
 /* The tracks CSV header (one line, no newline). */
 const char *rs_pipeline_tracks_header(void);
 

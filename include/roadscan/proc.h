@@ -1,7 +1,7 @@
 /* proc.h - the processing stages of one frame, in order, over a frame slot.
  *
  *   background (the static scene: rs_bgu_t keeps it current) -> clustering
- *   -> objects -> tracks -> the frame's census (cells, ranges)
+ *   -> objects -> tracks -> counting lines -> the frame's census (cells, ranges)
  *
  * Each stage is a function over the slot with its own state (owned by the
  * caller and handed in configured, or, for the background, made at init)
@@ -21,6 +21,7 @@
 #include "roadscan/background.h"
 #include "roadscan/bgupdate.h"
 #include "roadscan/cluster.h"
+#include "roadscan/count.h"
 #include "roadscan/frame.h"
 #include "roadscan/objects.h"
 #include "roadscan/sensor.h"
@@ -43,18 +44,20 @@ typedef struct {
   rs_objects_t *objects;       /* optional with cluster: rs_objects_init done */
   rs_object_list_t *object_list; /* required with objects */
   rs_tracker_t *tracker;       /* optional with objects: rs_track_init done */
+  rs_counter_t *counter;       /* optional with tracker: rs_count_init done */
 } rs_proc_cfg_t;
 
-enum { RS_STAGE_BACKGROUND, RS_STAGE_CLUSTER, RS_STAGE_OBJECTS, RS_STAGE_TRACKS, RS_STAGE_COUNT };
+enum { RS_STAGE_BACKGROUND, RS_STAGE_CLUSTER, RS_STAGE_OBJECTS, RS_STAGE_TRACKS, RS_STAGE_COUNTING, RS_STAGES };
 
 typedef struct {
-  bool ran[RS_STAGE_COUNT];          /* which stages ran on this frame */
-  int64_t stage_ns[RS_STAGE_COUNT];
+  bool ran[RS_STAGES];          /* which stages ran on this frame */
+  int64_t stage_ns[RS_STAGES];
   int64_t total_ns;                  /* every stage and the census (the sinks come after) */
   uint32_t foreground;               /* returns left by the background (both layers) */
   rs_cluster_stats_t cluster;
   const rs_object_list_t *objects;   /* never NULL: an empty list when no stage made one */
   const rs_track_list_t *tracks;     /* NULL without a tracker (or before the first clustering) */
+  const rs_count_interval_t *counts; /* a counting interval that closed with this frame, else NULL */
   bool model_changed;                /* another background model was taken over before this frame */
   uint32_t filled[RS_LAYERS];        /* cells with a return, per layer */
   float min_range, max_range;        /* of the frame's returns (0 when none) */
@@ -70,7 +73,7 @@ typedef struct {
 typedef struct {
   rs_proc_cfg_t cfg;
   rs_proc_counters_t n;
-  rs_timing_t t_stage[RS_STAGE_COUNT];
+  rs_timing_t t_stage[RS_STAGES];
   rs_timing_t t_frame;
   rs_bg_counts_t bg;                 /* background / foreground returns */
   uint32_t *beyond_cells;            /* returns beyond each cell's farthest surface (allocated at init) */
@@ -78,6 +81,7 @@ typedef struct {
   bool bgu_on;
   bool rate_checked, few_warned;
   const rs_sensor_t *sensor;         /* of the frames seen so far */
+  double last_t;                     /* capture time of the last tracked frame */
 } rs_proc_t;
 
 /* RS_OK, or a negative code with err set (nothing left allocated). */
@@ -90,5 +94,7 @@ void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_pro
 /* The model in use (NULL while the first one is learned, or without a background). */
 const rs_bg_model_t *rs_proc_model(const rs_proc_t *p);
 const char *rs_proc_stage_name(int stage);
+/* The end of the run: closes the open counting interval (r->counts, else NULL). */
+void rs_proc_finish(rs_proc_t *p, rs_proc_report_t *r);
 
 #endif

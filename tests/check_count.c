@@ -1,0 +1,183 @@
+/* check_count - counting lines on hand-built track lists with known answers:
+ * direction, once per track and line, crossings made while tentative,
+ * coasting tracks not counted, intervals on multiples of the interval,
+ * tracks forgotten, the site frame of a pose, bad lines. */
+#include "roadscan/count.h"
+#include "roadscan/error.h"
+#include "testutil.h"
+
+#include <math.h>
+#include <string.h>
+
+static rs_counter_t cnt;
+static rs_track_list_t tl;
+
+static void one(uint32_t id, rs_track_state_t st, rs_class_t cls, double x, double y) {
+  rs_track_t *t = &tl.track[tl.count++];
+  memset(t, 0, sizeof *t);
+  t->id = id;
+  t->state = st;
+  t->cls = cls;
+  t->x[0] = x;
+  t->x[1] = y;
+}
+
+static void setup(const char *const *texts, int n, const rs_pose_t *pose, double interval) {
+  rs_count_line_t lines[RS_COUNT_LINES];
+  char err[RS_ERRMSG_SIZE];
+  for (int i = 0; i < n; i++) ck_assert_int_eq(rs_count_parse_line(texts[i], &lines[i], err, sizeof err), RS_OK);
+  ck_assert_int_eq(rs_count_init(&cnt, lines, n, pose, interval, err, sizeof err), RS_OK);
+}
+
+static uint32_t sum(const uint32_t *v) {
+  uint32_t s = 0;
+  for (int k = 0; k < RS_CLASS_COUNT; k++) s += v[k];
+  return s;
+}
+
+START_TEST(t_directions_and_once) {
+  static const char *const l[] = {"gate 0 -5 0 5"}; /* along +y: its left is -x */
+  setup(l, 1, NULL, 60);
+  /* car 1 drives -x (right to left of the line: forward), car 2 +x (backward); car 1 turns
+   * back and crosses again: counted once */
+  for (int f = 0; f < 40; f++) {
+    double t = 100.0 + 0.1 * f;
+    tl.count = 0;
+    const double x1 = f < 20 ? 10.0 - f : -10.0 + (f - 20);
+    one(1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, x1, 1.0);
+    one(2, RS_TRACK_CONFIRMED, RS_CLASS_BUS, -10.0 + f, -2.0);
+    one(3, RS_TRACK_CONFIRMED, RS_CLASS_CAR, -10.0 + f, 8.0); /* beyond the line's end */
+    rs_count_frame(&cnt, &tl, t);
+  }
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_CAR], 1);
+  ck_assert_uint_eq(sum(cnt.total[0].forward), 1);
+  ck_assert_uint_eq(cnt.total[0].backward[RS_CLASS_BUS], 1);
+  ck_assert_uint_eq(sum(cnt.total[0].backward), 1);
+  ck_assert_uint_eq(cnt.crossings, 2);
+}
+END_TEST
+
+/* a track that crossed while tentative is counted when it is confirmed; a
+ * coasting one (a prediction) is not counted until it is seen again */
+START_TEST(t_tentative_and_coasting) {
+  static const char *const l[] = {"a 0 -5 0 5"};
+  setup(l, 1, NULL, 60);
+  const rs_track_state_t st[6] = {RS_TRACK_TENTATIVE, RS_TRACK_TENTATIVE, RS_TRACK_TENTATIVE, RS_TRACK_CONFIRMED,
+                                  RS_TRACK_CONFIRMED, RS_TRACK_CONFIRMED};
+  for (int f = 0; f < 6; f++) {
+    tl.count = 0;
+    one(7, st[f], RS_CLASS_PEDESTRIAN, -1.0 + 0.5 * f, 0.0); /* crosses x = 0 at the third frame */
+    rs_count_frame(&cnt, &tl, 10.0 + 0.1 * f);
+    ck_assert_uint_eq(cnt.crossings, f < 3 ? 0u : 1u);
+  }
+  ck_assert_uint_eq(cnt.total[0].backward[RS_CLASS_PEDESTRIAN], 1);
+  /* coasting across the line: not counted; seen again beyond it: counted then */
+  setup(l, 1, NULL, 60);
+  const rs_track_state_t st2[5] = {RS_TRACK_CONFIRMED, RS_TRACK_COASTING, RS_TRACK_COASTING, RS_TRACK_COASTING,
+                                   RS_TRACK_CONFIRMED};
+  for (int f = 0; f < 5; f++) {
+    tl.count = 0;
+    one(8, st2[f], RS_CLASS_CAR, 2.0 - f, 0.0);
+    rs_count_frame(&cnt, &tl, 10.0 + 0.1 * f);
+    ck_assert_uint_eq(cnt.crossings, f < 4 ? 0u : 1u);
+  }
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_CAR], 1);
+}
+END_TEST
+
+/* intervals close on multiples of the interval; a track gone is forgotten
+ * (its id, seen again later, is a new track: counted again) */
+START_TEST(t_intervals_and_forgetting) {
+  static const char *const l[] = {"a 0 -5 0 5", "b 5 -5 5 5"};
+  setup(l, 2, NULL, 10);
+  int closed = 0;
+  double last_end = 0;
+  for (int f = 0; f < 250; f++) { /* 25 s from t = 1003 */
+    const double t = 1003.0 + 0.1 * f;
+    tl.count = 0;
+    if (f < 110) one(1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, -5.0 + 0.1 * f, 0.0); /* crosses a at 1008, b at 1013 */
+    if (f >= 150) one(1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, -5.0 + 0.1 * (f - 150), 0.0); /* the id again: a at 1023 */
+    if (rs_count_frame(&cnt, &tl, t)) {
+      closed++;
+      ck_assert_double_eq_tol(fmod(cnt.closed.t_end, 10.0), 0.0, 1e-6);
+      if (closed == 1) {
+        ck_assert_double_eq_tol(cnt.closed.t_start, 1003.0, 1e-6);
+        ck_assert_uint_eq(sum(cnt.closed.line[0].backward), 1);
+        ck_assert_uint_eq(sum(cnt.closed.line[1].backward), 0);
+      }
+      if (closed == 2) ck_assert_uint_eq(sum(cnt.closed.line[1].backward), 1);
+      last_end = cnt.closed.t_end;
+    }
+  }
+  ck_assert_int_eq(closed, 2);
+  ck_assert_double_eq_tol(last_end, 1020.0, 1e-6);
+  ck_assert(rs_count_flush(&cnt, 1027.9));
+  ck_assert_uint_eq(sum(cnt.closed.line[0].backward), 1); /* the new track 1 */
+  ck_assert_uint_eq(sum(cnt.total[0].backward), 2);
+  ck_assert_uint_eq(cnt.intervals, 3);
+  for (uint32_t i = 0; i < RS_COUNT_SLOTS; i++) ck_assert(cnt.slot[i].id == 0 || cnt.slot[i].id == 1);
+}
+END_TEST
+
+/* many tracks at once, appearing and leaving: the table stays consistent */
+START_TEST(t_many_tracks) {
+  static const char *const l[] = {"a 0 -1000 0 1000"};
+  setup(l, 1, NULL, 60);
+  for (int f = 0; f < 60; f++) {
+    tl.count = 0;
+    for (uint32_t k = 0; k < RS_TRACK_MAX; k++) {
+      const uint32_t id = 1 + k + (uint32_t)(f / 20) * 1000; /* a new set of ids every 2 s */
+      one(id, RS_TRACK_CONFIRMED, RS_CLASS_CAR, -1.0 + 0.1 * (f % 20), (double)k);
+    }
+    rs_count_frame(&cnt, &tl, 0.1 * f);
+  }
+  ck_assert_uint_eq(cnt.crossings, 3 * RS_TRACK_MAX);
+  ck_assert_uint_eq(cnt.forgotten_full, 0);
+}
+END_TEST
+
+/* with a pose, lines are in the site frame */
+START_TEST(t_site_frame) {
+  static const char *const l[] = {"a 100 -5 100 5"};
+  rs_pose_t pose = {.x = 100.0, .y = 0.0, .z = 5.0, .yaw = M_PI / 2}; /* the sensor's +X is the site's +Y */
+  setup(l, 1, &pose, 60);
+  for (int f = 0; f < 10; f++) {
+    tl.count = 0;
+    one(1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 0.0, 5.0 - f); /* site x = 100 - y: crosses site x = 100 */
+    rs_count_frame(&cnt, &tl, 0.1 * f);
+  }
+  ck_assert_uint_eq(cnt.crossings, 1);
+}
+END_TEST
+
+START_TEST(t_bad_lines) {
+  rs_count_line_t line;
+  char err[RS_ERRMSG_SIZE];
+  ck_assert_int_eq(rs_count_parse_line("x 1 2 3", &line, err, sizeof err), RS_E_INVAL);
+  ck_assert_ptr_nonnull(strstr(err, "not NAME X1 Y1 X2 Y2"));
+  ck_assert_int_eq(rs_count_parse_line("x 1 2 1 2", &line, err, sizeof err), RS_E_INVAL);
+  ck_assert_ptr_nonnull(strstr(err, "less than 0.1 m apart"));
+  ck_assert_int_eq(rs_count_parse_line("x 1 2 3 4 5", &line, err, sizeof err), RS_E_INVAL);
+  ck_assert_int_eq(rs_count_parse_line("x nan 2 3 4", &line, err, sizeof err), RS_E_INVAL);
+  ck_assert_int_eq(rs_count_parse_line("a-name-far-too-long-for-a-counting-line 1 2 3 4", &line, err, sizeof err),
+                   RS_E_INVAL);
+  ck_assert_int_eq(rs_count_parse_line("ok 1 2 3 4", &line, err, sizeof err), RS_OK);
+  rs_count_line_t two[2] = {line, line};
+  ck_assert_int_eq(rs_count_init(&cnt, two, 2, NULL, 60, err, sizeof err), RS_E_INVAL);
+  ck_assert_ptr_nonnull(strstr(err, "two lines of that name"));
+  ck_assert_int_eq(rs_count_init(&cnt, two, 1, NULL, 0.5, err, sizeof err), RS_E_INVAL);
+}
+END_TEST
+
+int main(void) {
+  Suite *s = suite_create("count");
+  TCase *tc = tcase_create("lines");
+  tcase_add_test(tc, t_directions_and_once);
+  tcase_add_test(tc, t_tentative_and_coasting);
+  tcase_add_test(tc, t_intervals_and_forgetting);
+  tcase_add_test(tc, t_many_tracks);
+  tcase_add_test(tc, t_site_frame);
+  tcase_add_test(tc, t_bad_lines);
+  suite_add_tcase(s, tc);
+  return tu_run(s);
+}
