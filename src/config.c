@@ -66,8 +66,11 @@ int rs_cfg_bool(const char *key, const char *s, bool *out, char *err, size_t n) 
 }
 
 int rs_cfg_model(const char *key, const char *s, rs_model_t *out, char *err, size_t n) {
-  *out = rs_model_from_name(s);
-  if (*out != RS_MODEL_UNKNOWN) return RS_OK;
+  const rs_model_t m = rs_model_from_name(s);
+  if (m != RS_MODEL_UNKNOWN) {
+    *out = m;
+    return RS_OK;
+  }
   snprintf(err, n, "%s: unknown sensor '%s' (known: %s)", key, s, rs_model_names());
   return RS_E_INVAL;
 }

@@ -385,7 +385,7 @@ START_TEST(t_background_tools) {
   char line[256];
   ck_assert_ptr_nonnull(fgets(line, sizeof line, f));
   fclose(f);
-  ck_assert_str_eq(line, "frame,foreground,decode_us,assembly_us,background_us,cluster_us,objects_us,encode_us,"
+  ck_assert_str_eq(line, "frame,foreground,decode_us,assembly_us,background_us,cluster_us,objects_us,tracks_us,encode_us,"
                          "processing_us,fspc_us,fspc_adaptive_us,dbscan_us,ccl_us\n");
   ck_assert_ptr_nonnull(strstr(out, "stage ratio of medians: objects/cluster"));
   ck_assert_ptr_nonnull(strstr(out, "lcm encode"));
