@@ -89,6 +89,11 @@ static int parse_laser(yaml_document_t *doc, yaml_node_t *m, rs_calib_t *c, bool
     return fail(err, n, path, "laser_id %ld: angle out of range (radians expected)", id);
   if (fabs(dist) > 2.0 || fabs(voff) > 0.5)
     return fail(err, n, path, "laser_id %ld: distance correction out of range (metres expected)", id);
+  if (dist < RS_CALIB_MIN_DIST_CORRECTION)
+    return fail(err, n, path,
+                "laser_id %ld: dist_correction %.3f m would make the ranges of near returns negative (points "
+                "mirrored through the sensor); at least %.1f m is accepted",
+                id, dist, RS_CALIB_MIN_DIST_CORRECTION);
   seen[id] = true;
   c->elevation_deg[id] = (float)(vert * RAD2DEG);
   c->azimuth_offset_deg[id] = (float)(-rot * RAD2DEG);

@@ -8,6 +8,7 @@
 #include <pcap/pcap.h>
 #include <poll.h>
 #include <stdio.h>
+#include <math.h>
 #include <string.h>
 #include <sys/stat.h>
 
@@ -126,8 +127,16 @@ static void pace(rs_capture_t *c, double ts, const _Atomic bool *stop) {
     clock_gettime(CLOCK_MONOTONIC, &c->t0_mono);
     return;
   }
+  const double gap = ts - c->last_ts;
+  if (gap > RS_CAPTURE_MAX_GAP_S || gap < -RS_CAPTURE_MAX_GAP_S) {
+    /* a jump in the capture's clock (a pause, a corrupt record, a clock reset):
+     * the timing goes on from here, as if this record came right after the previous one */
+    c->t0_cap += gap;
+    c->jumps++;
+    if (fabs(gap) > c->jump_max) c->jump_max = fabs(gap);
+  }
   double wait = (ts - c->t0_cap) / c->cfg.speed;
-  if (wait < 0) return; /* timestamps going backwards: no wait */
+  if (wait < 0) return; /* within the tolerance, a little backwards: no wait */
   struct timespec due = c->t0_mono;
   double sec = (double)(long)wait;
   due.tv_sec += (time_t)sec;

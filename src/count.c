@@ -36,7 +36,7 @@ int rs_count_parse_line(const char *text, rs_count_line_t *out, char *err, size_
     snprintf(err, n, "count line '%s': its ends are less than 0.1 m apart", text);
     return RS_E_INVAL;
   }
-  snprintf(out->name, sizeof out->name, "%s", name);
+  memcpy(out->name, name, strlen(name) + 1); /* shorter than RS_COUNT_NAME: checked above */
   out->ax = v[0];
   out->ay = v[1];
   out->bx = v[2];

@@ -160,8 +160,12 @@ int rs_packet_decode(const rs_sensor_t *s, const uint8_t *p, size_t len, float r
       float t;
       rs_sensor_record(s, bank, c, &laser, &t);
       if (laser >= s->lasers) continue; /* cannot happen with consistent tables */
+      const float dist = (float)raw * s->dist_res_m + s->dist_correction_m[laser];
+      if (!(dist > 0.0f)) { /* a correction larger than the measured range: no return */
+        out->n_empty++;
+        continue;
+      }
       rs_point_t *pt = &out->points[out->n_points++];
-      float dist = (float)raw * s->dist_res_m + s->dist_correction_m[laser];
       float az = az0 + s->azimuth_offset_deg[laser] + out->az_rate * t;
       az = fmodf(az, 360.0f);
       if (az < 0.0f) az += 360.0f;

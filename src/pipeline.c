@@ -52,6 +52,7 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
   p->cur = -1;
   atomic_init(&p->stop, false);
   atomic_init(&p->input_done, false);
+  atomic_init(&p->frames_done, 0);
   rs_timing_init(&p->t_packet, "decode+assembly/pkt");
   rs_timing_init(&p->t_frame, "processing/frame (stages and sinks)");
   rs_timing_init(&p->t_publish, "publish/frame");
@@ -394,7 +395,9 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
   const int64_t dt = rs_now_ns() - t0;
   rs_timing_add(&p->t_frame, dt);
   const double hz = s->meta.rate_hz > 0 ? s->meta.rate_hz : 10.0;
-  const double budget_ms = p->cfg.budget_ms > 0 ? p->cfg.budget_ms : 1000.0 / hz;
+  /* the default budget is the frame period, in wall-clock time: a replay at --speed X brings frames X times as often */
+  const double speed = !p->cfg.iface && p->cfg.capture.speed > 0 ? p->cfg.capture.speed : 1.0;
+  const double budget_ms = p->cfg.budget_ms > 0 ? p->cfg.budget_ms : 1000.0 / hz / speed;
   if ((double)dt * 1e-6 > budget_ms) p->overruns++;
   if (p->cfg.publish) publish_stats(p, s, &r, pub_ns, published_ns, dt, budget_ms);
   if (p->cfg.frames_out) write_frame_line(p->cfg.frames_out, s, &r, dt);
@@ -415,6 +418,7 @@ static void *proc_main(void *arg) {
     }
     process_frame(p, &p->slots[idx]);
     rs_ring_release(&p->ring, idx);
+    atomic_store_explicit(&p->frames_done, p->proc.n.frames, memory_order_release);
     maybe_log_line(p);
   }
   rs_proc_report_t end;
@@ -477,6 +481,9 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
   const rs_asm_t *a = &p->assembly;
   fprintf(out, "roadscan summary\n");
   fprintf(out, "  source: %s%s\n", p->cfg.iface ? "interface " : "", p->cfg.iface ? p->cfg.iface : p->cfg.pcap_path);
+  if (p->cap.jumps)
+    fprintf(out, "  replay: %llu jumps in the capture's clock (over %.1f s) sent without waiting; the largest %.3g s\n",
+            (unsigned long long)p->cap.jumps, RS_CAPTURE_MAX_GAP_S, p->cap.jump_max);
   if (p->stream.sensor_ready)
     fprintf(out, "  sensor: %s, %.2f Hz, %d x %d map\n", p->stream.sensor.info->name,
             rs_hz_from_rate(p->assembly.rate), p->stream.sensor.lasers, a->cols);
@@ -572,6 +579,8 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
           (unsigned long long)p->overruns, (unsigned long long)pr->n.frames);
   if (p->cfg.budget_ms > 0)
     fprintf(out, "%.1f ms)\n", p->cfg.budget_ms);
+  else if (!p->cfg.iface && p->cfg.capture.speed > 0 && p->cfg.capture.speed != 1.0)
+    fprintf(out, "the frame period / %g: the replay's speed)\n", p->cfg.capture.speed);
   else
     fprintf(out, "the frame period)\n");
   if (p->cfg.labels_out && p->labels.rejected)

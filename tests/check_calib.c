@@ -2,6 +2,7 @@
  * every kind of bad file rejected with a message naming the problem. */
 #include "roadscan/calib.h"
 #include "roadscan/error.h"
+#include "roadscan/packet.h"
 #include "testutil.h"
 
 #include <math.h>
@@ -129,6 +130,48 @@ START_TEST(t_fixed_resolution) {
 }
 END_TEST
 
+/* A correction that can make ranges negative is refused, with its name;
+ * one that is accepted never gives a point at or behind the sensor. */
+START_TEST(t_negative_correction) {
+  char text[8192];
+  snprintf(text, sizeof text, "%s", vlp16_yaml("neg.yaml", -1, -1, NULL));
+  FILE *f = fopen(text, "r");
+  static char buf[8192];
+  size_t len = fread(buf, 1, sizeof buf - 1, f);
+  buf[len] = '\0';
+  fclose(f);
+  char *at = strstr(buf, "dist_correction: 0.05");
+  ck_assert_ptr_nonnull(at);
+  char bad[8192];
+  snprintf(bad, sizeof bad, "%.*sdist_correction: -2.0%s", (int)(at - buf), buf, at + strlen("dist_correction: 0.05"));
+  expect_bad(write_file("neg2.yaml", bad), "dist_correction -2.000 m would make the ranges of near returns negative");
+  char ok[8192];
+  snprintf(ok, sizeof ok, "%.*sdist_correction: -0.3%s", (int)(at - buf), buf, at + strlen("dist_correction: 0.05"));
+  rs_calib_t c;
+  ck_assert_int_eq(rs_calib_load_yaml(write_file("neg03.yaml", ok), &c, err, sizeof err), RS_OK);
+  rs_sensor_t s;
+  rs_sensor_init(&s, RS_MODEL_VLP16);
+  ck_assert_int_eq(rs_calib_apply(&c, &s, err, sizeof err, NULL, 0), RS_OK);
+  /* every record 0.1 m (50 x 2 mm): laser 3's corrected range is -0.2 m */
+  static rs_encode_t enc;
+  memset(&enc, 0, sizeof enc);
+  enc.mode_byte = RS_MODE_STRONGEST;
+  for (int b = 0; b < RS_BLOCKS; b++) {
+    enc.block_azimuth[b] = (uint16_t)(b * 40);
+    for (int ch = 0; ch < RS_RECORDS; ch++) enc.distance[b][ch] = 50;
+  }
+  static uint8_t pkt[RS_PAYLOAD_SIZE];
+  rs_packet_encode(s.info, &enc, pkt);
+  static rs_packet_t out;
+  ck_assert_int_eq(rs_packet_decode(&s, pkt, RS_PAYLOAD_SIZE, 0.0036, &out), RS_OK);
+  ck_assert_int_eq(out.n_points, RS_BLOCKS * RS_RECORDS - RS_BLOCKS * 2); /* laser 3 fires twice per block */
+  for (int i = 0; i < out.n_points; i++) {
+    ck_assert_float_gt(out.points[i].distance, 0.0f);
+    ck_assert_int_ne(out.points[i].laser, 3);
+  }
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("calib");
   TCase *tc = tcase_create("core");
@@ -136,6 +179,7 @@ int main(void) {
   tcase_add_test(tc, t_bad_files);
   tcase_add_test(tc, t_ignored_terms);
   tcase_add_test(tc, t_fixed_resolution);
+  tcase_add_test(tc, t_negative_correction);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

@@ -9,6 +9,11 @@
 
 #include <stddef.h>
 
+/* The most negative distance correction accepted (m): a laser corrected by
+ * more would give negative ranges to near returns. Decoding drops any
+ * return whose corrected range is not positive. */
+#define RS_CALIB_MIN_DIST_CORRECTION -0.5
+
 typedef struct {
   int lasers;
   float dist_res_m;                       /* 0 when the file does not say */

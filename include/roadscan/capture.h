@@ -25,6 +25,11 @@ typedef struct {
   int snaplen;
 } rs_capture_cfg_t;
 
+/* Paced replay waits for the capture's timing, but never for a jump in it:
+ * a record more than this many seconds after (or before) the previous one
+ * is sent right after it, and the jump is counted. */
+#define RS_CAPTURE_MAX_GAP_S 1.0
+
 typedef struct {
   pcap_t *p;
   bool live;
@@ -38,6 +43,8 @@ typedef struct {
   double loop_offset;       /* added to capture times after a loop */
   double last_ts;
   uint64_t loops;
+  uint64_t jumps;           /* paced replay: timestamp jumps not waited for (> RS_CAPTURE_MAX_GAP_S) */
+  double jump_max;          /* the largest, s (either way) */
   char err[RS_ERRMSG_SIZE];
 } rs_capture_t;
 

@@ -74,6 +74,7 @@ typedef struct {
   bool threads_started;
   _Atomic bool stop;
   _Atomic bool input_done;
+  _Atomic uint64_t frames_done; /* frames processed so far (any thread may read it) */
   int input_status;            /* RS_OK, or why the input ended badly */
   char input_err[RS_ERRMSG_SIZE];
   rs_timing_t t_packet;        /* decode + assembly per data packet (packet thread) */
