@@ -17,6 +17,24 @@ from roadscan import object_list_t
 DEFAULT_URL = "udpm://239.255.76.67:7667?ttl=0"
 
 
+def well_formed(data):
+    """The checks the generated decoder leaves out: the object count is not
+    negative and both strings (sensor_id, sensor_model) end with their NUL,
+    inside the message (fingerprint, utime, num_objects come first)."""
+    if len(data) < 20 or struct.unpack_from(">i", data, 16)[0] < 0:
+        return False
+    pos = 20
+    for _ in range(2):
+        if pos + 4 > len(data):
+            return False
+        n = struct.unpack_from(">i", data, pos)[0]
+        pos += 4
+        if n < 1 or pos + n > len(data) or data[pos + n - 1] != 0 or 0 in data[pos:pos + n - 1]:
+            return False
+        pos += n
+    return True
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--url", default=DEFAULT_URL)
@@ -29,6 +47,8 @@ def main():
 
     def on_list(channel, data):
         try:
+            if not well_formed(data):
+                raise ValueError("malformed")
             m = object_list_t.decode(data)
         except (ValueError, struct.error):
             seen["malformed"] += 1

@@ -7,7 +7,14 @@
  * the frame's azimuth. A forward jump of more than 180 degrees is a late
  * packet of the previous (already published) frame: its returns are
  * dropped and counted, unless three come in a row, which means the stream
- * really jumped (then it is accepted and the gap counted as missing). */
+ * really jumped (then it is accepted and the gap counted as missing).
+ *
+ * The sensor's own timestamp (microseconds past the hour) settles what the
+ * azimuth alone cannot: a packet older than the last one taken (by less
+ * than a second) is behind it, never a roll-over into the next turn: one
+ * delivered half a turn late is late, not a new frame. Duplicates are
+ * recognised by timestamp and azimuth over the last RS_DUP_HISTORY packets,
+ * looked for only when a packet is not newer than the newest seen. */
 #include "roadscan/frame.h"
 
 #include "roadscan/error.h"
@@ -18,6 +25,16 @@
 #define HALF_TURN_CD 18000
 #define TURN_CD 36000
 #define LATE_STREAK_RESYNC 3
+#define HOUR_US 3600000000u
+#define TS_PLAUSIBLE_US 1000000 /* sensor clocks within a second of each other: comparable */
+
+/* b - a in microseconds past the hour, wrapped to (-30 min, 30 min] */
+static int64_t ts_diff(uint32_t a, uint32_t b) {
+  int64_t d = ((int64_t)b - (int64_t)a) % (int64_t)HOUR_US;
+  if (d > (int64_t)HOUR_US / 2) d -= HOUR_US;
+  if (d <= -(int64_t)HOUR_US / 2) d += HOUR_US;
+  return d;
+}
 
 int rs_frame_columns_for(const rs_model_info_t *mi, double hz) {
   if (hz <= 0.0) hz = 10.0;
@@ -129,9 +146,21 @@ static void write_point(rs_asm_t *a, rs_slot_t *slot, const rs_point_t *pt, uint
 }
 
 static bool seen_before(rs_asm_t *a, const rs_packet_t *pkt) {
-  for (int i = 0; i < a->recent_n; i++)
-    if (a->recent[i].ts == pkt->timestamp_us && a->recent[i].az == pkt->block_azimuth[0]) return true;
-  a->recent[a->recent_i].ts = pkt->timestamp_us;
+  const uint32_t ts = pkt->timestamp_us;
+  const bool newer = a->have_newest && ts_diff(a->newest_ts, ts) > 0;
+  if (!newer) { /* a duplicate is never newer than the newest packet: look back */
+    for (int k = 1; k <= a->recent_n; k++) {
+      const int i = (a->recent_i - k + RS_DUP_HISTORY) % RS_DUP_HISTORY;
+      if (a->recent[i].ts != ts || a->recent[i].az != pkt->block_azimuth[0]) continue;
+      /* a sensor that sends no timestamps (all 0) repeats an azimuth every turn: only near ones count */
+      if (ts != 0 || k <= RS_DUP_NEAR) return true;
+    }
+  }
+  if (!a->have_newest || newer) {
+    a->newest_ts = ts;
+    a->have_newest = true;
+  }
+  a->recent[a->recent_i].ts = ts;
   a->recent[a->recent_i].az = pkt->block_azimuth[0];
   a->recent_i = (a->recent_i + 1) % RS_DUP_HISTORY;
   if (a->recent_n < RS_DUP_HISTORY) a->recent_n++;
@@ -148,6 +177,12 @@ static pkt_order_t classify(rs_asm_t *a, const rs_packet_t *pkt, uint32_t *missi
   int32_t d = rel0 - a->last_rel;
   if (d < 0 && d >= -HALF_TURN_CD) return PKT_BEHIND;
   if (d > HALF_TURN_CD && a->late_streak + 1 < LATE_STREAK_RESYNC) return PKT_LATE;
+  /* older than the last packet taken, by the sensor's clock: not a roll-over
+   * into the next turn (nor a step ahead) but a packet of the turn before */
+  if (a->have_last_ts && a->late_streak + 1 < LATE_STREAK_RESYNC) {
+    const int64_t dt = ts_diff(a->last_ts, pkt->timestamp_us);
+    if (dt < 0 && dt > -TS_PLAUSIBLE_US) return PKT_LATE;
+  }
   /* in order (possibly across the cut): judge missing packets from the gap */
   int32_t gap = (d + TURN_CD) % TURN_CD;
   const rs_model_info_t *mi = a->sensor->info;
@@ -186,6 +221,10 @@ rs_asm_result_t rs_asm_feed(rs_asm_t *a, rs_slot_t *slot, const rs_packet_t *pkt
       return RS_ASM_CONSUMED;
     }
     a->late_streak = 0;
+    if (order == PKT_IN_ORDER) {
+      a->last_ts = pkt->timestamp_us;
+      a->have_last_ts = true;
+    }
     if (order == PKT_BEHIND) {
       behind = true;
       slot->meta.out_of_order++;

@@ -6,6 +6,8 @@
  * never called). */
 #include "roadscan/publish.h"
 
+#include "roadscan/lcmcheck.h"
+
 #include "roadscan/labels.h"
 
 #include <arpa/inet.h>
@@ -282,12 +284,8 @@ int rs_publish_stats(rs_publish_t *p, const roadscan_frame_stats_t *st) {
 }
 
 bool rs_publish_list_plausible(const void *data, int len) {
-  const uint8_t *b = data;
-  if (len < 20) return false;
-  int32_t n = (int32_t)((uint32_t)b[16] << 24 | (uint32_t)b[17] << 16 | (uint32_t)b[18] << 8 | b[19]);
-  roadscan_object_t one;
-  memset(&one, 0, sizeof one);
-  return n >= 0 && (int64_t)n * __roadscan_object_t_encoded_array_size(&one, 1) <= len;
+  char err[128];
+  return rs_lcm_check(RS_LCM_OBJECT_LIST, data, len, err, sizeof err);
 }
 
 static void track_to_wire(const rs_track_t *t, double t_frame, roadscan_track_t *w) {

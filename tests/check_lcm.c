@@ -5,6 +5,7 @@
  * capture publishes one list per frame whose centroids agree with the
  * simulator's ground truth. */
 #include "roadscan/error.h"
+#include "roadscan/lcmcheck.h"
 #include "roadscan/objects.h"
 #include "roadscan/pipeline.h"
 #include "roadscan/publish.h"
@@ -283,6 +284,23 @@ START_TEST(t_untrusted_bytes) {
   b[16] = 0x00;
   b[17] = 0x10; /* a million objects in a few hundred bytes */
   ck_assert(!rs_publish_list_plausible(b, rx.len[0]));
+  b[17] = 0x00;
+  ck_assert(rs_publish_list_plausible(b, rx.len[0]));
+  /* the sensor id's length (bytes 20-23): negative, past the end, and a string without its NUL */
+  char why[RS_ERRMSG_SIZE];
+  uint8_t save[4];
+  memcpy(save, b + 20, 4);
+  const uint8_t neg[4] = {0xff, 0xff, 0xff, 0xf0}, huge[4] = {0x00, 0x10, 0x00, 0x00};
+  memcpy(b + 20, neg, 4);
+  ck_assert(!rs_lcm_check(RS_LCM_OBJECT_LIST, b, rx.len[0], why, sizeof why));
+  ck_assert_ptr_nonnull(strstr(why, "a string length out of range at byte 20"));
+  memcpy(b + 20, huge, 4);
+  ck_assert(!rs_lcm_check(RS_LCM_OBJECT_LIST, b, rx.len[0], why, sizeof why));
+  memcpy(b + 20, save, 4);
+  const int idlen = (int)save[3]; /* "roadscan" + NUL = 9 */
+  b[24 + idlen - 1] = 'x';
+  ck_assert(!rs_lcm_check(RS_LCM_OBJECT_LIST, b, rx.len[0], why, sizeof why));
+  ck_assert_ptr_nonnull(strstr(why, "a string not ended by its NUL"));
   rx_clear();
   rs_publish_deinit(&pub);
   lcm_unsubscribe(lcm, sub);
@@ -291,6 +309,141 @@ START_TEST(t_untrusted_bytes) {
 END_TEST
 
 /* roadscan-listen counts and skips what is not an object list, and goes on */
+/* Every message type, encoded, then mutated 3000 times each (bytes flipped,
+ * lengths and counts forged, cut, grown): whatever the checker passes the
+ * generated decoder reads completely, within the bytes (ASan watches), and
+ * the unmutated ones pass. */
+static uint64_t next_rand(uint64_t *rng) {
+  *rng ^= *rng << 13;
+  *rng ^= *rng >> 7;
+  *rng ^= *rng << 17;
+  return *rng;
+}
+
+static int mutate(uint8_t *b, int len, int cap, uint64_t *rng) {
+#define R() next_rand(rng)
+  const int kind = (int)(R() % 5);
+  if (kind == 0 && len > 0) b[R() % (uint64_t)len] ^= (uint8_t)(1u << (R() % 8));
+  if (kind == 1 && len >= 4) { /* a 4-byte field forged: negative, zero, huge or off by one */
+    const int at = (int)(R() % (uint64_t)(len - 3));
+    static const uint32_t vals[] = {0xffffffffu, 0x80000000u, 0u, 0x7fffffffu, 1u, 0x00010000u};
+    uint32_t v = vals[R() % 6];
+    if (R() % 2) v = ((uint32_t)b[at] << 24 | (uint32_t)b[at + 1] << 16 | (uint32_t)b[at + 2] << 8 | b[at + 3]) + 1;
+    b[at] = (uint8_t)(v >> 24);
+    b[at + 1] = (uint8_t)(v >> 16);
+    b[at + 2] = (uint8_t)(v >> 8);
+    b[at + 3] = (uint8_t)v;
+  }
+  if (kind == 2 && len > 0) len = (int)(R() % (uint64_t)len);
+  if (kind == 3 && len + 8 <= cap) len += (int)(R() % 8) + 1;
+  if (kind == 4 && len > 0) b[R() % (uint64_t)len] = 0;
+  return len;
+#undef R
+}
+
+START_TEST(t_checked_decode_survives_mutations) {
+  static uint8_t good[RS_LCM_TYPES][4096], b[4096 + 64];
+  int glen[RS_LCM_TYPES];
+  /* one of each, with strings and arrays */
+  make_objects(3);
+  rs_publish_cfg_t cfg = {.url = "memq://"};
+  ck_assert_int_eq(rs_publish_init(&pub, &cfg), RS_OK);
+  roadscan_object_list_t ol;
+  rs_publish_fill(&pub, &meta, &list, 1, &ol);
+  glen[RS_LCM_OBJECT_LIST] = roadscan_object_list_t_encode(good[RS_LCM_OBJECT_LIST], 0, 4096, &ol);
+  roadscan_frame_stats_t st;
+  memset(&st, 0, sizeof st);
+  st.sensor_id = "north";
+  glen[RS_LCM_FRAME_STATS] = roadscan_frame_stats_t_encode(good[RS_LCM_FRAME_STATS], 0, 4096, &st);
+  static rs_track_list_t tl;
+  memset(&tl, 0, sizeof tl);
+  tl.count = 2;
+  tl.track[0].id = 5;
+  tl.track[1].id = 9;
+  roadscan_track_list_t tm;
+  rs_publish_fill_tracks(&pub, &meta, &tl, 1, &tm);
+  glen[RS_LCM_TRACK_LIST] = roadscan_track_list_t_encode(good[RS_LCM_TRACK_LIST], 0, 4096, &tm);
+  roadscan_track_end_t te;
+  memset(&te, 0, sizeof te);
+  te.sensor_id = "north";
+  glen[RS_LCM_TRACK_END] = roadscan_track_end_t_encode(good[RS_LCM_TRACK_END], 0, 4096, &te);
+  roadscan_count_line_t lines[2];
+  memset(lines, 0, sizeof lines);
+  lines[0].name = "east";
+  lines[1].name = "west";
+  roadscan_counts_t cm;
+  memset(&cm, 0, sizeof cm);
+  cm.sensor_id = "north";
+  cm.num_lines = 2;
+  cm.lines = lines;
+  glen[RS_LCM_COUNTS] = roadscan_counts_t_encode(good[RS_LCM_COUNTS], 0, 4096, &cm);
+  rs_publish_deinit(&pub);
+  char why[RS_ERRMSG_SIZE];
+  uint64_t rng = 0x9e3779b97f4a7c15ull;
+  int passed = 0, refused = 0;
+  for (int t = 0; t < RS_LCM_TYPES; t++) {
+    ck_assert_int_gt(glen[t], 8);
+    ck_assert_msg(rs_lcm_check((rs_lcm_type_t)t, good[t], glen[t], why, sizeof why), "%s: %s",
+                  rs_lcm_type_name((rs_lcm_type_t)t), why);
+    for (int other = 0; other < RS_LCM_TYPES; other++) /* another type's bytes are refused */
+      if (other != t) ck_assert(!rs_lcm_check((rs_lcm_type_t)other, good[t], glen[t], why, sizeof why));
+    for (int k = 0; k < 3000; k++) {
+      memcpy(b, good[t], (size_t)glen[t]);
+      int len = glen[t];
+      const int rounds = 1 + k % 3;
+      for (int m = 0; m < rounds; m++) len = mutate(b, len, (int)sizeof b - 8, &rng);
+      /* the decoder is handed exactly the message's bytes: a copy of len bytes on the heap */
+      uint8_t *heap = malloc((size_t)len + 1);
+      memcpy(heap, b, (size_t)len);
+      if (!rs_lcm_check((rs_lcm_type_t)t, heap, len, why, sizeof why)) {
+        refused++;
+        free(heap);
+        continue;
+      }
+      passed++;
+      switch (t) {
+      case RS_LCM_OBJECT_LIST: {
+        roadscan_object_list_t d;
+        ck_assert_int_eq(roadscan_object_list_t_decode(heap, 0, len, &d), len);
+        ck_assert_int_eq((int)strlen(d.sensor_id), (int)strlen(d.sensor_id));
+        roadscan_object_list_t_decode_cleanup(&d);
+        break;
+      }
+      case RS_LCM_FRAME_STATS: {
+        roadscan_frame_stats_t d;
+        ck_assert_int_eq(roadscan_frame_stats_t_decode(heap, 0, len, &d), len);
+        roadscan_frame_stats_t_decode_cleanup(&d);
+        break;
+      }
+      case RS_LCM_TRACK_LIST: {
+        roadscan_track_list_t d;
+        ck_assert_int_eq(roadscan_track_list_t_decode(heap, 0, len, &d), len);
+        roadscan_track_list_t_decode_cleanup(&d);
+        break;
+      }
+      case RS_LCM_TRACK_END: {
+        roadscan_track_end_t d;
+        ck_assert_int_eq(roadscan_track_end_t_decode(heap, 0, len, &d), len);
+        roadscan_track_end_t_decode_cleanup(&d);
+        break;
+      }
+      case RS_LCM_COUNTS: {
+        roadscan_counts_t d;
+        ck_assert_int_eq(roadscan_counts_t_decode(heap, 0, len, &d), len);
+        for (int l = 0; l < d.num_lines; l++) ck_assert_ptr_nonnull(memchr(d.lines[l].name, 0, 4097));
+        roadscan_counts_t_decode_cleanup(&d);
+        break;
+      }
+      }
+      free(heap);
+    }
+  }
+  printf("lcm mutations: %d passed the check and decoded whole, %d refused\n", passed, refused);
+  ck_assert_int_gt(refused, 5000);
+  ck_assert_int_gt(passed, 100);
+}
+END_TEST
+
 START_TEST(t_listener_rejects_garbage) {
   const char *path = tu_tmp("lcm-garbage.lcmlog");
   remove(path);
@@ -307,6 +460,7 @@ START_TEST(t_listener_rejects_garbage) {
     meta.seq = (uint64_t)f;
     roadscan_object_list_t m;
     rs_publish_fill(&pub, &meta, &list, 1, &m);
+    if (f == 5) m.sensor_id = "gate \"north\" \\ 2"; /* JSON must escape it */
     len = roadscan_object_list_t_encode(buf, 0, (int)sizeof buf, &m);
     ck_assert_int_gt(len, 0);
     if (f == 1) { /* a few random-looking bytes */
@@ -330,17 +484,27 @@ START_TEST(t_listener_rejects_garbage) {
   int slen = roadscan_frame_stats_t_encode(buf, 0, (int)sizeof buf, &st);
   lcm_eventlog_event_t sev = {n++, 1700000000000009LL, 14, slen - 20, (char *)RS_PUB_DEFAULT_STATS, buf};
   ck_assert_int_eq(lcm_eventlog_write_event(log, &sev), 0);
+  /* 21 bytes: the statistics' fingerprint, a time, a negative string length and a byte (crashed LCM's decoder) */
+  uint8_t crash[21];
+  memcpy(crash, buf, 16);
+  crash[16] = 0x80;
+  crash[17] = crash[18] = crash[19] = 0;
+  crash[20] = 'x';
+  lcm_eventlog_event_t cev = {n++, 1700000000000010LL, 14, 21, (char *)RS_PUB_DEFAULT_STATS, crash};
+  ck_assert_int_eq(lcm_eventlog_write_event(log, &cev), 0);
   lcm_eventlog_destroy(log);
   rs_publish_deinit(&pub);
   char cmd[1024];
   const char *out;
   snprintf(cmd, sizeof cmd, "./roadscan-listen --log %s --json --stats", path);
   ck_assert_int_eq(tu_exec(cmd, &out), 0);
-  ck_assert_ptr_nonnull(strstr(out, "lists 2, objects 8, gaps 4, stats 0, malformed 5"));
-  ck_assert_ptr_nonnull(strstr(out, "is not roadscan frame statistics; ignored"));
-  ck_assert_ptr_nonnull(strstr(out, "a message of 40 bytes is not a roadscan object list; ignored"));
+  ck_assert_ptr_nonnull(strstr(out, "lists 2, objects 8, gaps 0, stats 0, malformed 6"));
+  ck_assert_ptr_nonnull(strstr(out, "a message of 21 bytes is not roadscan frame statistics (a string length out of range"));
+  ck_assert_ptr_nonnull(strstr(out, "is not roadscan frame statistics (the message ends inside a field"));
+  ck_assert_ptr_nonnull(strstr(out, "a message of 40 bytes is not a roadscan object list (not this type (fingerprint)"));
   ck_assert_ptr_nonnull(strstr(out, "\"frame_seq\":0,"));
   ck_assert_ptr_nonnull(strstr(out, "\"frame_seq\":5,"));
+  ck_assert_ptr_nonnull(strstr(out, "{\"sensor_id\":\"gate \\\"north\\\" \\\\ 2\","));
 }
 END_TEST
 
@@ -489,6 +653,7 @@ int main(void) {
   tcase_add_test(tc, t_bad_settings);
   tcase_add_test(tc, t_untrusted_bytes);
   tcase_add_test(tc, t_listener_rejects_garbage);
+  tcase_add_test(tc, t_checked_decode_survives_mutations);
   tcase_add_test(tc, t_pipeline_end_to_end);
   suite_add_tcase(s, tc);
   return tu_run(s);

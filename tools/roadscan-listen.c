@@ -6,6 +6,7 @@
  * (gaps) per sensor id. Reads a live URL or an LCM log file (--log). */
 #include "roadscan/config.h"
 #include "roadscan/error.h"
+#include "roadscan/lcmcheck.h"
 #include "roadscan/publish.h"
 
 #include <getopt.h>
@@ -80,12 +81,32 @@ static int64_t gap_of(const char *id, int64_t seq) {
   return 0;
 }
 
+/* a string as a JSON string: quotes, backslashes and control characters escaped (into one of two buffers) */
+static const char *js(const char *s) {
+  static char buf[2][4 * 4096 + 8];
+  static int which;
+  char *o = buf[which ^= 1];
+  size_t n = 0;
+  for (const unsigned char *p = (const unsigned char *)s; *p && n + 7 < sizeof buf[0]; p++) {
+    if (*p == '"' || *p == '\\') {
+      o[n++] = '\\';
+      o[n++] = (char)*p;
+    } else if (*p < 0x20) {
+      n += (size_t)snprintf(o + n, 7, "\\u%04x", *p);
+    } else {
+      o[n++] = (char)*p;
+    }
+  }
+  o[n] = '\0';
+  return o;
+}
+
 static void print_json(const roadscan_object_list_t *m, int64_t gap) {
   printf("{\"sensor_id\":\"%s\",\"sensor_model\":\"%s\",\"frame_seq\":%" PRId64 ",\"utime\":%" PRId64
          ",\"t_first\":%" PRId64 ",\"t_last\":%" PRId64 ",\"packets\":%d,\"packets_missing\":%d,"
          "\"columns_covered\":%d,\"columns\":%d,\"partial\":%s,\"truncated\":%s,\"num_clusters\":%d,"
          "\"site_valid\":%s,\"gap\":%" PRId64 ",\"objects\":[",
-         m->sensor_id, m->sensor_model, m->frame_seq, m->utime, m->t_first, m->t_last, m->packets, m->packets_missing,
+         js(m->sensor_id), js(m->sensor_model), m->frame_seq, m->utime, m->t_first, m->t_last, m->packets, m->packets_missing,
          m->columns_covered, m->columns, m->partial ? "true" : "false", m->truncated ? "true" : "false",
          m->num_clusters, m->site_valid ? "true" : "false", gap);
   for (int i = 0; i < m->num_objects; i++) {
@@ -134,7 +155,8 @@ static void on_list(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
   (void)user;
   roadscan_object_list_t m;
   memset(&m, 0, sizeof m);
-  bool ok = rs_publish_list_plausible(rbuf->data, (int)rbuf->data_size);
+  char why[RS_ERRMSG_SIZE] = "";
+  bool ok = rs_lcm_check(RS_LCM_OBJECT_LIST, rbuf->data, (int)rbuf->data_size, why, sizeof why);
   if (ok && roadscan_object_list_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m) < 0) {
     /* the generated decoder returns what it allocated before failing: free it */
     if (m.objects == NULL) m.num_objects = 0;
@@ -143,8 +165,8 @@ static void on_list(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
   }
   if (!ok) {
     L.malformed++;
-    fprintf(stderr, "roadscan-listen: %s: a message of %u bytes is not a roadscan object list; ignored\n", channel,
-            rbuf->data_size);
+    fprintf(stderr, "roadscan-listen: %s: a message of %u bytes is not a roadscan object list (%s); ignored\n", channel,
+            rbuf->data_size, why[0] ? why : "it does not decode");
     return;
   }
   double t = now_s();
@@ -173,11 +195,13 @@ static void on_stats(const lcm_recv_buf_t *rbuf, const char *channel, void *user
   (void)user;
   roadscan_frame_stats_t s;
   memset(&s, 0, sizeof s);
-  if (roadscan_frame_stats_t_decode(rbuf->data, 0, (int)rbuf->data_size, &s) < 0) {
-    roadscan_frame_stats_t_decode_cleanup(&s); /* what the decoder allocated before failing */
+  char why[RS_ERRMSG_SIZE] = "it does not decode";
+  const bool checked = rs_lcm_check(RS_LCM_FRAME_STATS, rbuf->data, (int)rbuf->data_size, why, sizeof why);
+  if (!checked || roadscan_frame_stats_t_decode(rbuf->data, 0, (int)rbuf->data_size, &s) < 0) {
+    if (checked) roadscan_frame_stats_t_decode_cleanup(&s); /* what the decoder allocated before failing */
     L.malformed++;
-    fprintf(stderr, "roadscan-listen: %s: a message of %u bytes is not roadscan frame statistics; ignored\n", channel,
-            rbuf->data_size);
+    fprintf(stderr, "roadscan-listen: %s: a message of %u bytes is not roadscan frame statistics (%s); ignored\n",
+            channel, rbuf->data_size, why);
     return;
   }
   L.stats_msgs++;
@@ -188,7 +212,7 @@ static void on_stats(const lcm_recv_buf_t *rbuf, const char *channel, void *user
              "\"foreground\":%d,\"clusters\":%d,\"noise\":%d,\"frames_processed\":%" PRId64 ",\"frames_dropped\":%" PRId64
              ",\"deadline_overruns\":%" PRId64 ",\"packets_missing\":%" PRId64 ",\"truncated_lists\":%" PRId64
              ",\"budget_ms\":%.2f}\n",
-             s.sensor_id, s.frame_seq, s.background_us, s.cluster_us, s.objects_us, s.publish_us, s.processing_us,
+             js(s.sensor_id), s.frame_seq, s.background_us, s.cluster_us, s.objects_us, s.publish_us, s.processing_us,
              s.latency_us, s.points, s.foreground, s.clusters, s.noise, s.frames_processed, s.frames_dropped,
              s.deadline_overruns, s.packets_missing, s.truncated_lists, (double)s.budget_ms);
     else

@@ -28,7 +28,8 @@
 #define RS_MIN_COLS 90
 #define RS_MAX_CELLS (RS_MAX_ROWS * RS_MAX_COLS)
 #define RS_LAYERS 2
-#define RS_DUP_HISTORY 8
+#define RS_DUP_HISTORY 512   /* packets remembered to recognise a duplicate (a VLP-16 turn is 76) */
+#define RS_DUP_NEAR 8        /* without sensor timestamps, duplicates are looked for this far back only */
 
 _Static_assert(RS_MAX_COLS <= UINT16_MAX, "columns fit in uint16_t");
 _Static_assert((uint64_t)RS_MAX_CELLS * RS_LAYERS < UINT32_MAX, "cell index fits in uint32_t");
@@ -108,6 +109,10 @@ typedef struct {
   uint32_t pending_missing; /* missing packets before the packet being written */
   struct { uint32_t ts; uint16_t az; } recent[RS_DUP_HISTORY];
   int recent_n, recent_i;
+  bool have_newest;         /* the newest sensor timestamp seen (duplicates are never newer) */
+  uint32_t newest_ts;
+  bool have_last_ts;        /* the sensor timestamp of the last packet taken in order */
+  uint32_t last_ts;
   /* totals over the run */
   uint64_t frames, missing_packets, out_of_order, duplicates, late_points, collisions;
 } rs_asm_t;

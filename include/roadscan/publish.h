@@ -90,9 +90,9 @@ int rs_publish_tracks(rs_publish_t *p, const rs_frame_meta_t *m, const rs_track_
 /* Microseconds since the Unix epoch (CLOCK_REALTIME), for utime fields. */
 int64_t rs_publish_utime(void);
 
-/* For readers of untrusted bytes: true when an encoded object_list_t of
- * len bytes claims a plausible object count (checked before _decode, which
- * allocates what the wire says). */
+/* For readers of untrusted bytes: true when len bytes are a well-formed
+ * object_list_t (rs_lcm_check: every string and count checked before the
+ * generated _decode, which trusts them). */
 bool rs_publish_list_plausible(const void *data, int len);
 
 #endif
