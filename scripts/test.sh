@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Installs dependencies, then builds and runs every test: a plain release
 # build, an AddressSanitizer + UndefinedBehaviorSanitizer build, and a
-# ThreadSanitizer build of the suites that run threads.
+# ThreadSanitizer build of the suites that run threads; builds the package;
+# then runs every fuzz target for 30 s (libFuzzer, clang).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -29,3 +30,5 @@ run asan+ubsan build-asan "" -DCMAKE_BUILD_TYPE=Debug -DRS_SANITIZE=ON
 run tsan build-tsan "-R ^(ring|pipeline|tools|lcm|bgupdate)$" -DCMAKE_BUILD_TYPE=Debug -DRS_SANITIZE=thread
 echo "== Debian package"
 bash scripts/package.sh
+echo "== fuzz targets, 30 s each (scripts/fuzz.sh; hours: scripts/fuzz.sh 3600)"
+bash scripts/fuzz.sh 30
