@@ -3,7 +3,7 @@
  * a vehicle queued half of every cycle, passing traffic, a truck against
  * the sky, a grazing surface); the model file and its corruptions; the
  * subtraction with its beyond count. */
-#include "roadscan/background.h"
+#include "roadscan/perception/background.h"
 #include "testutil.h"
 
 #include <math.h>

@@ -3,8 +3,8 @@
  * from the model after the next relearn (with the learner thread waited for,
  * and running on its own); a candidate that explains the recent frames worse
  * than the model in use is not taken, with the reason. */
-#include "roadscan/bgupdate.h"
-#include "roadscan/error.h"
+#include "roadscan/perception/bgupdate.h"
+#include "roadscan/util/error.h"
 #include "testutil.h"
 
 #include <string.h>

@@ -1,8 +1,8 @@
 /* check_calib - ROS velodyne YAML calibration files: applied values, and
  * every kind of bad file rejected with a message naming the problem. */
-#include "roadscan/calib.h"
-#include "roadscan/error.h"
-#include "roadscan/packet.h"
+#include "roadscan/sensor/calib.h"
+#include "roadscan/util/error.h"
+#include "roadscan/sensor/packet.h"
 #include "testutil.h"
 
 #include <math.h>

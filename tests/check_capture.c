@@ -1,11 +1,11 @@
 /* check_capture - libpcap sources: every link type, pcapng, truncated and
  * unreadable files, replay pacing and looping, live capture on loopback. */
-#include "roadscan/capture.h"
-#include "roadscan/error.h"
-#include "roadscan/net.h"
-#include "roadscan/stream.h"
-#include "roadscan/synth.h"
-#include "roadscan/timing.h"
+#include "roadscan/capture/capture.h"
+#include "roadscan/util/error.h"
+#include "roadscan/capture/net.h"
+#include "roadscan/capture/stream.h"
+#include "roadscan/sim/synth.h"
+#include "roadscan/util/timing.h"
 #include "testutil.h"
 
 #include <arpa/inet.h>

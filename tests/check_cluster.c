@@ -1,7 +1,7 @@
 /* check_cluster - FSPC, adaptive FSPC, DBSCAN and CCL on hand-built maps
  * with known answers. */
-#include "roadscan/cluster.h"
-#include "roadscan/error.h"
+#include "roadscan/perception/cluster.h"
+#include "roadscan/util/error.h"
 #include "testutil.h"
 
 #include <string.h>

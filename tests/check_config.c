@@ -1,7 +1,7 @@
 /* check_config - option values: numbers within ranges, whole numbers,
  * booleans, sensor models, and the messages that name the option. */
-#include "roadscan/config.h"
-#include "roadscan/error.h"
+#include "roadscan/util/config.h"
+#include "roadscan/util/error.h"
 #include "testutil.h"
 
 #include <math.h>

@@ -2,8 +2,8 @@
  * direction, once per track and line, crossings made while tentative,
  * coasting tracks not counted, intervals on multiples of the interval,
  * tracks forgotten, the site frame of a pose, bad lines. */
-#include "roadscan/count.h"
-#include "roadscan/error.h"
+#include "roadscan/perception/count.h"
+#include "roadscan/util/error.h"
 #include "testutil.h"
 
 #include <math.h>

@@ -1,7 +1,7 @@
 /* check_eval - metrics on hand-made label sequences with answers worked
  * out here. */
-#include "roadscan/error.h"
-#include "roadscan/eval.h"
+#include "roadscan/util/error.h"
+#include "roadscan/offline/eval.h"
 #include "testutil.h"
 
 #include <math.h>

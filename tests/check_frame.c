@@ -2,9 +2,9 @@
  * azimuth, columns from the rate, loss, reordering, duplicates, late
  * packets, dual-return layers. Packets come from the synthetic scene and
  * go through the real decoder. */
-#include "roadscan/error.h"
-#include "roadscan/frame.h"
-#include "roadscan/synth.h"
+#include "roadscan/util/error.h"
+#include "roadscan/frame/frame.h"
+#include "roadscan/sim/synth.h"
 #include "testutil.h"
 
 #include <math.h>

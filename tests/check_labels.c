@@ -1,6 +1,6 @@
 /* check_labels - point-label files: valid files read back, every kind of
  * malformed line rejected with its line number, writer ordering. */
-#include "roadscan/labels.h"
+#include "roadscan/output/labels.h"
 #include "testutil.h"
 
 #include <stdio.h>

@@ -4,11 +4,11 @@
  * bytes are checked before decoding; and the whole pipeline on a simulated
  * capture publishes one list per frame whose centroids agree with the
  * simulator's ground truth. */
-#include "roadscan/error.h"
-#include "roadscan/lcmcheck.h"
-#include "roadscan/objects.h"
-#include "roadscan/pipeline.h"
-#include "roadscan/publish.h"
+#include "roadscan/util/error.h"
+#include "roadscan/output/lcmcheck.h"
+#include "roadscan/perception/objects.h"
+#include "roadscan/daemon/pipeline.h"
+#include "roadscan/output/publish.h"
 #include "testutil.h"
 
 #include <lcm/eventlog.h>

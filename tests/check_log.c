@@ -1,6 +1,6 @@
 /* check_log - messages on stderr: "ident: message", formatted, one line
  * each, long ones cut at 1023 characters; the ident set by rs_log_open. */
-#include "roadscan/log.h"
+#include "roadscan/util/log.h"
 #include "testutil.h"
 
 #include <stdio.h>

@@ -1,7 +1,7 @@
 /* check_net - link-layer, IP and UDP parsing of every supported link type,
  * and rejection of what is not a complete UDP datagram. */
-#include "roadscan/error.h"
-#include "roadscan/net.h"
+#include "roadscan/util/error.h"
+#include "roadscan/capture/net.h"
 #include "testutil.h"
 
 #include <string.h>

@@ -1,8 +1,8 @@
 /* check_objects - cluster attributes on hand-built maps: a box rendered by
  * ray casting (its oriented box must come back), extents across the column
  * seam, times, intensity, missing labels, and the site frame of a pose. */
-#include "roadscan/error.h"
-#include "roadscan/objects.h"
+#include "roadscan/util/error.h"
+#include "roadscan/perception/objects.h"
 #include "testutil.h"
 
 #include <math.h>

@@ -1,8 +1,8 @@
 /* check_packet - decoding hand-built packets against values computed here
  * from the manuals' figures; validation errors; encoder round trip;
  * model detection. */
-#include "roadscan/error.h"
-#include "roadscan/packet.h"
+#include "roadscan/util/error.h"
+#include "roadscan/sensor/packet.h"
 #include "testutil.h"
 
 #include <math.h>

@@ -2,10 +2,10 @@
  * project's reader and parser: every link type, the VLAN tag, addresses,
  * ports, timestamps, payload bytes, raw frames, and a path that cannot be
  * written. */
-#include "roadscan/capture.h"
-#include "roadscan/error.h"
-#include "roadscan/net.h"
-#include "roadscan/pcapw.h"
+#include "roadscan/capture/capture.h"
+#include "roadscan/util/error.h"
+#include "roadscan/capture/net.h"
+#include "roadscan/offline/pcapw.h"
 #include "testutil.h"
 
 #include <math.h>

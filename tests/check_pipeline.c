@@ -1,8 +1,8 @@
 /* check_pipeline - the two threads end to end on synthetic captures:
  * lossless analysis replay, paced replay, stop requests, bad sources. */
-#include "roadscan/error.h"
-#include "roadscan/pipeline.h"
-#include "roadscan/synth.h"
+#include "roadscan/util/error.h"
+#include "roadscan/daemon/pipeline.h"
+#include "roadscan/sim/synth.h"
 #include "testutil.h"
 
 #include <pcap/pcap.h>

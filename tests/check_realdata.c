@@ -4,9 +4,9 @@
  * from the file), points per frame are steady, and consecutive frames of
  * the static sensors see the same scene; the model is identified from any
  * starting packet (a capture can start anywhere). */
-#include "roadscan/error.h"
-#include "roadscan/frame.h"
-#include "roadscan/stream.h"
+#include "roadscan/util/error.h"
+#include "roadscan/frame/frame.h"
+#include "roadscan/capture/stream.h"
 #include "testutil.h"
 
 #include <math.h>

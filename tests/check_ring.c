@@ -1,8 +1,8 @@
 /* check_ring - slot hand-off: order, drop-oldest when full, newest-only
  * consumer, lossless waiting, and a two-thread run where every published
  * frame is either processed or counted as dropped. */
-#include "roadscan/error.h"
-#include "roadscan/ring.h"
+#include "roadscan/util/error.h"
+#include "roadscan/frame/ring.h"
 #include "testutil.h"
 
 #include <pthread.h>

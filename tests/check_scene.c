@@ -2,8 +2,8 @@
  * at a known place, occlusion), the beam's physics (footprint, mixed and
  * separate returns at depth edges, noise growing with range, detection
  * falling with intensity and range), scene knobs, presets, determinism. */
-#include "roadscan/error.h"
-#include "roadscan/scene.h"
+#include "roadscan/util/error.h"
+#include "roadscan/sim/scene.h"
 #include "testutil.h"
 
 #include <math.h>

@@ -6,10 +6,10 @@
  * long an edge cell stays on one surface against independent switching,
  * mixed returns, noise on flat surfaces, dropouts) stay within the bounds
  * docs/simulator.md gives. */
-#include "roadscan/error.h"
-#include "roadscan/framer.h"
-#include "roadscan/scenestats.h"
-#include "roadscan/scene.h"
+#include "roadscan/util/error.h"
+#include "roadscan/frame/framer.h"
+#include "roadscan/offline/scenestats.h"
+#include "roadscan/sim/scene.h"
 #include "testutil.h"
 
 #include <math.h>

@@ -1,7 +1,7 @@
 /* check_sensor - model tables, names, row order, firing times, columns. */
-#include "roadscan/error.h"
-#include "roadscan/frame.h"
-#include "roadscan/sensor.h"
+#include "roadscan/util/error.h"
+#include "roadscan/frame/frame.h"
+#include "roadscan/sensor/sensor.h"
 #include "testutil.h"
 
 #include <math.h>

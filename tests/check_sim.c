@@ -1,8 +1,8 @@
 /* check_sim - roadscan-sim and roadscan-eval as programs: every model and
  * return mode reads back through the decoder with ground truth on real
  * returns; determinism; presets; storm packet loss; bad options. */
-#include "roadscan/error.h"
-#include "roadscan/stream.h"
+#include "roadscan/util/error.h"
+#include "roadscan/capture/stream.h"
 #include "testutil.h"
 
 #include <png.h>

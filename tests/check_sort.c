@@ -1,5 +1,5 @@
 /* check_sort - the processing thread's heapsort against glibc's qsort. */
-#include "roadscan/sort.h"
+#include "roadscan/util/sort.h"
 #include "testutil.h"
 
 #include <stdint.h>

@@ -1,9 +1,9 @@
 /* check_stream - classification and counting of everything that reaches
  * the packet thread; the detection pre-buffer loses nothing; source filter;
  * calibration that does not fit the detected sensor. */
-#include "roadscan/error.h"
-#include "roadscan/stream.h"
-#include "roadscan/synth.h"
+#include "roadscan/util/error.h"
+#include "roadscan/capture/stream.h"
+#include "roadscan/sim/synth.h"
 #include "testutil.h"
 
 #include <string.h>

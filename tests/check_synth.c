@@ -2,12 +2,12 @@
  * and model, the room's ranges decoded back, and the faults (dropped,
  * swapped, duplicated packets, position packets, foreign traffic) where
  * they were asked for. */
-#include "roadscan/capture.h"
-#include "roadscan/error.h"
-#include "roadscan/net.h"
-#include "roadscan/packet.h"
-#include "roadscan/sensor.h"
-#include "roadscan/synth.h"
+#include "roadscan/capture/capture.h"
+#include "roadscan/util/error.h"
+#include "roadscan/capture/net.h"
+#include "roadscan/sensor/packet.h"
+#include "roadscan/sensor/sensor.h"
+#include "roadscan/sim/synth.h"
 #include "testutil.h"
 
 #include <math.h>

@@ -1,6 +1,6 @@
 /* check_timing - stage timings: count, mean, max, percentiles of the window
  * on known samples, the window's wrap, the monotonic clock, the printed line. */
-#include "roadscan/timing.h"
+#include "roadscan/util/timing.h"
 #include "testutil.h"
 
 #include <stdlib.h>

@@ -1,7 +1,7 @@
 /* check_tools - the programs as a user runs them: options, errors and exit
  * codes, the frames CSV, export to PCD/CSV, signals, the benchmark. */
-#include "roadscan/error.h"
-#include "roadscan/synth.h"
+#include "roadscan/util/error.h"
+#include "roadscan/sim/synth.h"
 #include "testutil.h"
 
 #include <stdio.h>

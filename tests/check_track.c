@@ -1,8 +1,8 @@
 /* check_track - the tracker on hand-built object sequences with known
  * answers: ids kept through crossings, stops, occlusion, merged and split
  * clusters; foliage never confirmed; dt from timestamps; capacity. */
-#include "roadscan/error.h"
-#include "roadscan/track.h"
+#include "roadscan/util/error.h"
+#include "roadscan/perception/track.h"
 #include "testutil.h"
 
 #include <math.h>

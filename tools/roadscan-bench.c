@@ -5,19 +5,19 @@
  *   roadscan-bench CAPTURE [--model NAME]   the data packets of a capture
  *
  * Packets are loaded into memory first, so file I/O is not timed. */
-#include "roadscan/background.h"
-#include "roadscan/cluster.h"
-#include "roadscan/objects.h"
-#include "roadscan/proc.h"
-#include "roadscan/publish.h"
-#include "roadscan/config.h"
-#include "roadscan/error.h"
-#include "roadscan/frame.h"
-#include "roadscan/net.h"
-#include "roadscan/stream.h"
-#include "roadscan/synth.h"
-#include "roadscan/timing.h"
-#include "roadscan/track.h"
+#include "roadscan/perception/background.h"
+#include "roadscan/perception/cluster.h"
+#include "roadscan/perception/objects.h"
+#include "roadscan/perception/proc.h"
+#include "roadscan/output/publish.h"
+#include "roadscan/util/config.h"
+#include "roadscan/util/error.h"
+#include "roadscan/frame/frame.h"
+#include "roadscan/capture/net.h"
+#include "roadscan/capture/stream.h"
+#include "roadscan/sim/synth.h"
+#include "roadscan/util/timing.h"
+#include "roadscan/perception/track.h"
 
 #include <getopt.h>
 #include <math.h>

@@ -10,11 +10,11 @@
  * frame_seq: 0 is the part before the first roll-over). --diagnose says
  * where the object returns the prediction missed are, and (with the
  * background model) where its false positives are. Single-threaded. */
-#include "roadscan/background.h"
-#include "roadscan/count.h"
-#include "roadscan/eval.h"
-#include "roadscan/labels.h"
-#include "roadscan/stream.h"
+#include "roadscan/perception/background.h"
+#include "roadscan/perception/count.h"
+#include "roadscan/offline/eval.h"
+#include "roadscan/output/labels.h"
+#include "roadscan/capture/stream.h"
 
 #include <getopt.h>
 #include <math.h>

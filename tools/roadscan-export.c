@@ -3,11 +3,11 @@
  * Single-threaded tool: reads the capture flat out through the same stream
  * decoder as the daemon and cuts frames with the same roll-over rule, so
  * frame N here is frame N of the daemon's --frames-out. */
-#include "roadscan/calib.h"
-#include "roadscan/config.h"
-#include "roadscan/error.h"
-#include "roadscan/frame.h"
-#include "roadscan/stream.h"
+#include "roadscan/sensor/calib.h"
+#include "roadscan/util/config.h"
+#include "roadscan/util/error.h"
+#include "roadscan/frame/frame.h"
+#include "roadscan/capture/stream.h"
 
 #include <getopt.h>
 #include <math.h>

@@ -6,12 +6,12 @@
  * One pass over the capture through the daemon's decoder and frame
  * assembler; complete frames are sampled uniformly at random (reservoir),
  * then every cell is clustered (see background.h). Single-threaded tool. */
-#include "roadscan/background.h"
-#include "roadscan/bgupdate.h"
-#include "roadscan/calib.h"
-#include "roadscan/config.h"
-#include "roadscan/framer.h"
-#include "roadscan/timing.h"
+#include "roadscan/perception/background.h"
+#include "roadscan/perception/bgupdate.h"
+#include "roadscan/sensor/calib.h"
+#include "roadscan/util/config.h"
+#include "roadscan/frame/framer.h"
+#include "roadscan/util/timing.h"
 
 #include <getopt.h>
 #include <png.h>

@@ -4,10 +4,10 @@
  * (fingerprint, object count against its size) before decoding it, prints a
  * table or one JSON line, and tracks the rate and the frame numbers missed
  * (gaps) per sensor id. Reads a live URL or an LCM log file (--log). */
-#include "roadscan/config.h"
-#include "roadscan/error.h"
-#include "roadscan/lcmcheck.h"
-#include "roadscan/publish.h"
+#include "roadscan/util/config.h"
+#include "roadscan/util/error.h"
+#include "roadscan/output/lcmcheck.h"
+#include "roadscan/output/publish.h"
 
 #include <getopt.h>
 #include <inttypes.h>

@@ -13,11 +13,11 @@
  * Without either every return is drawn by range.
  * Single-threaded tool. */
 #include "render-font.h"
-#include "roadscan/background.h"
-#include "roadscan/cluster.h"
-#include "roadscan/config.h"
-#include "roadscan/framer.h"
-#include "roadscan/labels.h"
+#include "roadscan/perception/background.h"
+#include "roadscan/perception/cluster.h"
+#include "roadscan/util/config.h"
+#include "roadscan/frame/framer.h"
+#include "roadscan/output/labels.h"
 
 #include <getopt.h>
 #include <math.h>

@@ -7,9 +7,9 @@
  * most --max-frames) are measured (scenestats.h) and printed as one column
  * of a Markdown table. docs/simulator.md puts the real captures next to the
  * simulator's this way (scripts/sim-vs-real.sh). Single-threaded tool. */
-#include "roadscan/config.h"
-#include "roadscan/framer.h"
-#include "roadscan/scenestats.h"
+#include "roadscan/util/config.h"
+#include "roadscan/frame/framer.h"
+#include "roadscan/offline/scenestats.h"
 
 #include <getopt.h>
 #include <math.h>

@@ -5,14 +5,14 @@
  * Single-threaded tool. The firing timing, block layout and azimuths are
  * those the decoder reads back (round-trip tested); every ray is cast
  * through the scene at the true azimuth of its firing. */
-#include "roadscan/config.h"
-#include "roadscan/error.h"
-#include "roadscan/labels.h"
-#include "roadscan/net.h"
-#include "roadscan/packet.h"
-#include "roadscan/pcapw.h"
-#include "roadscan/scene.h"
-#include "roadscan/timing.h"
+#include "roadscan/util/config.h"
+#include "roadscan/util/error.h"
+#include "roadscan/output/labels.h"
+#include "roadscan/capture/net.h"
+#include "roadscan/sensor/packet.h"
+#include "roadscan/offline/pcapw.h"
+#include "roadscan/sim/scene.h"
+#include "roadscan/util/timing.h"
 
 #include <getopt.h>
 #include <ini.h>

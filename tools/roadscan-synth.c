@@ -1,10 +1,10 @@
 /* roadscan-synth - write a synthetic Velodyne capture (a sensor 2 m above
  * flat ground inside an irregular round wall), for trying the tools without
  * a sensor. No ground truth: that is the scene simulator's job. */
-#include "roadscan/config.h"
-#include "roadscan/error.h"
-#include "roadscan/net.h"
-#include "roadscan/synth.h"
+#include "roadscan/util/config.h"
+#include "roadscan/util/error.h"
+#include "roadscan/capture/net.h"
+#include "roadscan/sim/synth.h"
 
 #include <getopt.h>
 #include <stdio.h>

@@ -5,11 +5,11 @@
  * background, opens the LCM publisher, starts the pipeline (packet thread +
  * processing thread), waits, prints the summary. Signal handlers only set
  * the pipeline's stop flag. All large state is static. */
-#include "roadscan/calib.h"
-#include "roadscan/config.h"
-#include "roadscan/error.h"
-#include "roadscan/log.h"
-#include "roadscan/pipeline.h"
+#include "roadscan/sensor/calib.h"
+#include "roadscan/util/config.h"
+#include "roadscan/util/error.h"
+#include "roadscan/util/log.h"
+#include "roadscan/daemon/pipeline.h"
 
 #include <ini.h>
 

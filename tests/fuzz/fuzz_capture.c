@@ -3,7 +3,7 @@
  * stream. */
 #include "fuzz.h"
 
-#include "roadscan/stream.h"
+#include "roadscan/capture/stream.h"
 
 static rs_stream_t st;
 

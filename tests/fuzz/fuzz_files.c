@@ -4,9 +4,9 @@
  * selector byte, then the file. */
 #include "fuzz.h"
 
-#include "roadscan/background.h"
-#include "roadscan/calib.h"
-#include "roadscan/labels.h"
+#include "roadscan/perception/background.h"
+#include "roadscan/sensor/calib.h"
+#include "roadscan/output/labels.h"
 
 #include <string.h>
 

@@ -3,7 +3,7 @@
  * whole message. Input: a type selector byte, then the message. */
 #include "fuzz.h"
 
-#include "roadscan/lcmcheck.h"
+#include "roadscan/output/lcmcheck.h"
 
 #include <roadscan_counts_t.h>
 #include <roadscan_frame_stats_t.h>

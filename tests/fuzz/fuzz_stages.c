@@ -5,10 +5,10 @@
  * frame after frame. */
 #include "fuzz.h"
 
-#include "roadscan/cluster.h"
-#include "roadscan/count.h"
-#include "roadscan/objects.h"
-#include "roadscan/track.h"
+#include "roadscan/perception/cluster.h"
+#include "roadscan/perception/count.h"
+#include "roadscan/perception/objects.h"
+#include "roadscan/perception/track.h"
 
 #include <string.h>
 

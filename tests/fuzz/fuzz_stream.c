@@ -4,8 +4,8 @@
  * Input: records of [u16 length][u16 port][u32 time offset in µs] + payload. */
 #include "fuzz.h"
 
-#include "roadscan/frame.h"
-#include "roadscan/stream.h"
+#include "roadscan/frame/frame.h"
+#include "roadscan/capture/stream.h"
 
 #include <string.h>
 

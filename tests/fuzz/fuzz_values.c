@@ -3,9 +3,9 @@
  * a selector byte, then the text. */
 #include "fuzz.h"
 
-#include "roadscan/config.h"
-#include "roadscan/count.h"
-#include "roadscan/track.h"
+#include "roadscan/util/config.h"
+#include "roadscan/perception/count.h"
+#include "roadscan/perception/track.h"
 
 #include <string.h>
 

@@ -3,13 +3,13 @@
  * mode, small captures of every link type, one message of every LCM type, a
  * calibration file, a background model, a label file, maps with objects,
  * option values. Run before the corpus replay tests and by scripts/fuzz.sh. */
-#include "roadscan/background.h"
-#include "roadscan/count.h"
-#include "roadscan/error.h"
-#include "roadscan/lcmcheck.h"
-#include "roadscan/net.h"
-#include "roadscan/publish.h"
-#include "roadscan/synth.h"
+#include "roadscan/perception/background.h"
+#include "roadscan/perception/count.h"
+#include "roadscan/util/error.h"
+#include "roadscan/output/lcmcheck.h"
+#include "roadscan/capture/net.h"
+#include "roadscan/output/publish.h"
+#include "roadscan/sim/synth.h"
 
 #include <errno.h>
 #include <stdio.h>

@@ -1,0 +1,124 @@
+/* cluster.h - clustering the foreground of a frame: FSPC (fast spherical-
+ * projection clustering), its density-adaptive variant, and two baselines
+ * (3-D Euclidean DBSCAN on a voxel hash grid; connected components on the
+ * range image).
+ *
+ * Input: layer 0 of a frame slot, returns labelled 1 are background, every
+ * other return is foreground. Output: labels 3 + cluster number, 2 for
+ * noise; layer-1 (dual) returns take the label of the layer-0 return of the
+ * same cell when their ranges agree within the method's eps (the adaptive
+ * eps of the cell's row and range), else 2. members[] lists the clustered
+ * cells (layer 0 then 1, row-major): the object stage reads only those.
+ *
+ * FSPC (Chen et al. 2022): the neighbours of a cell are the foreground cells
+ * of an h x w window centred on it (columns wrap, rows are clipped) whose
+ * range differs from the centre's by less than eps; the centre counts. Core
+ * cells have at least minPts neighbours; clusters are the connected
+ * components of core cells plus the border cells within a core cell's
+ * window; the rest is noise. Work per frame: at most 2 x cells x h x w
+ * window reads, whatever the scene.
+ *
+ * Adaptive FSPC: per laser row and 1 m range bin, the window shrinks to what
+ * an obj_w x obj_h object would cover (at least adapt_min_half_w columns
+ * either side), minPts to adapt_share of the cells it would fill (at least
+ * adapt_min_pts, or adapt_sparse_min_pts where it fills fewer than
+ * adapt_sparse_cells, at most min_pts), and eps to
+ * 0.03 x range (0.5 to 2.5 m): a car roof seen by one laser near the pole
+ * and a pedestrian at 150 m are found; cars queued 2 m apart stay apart.
+ * Cells where the static scene has several surfaces (the sensor sees
+ * through foliage, or past an edge, to what is behind) give intermittent
+ * returns that the background cannot learn; with the model's surface
+ * counts (bg_surfaces) their returns join clusters but do not seed them.
+ * A cell that is not a core joins a cluster within adapt_border_eps x eps
+ * of one of its core cells (core cells link within eps, so clusters do not
+ * merge through it): the side of a car seen almost along the line of sight
+ * at 150 m spreads over metres of range from one column to the next.
+ * The same bounded cost.
+ *
+ * No allocation: the caller owns rs_cluster_t
+ * (about 16 MB; static in the programs). Processing thread only. */
+#ifndef ROADSCAN_CLUSTER_H
+#define ROADSCAN_CLUSTER_H
+
+#include "roadscan/frame/frame.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#define RS_MAX_CLUSTERS 4000
+#define RS_MAX_WIN_H 15
+#define RS_MAX_WIN_W 31
+#define RS_ADAPT_BINS 256 /* 1 m range bins */
+#define RS_GRID_BUCKETS (1 << 16)
+#define RS_ROW_WORDS ((RS_MAX_COLS + 63) / 64)
+
+_Static_assert(RS_MAX_CLUSTERS + 3 < UINT16_MAX, "cluster labels fit in uint16_t");
+
+typedef enum { RS_CLUSTER_NONE = 0, RS_CLUSTER_FSPC, RS_CLUSTER_FSPC_ADAPTIVE, RS_CLUSTER_DBSCAN, RS_CLUSTER_CCL } rs_cluster_method_t;
+
+typedef struct {
+  rs_cluster_method_t method;
+  int win_h, win_w;      /* odd; defaults 5 x 11 */
+  float eps;             /* m, range difference; default 1.8 */
+  int min_pts;           /* default 15 (the centre counts) */
+  float obj_w, obj_h;    /* adaptive: the smallest object to find (m), default 0.5 x 0.8 */
+  float adapt_share;     /* adaptive: minPts = share x expected cells, default 0.2 */
+  int adapt_min_pts;     /* adaptive: lowest minPts, default 3 */
+  float adapt_sparse_cells; /* adaptive: where the smallest object would cover fewer cells than this */
+  int adapt_sparse_min_pts; /*   (default 3), the lowest minPts is this instead (default 2: a pair) */
+  int adapt_min_half_w;  /* adaptive: the window reaches at least this many columns either side (default
+                            2: returns go missing beyond 120 m, a neighbour may be two columns away) */
+  float adapt_eps_share; /* adaptive: eps = clamp(max(share, adapt_eps_rows x the sensor's median */
+  float adapt_eps_rows;  /*   row spacing in radians) x range, adapt_eps_min, adapt_eps_max): 0.03, 1.0, */
+  float adapt_eps_min;   /*   0.5 m, 2.5 m */
+  float adapt_eps_max;
+  float adapt_border_eps; /* adaptive: a cell that is not a core joins a core cell's cluster within this
+                             many times the core's eps (core to core: eps); default 2 */
+  int adapt_seed_surfaces; /* adaptive, with bg_surfaces: a return in a cell of at least this many static
+                              surfaces (foliage and edges the sensor sees through) seeds no cluster but
+                              may join one; default 3, 0 = off */
+  float dbscan_eps;      /* m, default 1.2 */
+  int dbscan_min_pts;    /* default 15 */
+  float ccl_eps;         /* m, range difference joining 8-neighbours, default 1.0 */
+} rs_cluster_cfg_t;
+
+typedef struct {
+  uint32_t foreground;   /* layer-0 foreground returns */
+  uint32_t clustered, noise;
+  uint32_t clusters;
+  uint32_t overflow;     /* clusters beyond RS_MAX_CLUSTERS (left as noise) */
+} rs_cluster_stats_t;
+
+typedef struct {
+  rs_cluster_cfg_t cfg;
+  const rs_sensor_t *sensor;
+  const uint8_t *bg_surfaces; /* optional (adaptive): static surfaces per cell, the background model's n */
+  int cols;              /* geometry the tables were built for */
+  uint64_t overflow_total;
+  float rr[RS_MAX_CELLS];            /* foreground range, or a large negative */
+  uint8_t core[RS_MAX_CELLS];
+  uint32_t fg[RS_MAX_CELLS];         /* foreground cell indices */
+  uint32_t fgrc[RS_MAX_CELLS];       /* the same as row << 16 | column (no division in the loops) */
+  uint32_t queue[RS_MAX_CELLS];      /* FSPC: row << 16 | column; DBSCAN: point numbers */
+  uint64_t open[RS_MAX_ROWS * RS_ROW_WORDS];    /* foreground cells not in a cluster yet, per row */
+  uint8_t half_w[RS_MAX_ROWS][RS_ADAPT_BINS];   /* adaptive window half-width */
+  uint8_t half_h[RS_MAX_ROWS][RS_ADAPT_BINS];   /* adaptive window half-height */
+  uint8_t min_pts[RS_MAX_ROWS][RS_ADAPT_BINS];  /* adaptive minPts */
+  float eps_tab[RS_MAX_ROWS][RS_ADAPT_BINS];    /* adaptive eps by row and range (rows share it today) */
+  float px[RS_MAX_CELLS], py[RS_MAX_CELLS], pz[RS_MAX_CELLS];
+  int32_t next[RS_MAX_CELLS];
+  int32_t heads[RS_GRID_BUCKETS];
+  uint32_t members[RS_LAYERS * RS_MAX_CELLS]; /* clustered cells of the last run, layer 0 then 1, row-major */
+  uint32_t nmembers;
+} rs_cluster_t;
+
+void rs_cluster_cfg_default(rs_cluster_cfg_t *c);
+const char *rs_cluster_method_name(rs_cluster_method_t m);
+/* "fspc", "fspc-adaptive", "dbscan", "ccl", "none"; -1 if unknown */
+int rs_cluster_method_from_name(const char *s);
+
+/* RS_E_INVAL for a bad window (even, too large) or parameter. */
+int rs_cluster_init(rs_cluster_t *c, const rs_cluster_cfg_t *cfg, const rs_sensor_t *s);
+void rs_cluster_run(rs_cluster_t *c, rs_slot_t *slot, rs_cluster_stats_t *st);
+
+#endif

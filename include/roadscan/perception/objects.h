@@ -1,0 +1,112 @@
+/* objects.h - per-cluster attributes of a labelled frame.
+ *
+ * Input: a frame slot whose cells carry cluster labels (3 + n, both layers)
+ * and the sensor that made it; optionally the sensor's pose in the site.
+ * Output: one rs_object_t per cluster label present, in label order.
+ *
+ * Frames: the sensor frame of sensor.h (+X right, +Y forward, +Z up). With
+ * a pose (x y z roll pitch yaw: site = Rz(yaw) Ry(pitch) Rx(roll) p + t)
+ * every attribute is computed again in the site frame, whose ground plane is
+ * what a traffic engineer means by "heading".
+ *
+ * Oriented box: a rectangle around the convex hull of the object's points
+ * projected on the ground plane, oriented along one of the hull's edges:
+ * the one whose rectangle the points hug closest (mean distance to the
+ * nearest side), then the smaller area. An L-shaped view of a car gives a
+ * triangular hull whose diagonal rectangle has the same area as the true
+ * one: area alone cannot choose. The points of one map column lie on one
+ * ray from the sensor, so only the nearest and farthest of each column are
+ * kept as candidates (at most 2 per column); the search costs at most
+ * RS_OBJ_HULL_EDGES edges x candidates (larger hulls test every k-th edge
+ * and are counted). Heading: angle of the length axis from +X,
+ * counter-clockwise, in (-pi/2, pi/2].
+ *
+ * Times: a point's time is interpolated from its packet index between the
+ * frame's first and last packet (packets come at a fixed rate).
+ *
+ * No allocation: rs_objects_t is caller-owned (static in the programs);
+ * every loop is bounded by the map size. Processing thread only. */
+#ifndef ROADSCAN_OBJECTS_H
+#define ROADSCAN_OBJECTS_H
+
+#include "roadscan/perception/cluster.h"
+#include "roadscan/frame/frame.h"
+#include "roadscan/sensor/sensor.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#define RS_OBJ_MAX RS_MAX_CLUSTERS
+#define RS_OBJ_CANDIDATES (1 << 18) /* hull candidates per frame and coordinate frame */
+#define RS_OBJ_HULL_EDGES 128
+
+typedef struct {
+  double x, y, z;          /* metres, the sensor's origin in the site */
+  double roll, pitch, yaw; /* radians */
+} rs_pose_t;
+
+typedef struct {
+  float centroid[3];
+  float box_min[3], box_max[3];  /* axis-aligned box; z min/max = height range */
+  float obb_center[2];           /* oriented box on the ground plane */
+  float obb_length, obb_width;   /* length >= width */
+  float obb_heading;             /* radians, length axis from +X, counter-clockwise */
+} rs_obj_geom_t;
+
+typedef struct {
+  uint32_t id;              /* cluster label - 2: 1, 2, ... per frame */
+  uint32_t points;          /* returns, both layers */
+  rs_obj_geom_t sensor;     /* sensor frame */
+  rs_obj_geom_t site;       /* site frame (valid when the list says so) */
+  float range_min;          /* nearest return, m */
+  float az_start, az_end;   /* degrees, clockwise from az_start to az_end (may wrap) */
+  uint16_t row_min, row_max;
+  uint16_t col_start, col_end; /* map columns, clockwise, may wrap past column 0 */
+  float intensity_mean;
+  double t_first, t_last;   /* capture time (s) of the first and last point */
+} rs_object_t;
+
+typedef struct {
+  bool site_valid;          /* a pose was given */
+  uint32_t count;           /* objects in obj[] */
+  uint32_t candidates_overflow; /* objects whose hull lost candidates (box may be small) */
+  uint32_t approx_boxes;    /* objects whose rectangle search skipped hull edges */
+  rs_object_t obj[RS_OBJ_MAX];
+} rs_object_list_t;
+
+typedef struct {
+  bool have_pose;
+  float rot[9], trans[3];
+  int trig_cols;                      /* columns the tables below were made for */
+  float col_sin[RS_MAX_COLS], col_cos[RS_MAX_COLS];
+  /* work areas */
+  uint32_t col_start_idx[RS_MAX_COLS + 1];
+  uint32_t cells[RS_LAYERS * RS_MAX_CELLS];  /* object cells, row-major */
+  uint32_t bycol[RS_LAYERS * RS_MAX_CELLS];  /* the same, column by column */
+  uint32_t stamp[RS_OBJ_MAX];
+  float dmin[2][RS_OBJ_MAX], dmax[2][RS_OBJ_MAX];
+  float pmin[2][RS_OBJ_MAX][2], pmax[2][RS_OBJ_MAX][2];
+  uint16_t touched[RS_LAYERS * RS_MAX_ROWS];
+  double sum[2][RS_OBJ_MAX][3];
+  double isum[RS_OBJ_MAX];
+  uint32_t first_pkt[RS_OBJ_MAX], last_pkt[RS_OBJ_MAX];
+  uint16_t col_lo_hi[RS_OBJ_MAX][4]; /* min, max, min of the upper half, max of the lower half */
+  uint32_t ncand[2];
+  struct { float x, y; uint16_t obj; } cand[2][RS_OBJ_CANDIDATES];
+  float sorted[RS_OBJ_CANDIDATES][2];
+  uint32_t start[RS_OBJ_MAX + 1];
+  float hull[RS_OBJ_CANDIDATES + 1][2];
+} rs_objects_t;
+
+_Static_assert(RS_OBJ_MAX <= UINT16_MAX, "object index fits in uint16_t");
+
+void rs_objects_init(rs_objects_t *o, const rs_pose_t *pose /* NULL: no site frame */);
+/* Fills `out` from the labels of `s` (layer 0 and 1), scanning the map. */
+void rs_objects_extract(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen, rs_object_list_t *out);
+/* The same from the list of object cells the clustering made (rs_cluster_t's
+ * members: layer 0 then 1, row-major; cells out of the map, without a return
+ * or a cluster label are skipped): no scan of the whole map. */
+void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen, const uint32_t *cells,
+                              uint32_t n, rs_object_list_t *out);
+
+#endif

@@ -1,0 +1,100 @@
+/* proc.h - the processing stages of one frame, in order, over a frame slot.
+ *
+ *   background (the static scene: rs_bgu_t keeps it current) -> clustering
+ *   -> objects -> tracks -> counting lines -> the frame's census (cells, ranges)
+ *
+ * Each stage is a function over the slot with its own state (owned by the
+ * caller and handed in configured, or, for the background, made at init)
+ * and its own counters and timing (CLOCK_MONOTONIC). rs_proc_frame runs
+ * them and fills a per-frame report; what leaves the process (LCM, the
+ * frames CSV, point labels, statistics) is a sink that reads the report and
+ * the slot: no stage knows about LCM, CSV or the command line.
+ *
+ * Threads: rs_proc_init and rs_proc_deinit on the main thread; everything
+ * else on the processing thread (the daemon's, or the tool's only thread).
+ * rs_proc_init allocates what the stages need (the cells' counters); after
+ * it nothing allocates. The background learner is its own thread
+ * (bgupdate.h); its models are taken over at a frame boundary. */
+#ifndef ROADSCAN_PROC_H
+#define ROADSCAN_PROC_H
+
+#include "roadscan/perception/background.h"
+#include "roadscan/perception/bgupdate.h"
+#include "roadscan/perception/cluster.h"
+#include "roadscan/perception/count.h"
+#include "roadscan/frame/frame.h"
+#include "roadscan/perception/objects.h"
+#include "roadscan/sensor/sensor.h"
+#include "roadscan/util/timing.h"
+#include "roadscan/perception/track.h"
+
+#include <stdbool.h>
+#include <stdint.h>
+
+typedef struct {
+  const rs_bg_model_t *background; /* optional: a model to start from (copied) */
+  double learn_seconds;        /* > 0 and no model: learn from the first seconds, then subtract */
+  const char *learn_out;       /* where the learned model is saved (by the learner thread) */
+  double update_window_s;      /* > 0: keep the model current from the last window (bgupdate.h) */
+  double update_every_s;       /* relearn every (0: the updater's default) */
+  bool lossless;               /* every frame matters: a relearn is waited for (replays, tools) */
+  int see_through;             /* 0: the model's own (RS_BG_SEE_THROUGH); N > 0: N; < 0: off */
+  bool beyond_foreground;      /* returns beyond the farthest surface are foreground */
+  rs_cluster_t *cluster;       /* optional: configured clustering work area */
+  rs_objects_t *objects;       /* optional with cluster: rs_objects_init done */
+  rs_object_list_t *object_list; /* required with objects */
+  rs_tracker_t *tracker;       /* optional with objects: rs_track_init done */
+  rs_counter_t *counter;       /* optional with tracker: rs_count_init done */
+} rs_proc_cfg_t;
+
+enum { RS_STAGE_BACKGROUND, RS_STAGE_CLUSTER, RS_STAGE_OBJECTS, RS_STAGE_TRACKS, RS_STAGE_COUNTING, RS_STAGES };
+
+typedef struct {
+  bool ran[RS_STAGES];          /* which stages ran on this frame */
+  int64_t stage_ns[RS_STAGES];
+  int64_t total_ns;                  /* every stage and the census (the sinks come after) */
+  uint32_t foreground;               /* returns left by the background (both layers) */
+  rs_cluster_stats_t cluster;
+  const rs_object_list_t *objects;   /* never NULL: an empty list when no stage made one */
+  const rs_track_list_t *tracks;     /* NULL without a tracker (or before the first clustering) */
+  const rs_count_interval_t *counts; /* a counting interval that closed with this frame, else NULL */
+  bool model_changed;                /* another background model was taken over before this frame */
+  uint32_t filled[RS_LAYERS];        /* cells with a return, per layer */
+  float min_range, max_range;        /* of the frame's returns (0 when none) */
+} rs_proc_report_t;
+
+typedef struct {
+  uint64_t frames, partial_frames, missing_packets, points;
+  uint64_t cells_filled[RS_LAYERS];
+  double min_range, max_range;
+  uint64_t clusters, clustered, noise, objects;
+} rs_proc_counters_t;
+
+typedef struct {
+  rs_proc_cfg_t cfg;
+  rs_proc_counters_t n;
+  rs_timing_t t_stage[RS_STAGES];
+  rs_timing_t t_frame;
+  rs_bg_counts_t bg;                 /* background / foreground returns */
+  uint32_t *beyond_cells;            /* returns beyond each cell's farthest surface (allocated at init) */
+  rs_bgu_t bgu;                      /* the static scene in use */
+  bool bgu_on;
+  bool rate_checked, few_warned;
+  const rs_sensor_t *sensor;         /* of the frames seen so far */
+  double last_t;                     /* capture time of the last tracked frame */
+} rs_proc_t;
+
+/* RS_OK, or a negative code with err set (nothing left allocated). */
+int rs_proc_init(rs_proc_t *p, const rs_proc_cfg_t *cfg, char *err, size_t errlen);
+void rs_proc_deinit(rs_proc_t *p);
+/* Runs every configured stage on s (whose frames come from sensor) and
+ * fills r. Frames whose geometry is not the model's are not subtracted;
+ * with a background being learned nothing is clustered until it exists. */
+void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_proc_report_t *r);
+/* The model in use (NULL while the first one is learned, or without a background). */
+const rs_bg_model_t *rs_proc_model(const rs_proc_t *p);
+const char *rs_proc_stage_name(int stage);
+/* The end of the run: closes the open counting interval (r->counts, else NULL). */
+void rs_proc_finish(rs_proc_t *p, rs_proc_report_t *r);
+
+#endif

@@ -1,0 +1,204 @@
+/* track.h - objects followed over time: ids, velocity, class.
+ *
+ * A stage after the object stage (processing thread; no allocation; every
+ * loop bounded by the capacities below). Each frame's objects are
+ * associated with the tracks, the tracks updated, born, confirmed, coasted
+ * and ended.
+ *
+ * State: per track a constant-velocity Kalman filter on the ground plane of
+ * the sensor frame, x = (px, py, vx, vy), with the full white-noise-
+ * acceleration process noise (S the 2 x 2 acceleration spectral density):
+ *   Q = [S dt^3/3, S dt^2/2; S dt^2/2, S dt],
+ * S = q_long along the motion and q_accel across it for a track faster than
+ * 1 m/s (vehicles speed up and brake along their heading), q_accel I else.
+ * The measurement is the centre of the object's oriented box, taken at the
+ * object's own time (the middle of its first and last return: a turn lasts
+ * 0.1 s, a car at 15 m/s moves 1.5 m in it), with a noise that grows with
+ * the object's size. Time steps come from those capture timestamps only,
+ * never the wall clock: a replay at any speed gives the same tracks.
+ *
+ * Association, per frame: confirmed tracks first, then tentative ones, each
+ * round an optimal assignment (Hungarian algorithm) of the tracks and the
+ * objects left, gated by Mahalanobis distance (chi-square, 2 degrees of
+ * freedom), Euclidean distance and the speed the pairing implies. The gate
+ * graph is split into connected groups; each group of at most
+ * RS_TRACK_GROUP_MAX tracks and objects is solved exactly on a static cost
+ * matrix, a larger one greedily (counted). Ties break by track id, then
+ * object order.
+ * - One cluster over two confirmed tracks (queued cars touching): the
+ *   predicted centres of both lie in its box; neither takes it, both keep
+ *   their ids and are held (predicted, kept alive, speeds kept) until they
+ *   come apart.
+ * - One object split into two clusters: the one not taken whose centre lies
+ *   within a taken track's box (grown by RS_TRACK_SPLIT_MARGIN) starts no
+ *   track; its returns carry that track's id.
+ * Lifecycle (seconds of sensor time): a track is born tentative from an
+ * object of at least birth_points returns; it is confirmed after
+ * confirm_hits hits when it has moved confirm_move_m from where it was born
+ * (a vehicle), or after confirm_still_s of hits with no miss (a pedestrian
+ * waiting); a tentative track missed for more than tentative_miss_s ends
+ * (flickering foliage, edges and rain never confirm: they do not move and
+ * do not last). A confirmed track coasts through occlusion up to coast_s,
+ * its uncertainty growing; then it is lost: no longer published, but an
+ * object in its gate takes it up again (a pedestrian behind a parked van
+ * for 2 s keeps its id) until lost_s more have passed; then it ends, with
+ * an end event (its end time: when it was last seen). A track slower
+ * than still_speed, or within
+ * (one standard deviation of the velocity, capped at 1 m/s) reports speed 0.
+ * Heading: of the velocity when moving faster than 1 m/s, else the last one;
+ * the box's axis (ambiguous by 180 degrees) is turned to it.
+ * Class, from the smoothed box (length L, width W, height H, metres) and the
+ * highest speed seen (V, m/s), the first rule that holds:
+ *   bus: L >= 10; van/truck: L >= 5.6, or L >= 4 and H >= 2.1;
+ *   car: L >= 3 and W >= 1.3; cyclist: L >= 1.2 and W < 1.2 and V >= 2;
+ *   pedestrian: L < 1.3 and W < 1.3 and 0.9 <= H <= 2.3 and V < 4;
+ *   else unknown (and every class while tentative).
+ * Ids: a counter from 1, never reused in a run. */
+#ifndef ROADSCAN_TRACK_H
+#define ROADSCAN_TRACK_H
+
+#include "roadscan/perception/objects.h"
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#define RS_TRACK_MAX 512         /* tracks alive at once */
+#define RS_TRACK_GROUP_MAX 48    /* tracks or objects in one exactly solved association group */
+#define RS_TRACK_ENDED_MAX 128   /* end events per frame */
+#define RS_TRACK_SPLIT_MARGIN 1.0f
+#define RS_TRACK_EDGES_PER_TRACK 8 /* the best gated objects a track keeps per round */
+#define RS_TRACK_GRID_BUCKETS 4096 /* object lookup grid (4 m cells, hashed) */
+
+_Static_assert(RS_TRACK_MAX <= RS_OBJ_MAX, "a track index fits where an object index does");
+_Static_assert(RS_TRACK_GROUP_MAX * RS_TRACK_GROUP_MAX <= 4096, "the association matrix stays small");
+_Static_assert(RS_TRACK_MAX + RS_OBJ_MAX <= UINT16_MAX, "group roots fit in uint16_t");
+_Static_assert((RS_TRACK_GRID_BUCKETS & (RS_TRACK_GRID_BUCKETS - 1)) == 0, "buckets: a power of two");
+
+typedef enum { RS_TRACK_TENTATIVE = 0, RS_TRACK_CONFIRMED = 1, RS_TRACK_COASTING = 2, RS_TRACK_LOST = 3 } rs_track_state_t;
+typedef enum {
+  RS_CLASS_UNKNOWN = 0,
+  RS_CLASS_PEDESTRIAN,
+  RS_CLASS_CYCLIST,
+  RS_CLASS_CAR,
+  RS_CLASS_VAN_TRUCK,
+  RS_CLASS_BUS,
+  RS_CLASS_COUNT
+} rs_class_t;
+
+typedef struct {
+  double q_accel;          /* m^2/s^3, process noise (across the motion of a moving track; default 1) */
+  double q_long;           /* m^2/s^3, the same along its motion (default 1) */
+  double meas_sd;          /* m, measurement noise of a small object (default 0.15) */
+  double meas_sd_per_m;    /* m of noise per m of box length (default 0.1) */
+  double gate_chi2;        /* Mahalanobis gate, 2 dof (default 13.8: 99.9 %) */
+  double gate_m;           /* Euclidean gate from the prediction (default 4) */
+  double max_speed;        /* implied speed gate, m/s (default 50) */
+  double init_speed_sd;    /* m/s, velocity uncertainty of a new track (default 25: unknown) */
+  double init_small_speed_sd; /* the same for an object shorter than 2 m (default 5) */
+  int birth_points;        /* returns an object needs to start a track (default 5) */
+  int confirm_hits;        /* default 3 */
+  double confirm_move_m;   /* default 0.8 */
+  double confirm_still_s;  /* default 1.5 */
+  double tentative_miss_s; /* default 0.25 */
+  double coast_s;          /* default 1.0 */
+  double lost_s;           /* then kept unpublished for re-acquisition (default 2.0) */
+  double still_speed;      /* m/s, reported as 0 below (default 0.3) */
+  double size_weight;      /* association cost per unit of |ln(points ratio)| to the track's last object, beyond
+                              ln(1 + 3 / sqrt(smaller count)) (default 2) */
+} rs_track_cfg_t;
+
+typedef struct {
+  uint32_t id;
+  rs_track_state_t state;
+  rs_class_t cls;
+  double t_birth, t_update;  /* capture time (s) of the first and last update */
+  double t_state;            /* time of the state x below */
+  double x[4];               /* px py vx vy, sensor frame */
+  double P[4][4];
+  double px0, py0;           /* where it was born */
+  double last_z[2];          /* the last measurement */
+  double prev[2];            /* position at the previous frame (path length) */
+  float length, width, height, z_min; /* smoothed box */
+  float heading;             /* radians from +X, counter-clockwise, (-pi, pi] */
+  float hcos, hsin;          /* its cosine and sine */
+  float speed;               /* reported (0 when still) */
+  float max_speed, sum_speed;
+  uint32_t speed_n;
+  double distance;           /* path length, m (coasting included) */
+  double distance_seen;      /* the same up to the last update */
+  uint32_t hits, misses;     /* frames with and without an object */
+  uint32_t points;           /* returns of the last object */
+  int32_t object;            /* index in this frame's object list, -1 none */
+  bool held;                 /* shares a cluster with another track this frame */
+} rs_track_t;
+
+typedef struct {
+  uint32_t id;
+  rs_class_t cls;
+  bool confirmed;
+  double t_birth, t_end;
+  double distance, mean_speed, max_speed;
+} rs_track_end_t;
+
+typedef struct {
+  double t;                  /* the frame's time (its last packet) */
+  uint32_t count;            /* tracks in track[] (tentative, confirmed and coasting) */
+  rs_track_t track[RS_TRACK_MAX];
+  uint32_t ended;            /* end events of this frame */
+  rs_track_end_t end[RS_TRACK_ENDED_MAX];
+  /* per object of the frame: the track that took it (or absorbed it as a split part), 0 none */
+  uint32_t object_track[RS_OBJ_MAX];
+} rs_track_list_t;
+
+typedef struct {
+  uint64_t frames, born, confirmed, ended, overflow, greedy_groups, held, absorbed, ends_dropped, duplicates, stitched;
+} rs_track_counters_t;
+
+typedef struct {
+  uint16_t t, o; /* track index, object index */
+  float c;       /* cost: squared Mahalanobis distance + log det S */
+} rs_track_edge_t;
+
+typedef struct {
+  rs_track_cfg_t cfg;
+  rs_track_list_t list;      /* the tracks, in id order */
+  uint32_t next_id;
+  rs_track_counters_t n;
+  double last_t;
+  /* work areas */
+  int32_t taken_by[RS_OBJ_MAX];        /* object -> track index, -1 */
+  uint8_t shared[RS_OBJ_MAX];          /* object box holds >= 2 confirmed predictions */
+  double obj_t[RS_OBJ_MAX];
+  float obj_z[RS_OBJ_MAX][2];
+  uint16_t comp[RS_TRACK_MAX + RS_OBJ_MAX];
+  uint16_t gt[RS_TRACK_GROUP_MAX], go[RS_TRACK_GROUP_MAX];
+  double cost[RS_TRACK_GROUP_MAX][RS_TRACK_GROUP_MAX];
+  uint32_t edges;                      /* gated pairs this round */
+  rs_track_edge_t edge[RS_TRACK_MAX * RS_TRACK_EDGES_PER_TRACK];
+  rs_track_edge_t gedge[RS_TRACK_MAX * RS_TRACK_EDGES_PER_TRACK]; /* the same, grouped */
+  uint16_t eroot[RS_TRACK_MAX * RS_TRACK_EDGES_PER_TRACK];
+  uint32_t root_start[RS_TRACK_MAX + RS_OBJ_MAX + 1];
+  int32_t grid_head[RS_TRACK_GRID_BUCKETS];
+  int32_t grid_next[RS_OBJ_MAX];
+  int32_t tgrid_head[RS_TRACK_GRID_BUCKETS];  /* tracks by position */
+  int32_t tgrid_next[RS_TRACK_MAX];
+  double tpos[RS_TRACK_MAX][2];
+  long tcell[RS_TRACK_MAX][2];
+  double vmax;                         /* the fastest track's speed this frame */
+  uint16_t near[RS_TRACK_MAX];
+} rs_tracker_t;
+
+void rs_track_cfg_default(rs_track_cfg_t *c);
+/* Sets one parameter by its field name ("q_accel", "coast_s", ...) from text,
+ * within its range; RS_E_INVAL with a message naming it (and, for an unknown
+ * name, every name) otherwise. */
+int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n);
+/* RS_E_INVAL for a parameter out of range. */
+int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg);
+/* One frame: its objects and its time (s, capture clock). */
+void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_frame);
+const char *rs_track_state_name(rs_track_state_t s);
+const char *rs_class_name(rs_class_t c);
+
+#endif

@@ -1,0 +1,45 @@
+/* framer.c - stream -> assembler -> frame callback, for tools (one thread). */
+#include "roadscan/frame/framer.h"
+
+#include "roadscan/util/error.h"
+
+#include <stdio.h>
+#include <string.h>
+
+int rs_framer_init(rs_framer_t *f, const rs_stream_cfg_t *scfg, const rs_asm_cfg_t *acfg, rs_slot_t *slots,
+                   rs_framer_fn fn, void *user) {
+  memset(f, 0, sizeof *f);
+  f->acfg = *acfg;
+  if (f->acfg.default_hz <= 0) f->acfg.default_hz = 10.0;
+  f->slots = slots;
+  f->fn = fn;
+  f->user = user;
+  return rs_stream_init(&f->stream, scfg);
+}
+
+static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double ts) {
+  rs_framer_t *f = user;
+  if (f->rc != RS_OK || f->stop) return;
+  if (!f->ready) {
+    f->rc = rs_asm_init(&f->as, &f->acfg, &f->stream.sensor);
+    if (f->rc != RS_OK) return;
+    f->ready = true;
+  }
+  /* bounded: every FRAME_DONE resumes at least one block further */
+  for (int i = 0; i <= RS_BLOCKS; i++) {
+    if (rs_asm_feed(&f->as, &f->slots[f->cur], pkt, index, ts) == RS_ASM_CONSUMED) break;
+    f->fn(f->user, &f->slots[f->cur]);
+    f->cur ^= 1;
+  }
+  f->stream.rate_hint = f->as.rate;
+}
+
+int rs_framer_replay_file(rs_framer_t *f, const char *path, char *err, size_t n) {
+  int rc = rs_stream_replay_file(&f->stream, path, on_packet, f, &f->stop, err, n);
+  if (f->rc != RS_OK) {
+    snprintf(err, n, "frame assembly: %s", rs_strerror(f->rc));
+    return f->rc;
+  }
+  if (f->ready && f->flush_last && !f->stop && rs_asm_flush(&f->as, &f->slots[f->cur])) f->fn(f->user, &f->slots[f->cur]);
+  return rc;
+}

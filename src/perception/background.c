@@ -1,0 +1,991 @@
+/* background.c - static-scene learning, model file, subtraction.
+ *
+ * Learning runs at start-up or in the learning tool and allocates; the
+ * subtraction runs in the processing thread on the preallocated model. */
+#include "roadscan/perception/background.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#define BEYOND 65535u
+
+void rs_bg_params_default(rs_bg_params_t *p) {
+  memset(p, 0, sizeof *p);
+  p->method = RS_BG_DBSCAN;
+  p->min_pts_floor = 10;
+  p->min_pts_share = 0.01;
+  p->eps_min = 0.08;
+  p->eps_max = 0.40;
+  p->eps_step = 0.01;
+  p->persist_max = 0.8;
+  p->flicker_lift = 0.25;
+  p->coverage_min = 0.8;
+  p->window_s = 5.0;
+  p->pair_gap_s = 1.0;
+  p->margin_min = 0.05;
+  p->margin_share = 0.006;
+  p->merge_gap_min = 0.5;
+  p->merge_gap_share = 0.02;
+  p->chain_gap = 0.20;
+  p->support = true;
+  p->support_tol_min = 0.3;
+  p->support_tol_share = 0.03;
+  p->connect_min = 0.5;
+  p->margin_samples = 4.0;
+  p->wide_min = 2.0;
+  p->wide_share = 0.15;
+  p->connect_share = 0.05;
+  p->percentile = 50.0;
+  p->percentile_tol = 0.3;
+}
+
+int rs_bg_model_alloc(rs_bg_model_t *m, rs_model_t model, int rows, int cols) {
+  memset(m, 0, sizeof *m);
+  if (rows < 1 || rows > RS_MAX_ROWS || cols < RS_MIN_COLS || cols > RS_MAX_COLS) return RS_E_INVAL;
+  size_t cells = (size_t)rows * (size_t)cols;
+  m->model = model;
+  m->rows = (uint16_t)rows;
+  m->cols = (uint16_t)cols;
+  m->n = calloc(cells, 1);
+  m->far_seen = calloc(cells, 1);
+  m->lo = calloc(cells * RS_BG_SURFACES, sizeof(uint16_t));
+  m->hi = calloc(cells * RS_BG_SURFACES, sizeof(uint16_t));
+  if (!m->n || !m->far_seen || !m->lo || !m->hi) {
+    rs_bg_model_free(m);
+    return RS_E_NOMEM;
+  }
+  rs_bg_params_default(&m->params);
+  m->see_through = RS_BG_SEE_THROUGH;
+  m->beyond_static = true;
+  return RS_OK;
+}
+
+void rs_bg_model_free(rs_bg_model_t *m) {
+  free(m->n);
+  free(m->far_seen);
+  m->far_seen = NULL;
+  free(m->lo);
+  free(m->hi);
+  m->n = NULL;
+  m->lo = m->hi = NULL;
+}
+
+/* ---- subtraction ---- */
+
+static int match(const rs_bg_model_t *m, uint32_t cell, uint32_t cm) {
+  const uint32_t base = cell * RS_BG_SURFACES;
+  for (int k = 0; k < m->n[cell]; k++)
+    if (cm >= m->lo[base + k] && cm <= m->hi[base + k]) return 1;
+  return 0;
+}
+
+static inline uint32_t to_cm(float r) { return r >= 655.0f ? 65534u : (uint32_t)(r * 100.0f + 0.5f); }
+
+bool rs_bg_is_static(const rs_bg_model_t *m, int row, int col, float r) {
+  return match(m, (uint32_t)row * m->cols + (uint32_t)col, to_cm(r));
+}
+
+/* a see-through cell: does the range match a surface of the cell on either side? */
+/* a return matches a surface of the cell on either side in the row, of a
+ * cell whose farthest surface is seen in at least min_seen % of frames */
+static bool match_beside(const rs_bg_model_t *m, int row, int col, uint32_t cm, int min_seen) {
+  const uint32_t cols = m->cols, base = (uint32_t)row * cols;
+  const uint32_t left = base + (col > 0 ? (uint32_t)col - 1 : cols - 1);
+  const uint32_t right = base + ((uint32_t)col + 1 < cols ? (uint32_t)col + 1 : 0);
+  return (m->far_seen[left] >= min_seen && match(m, left, cm)) || (m->far_seen[right] >= min_seen && match(m, right, cm));
+}
+
+/* one return: background? (*beyond: it lies beyond the cell's farthest surface) */
+static bool classify(const rs_bg_model_t *m, int r, int col, uint32_t cell, uint32_t cm, bool *beyond) {
+  *beyond = false;
+  /* a cell the sensor sees through matches the surfaces beside it; a cell
+   * with none learned (too few returns) those of a cell beside it whose
+   * farthest surface is seen in half the frames or more (not a queue taken
+   * for the scene where the road is out of reach) */
+  const int see = m->see_through;
+  if (match(m, cell, cm) ||
+      (see > 0 && (m->n[cell] >= see || m->n[cell] == 0) && match_beside(m, r, col, cm, m->n[cell] == 0 ? 50 : 0)))
+    return true;
+  /* beyond the farthest surface: a surface has gone, or the sensor moved
+   * (counted). Behind a solid surface (seen in most frames) nothing moves:
+   * background. Behind one the sensor sees through (a canopy) only just
+   * behind it (max(0.3 m, 3 %): the surface seen from a slightly different
+   * place); farther, it can be a vehicle. */
+  const uint32_t nk = m->n[cell];
+  if (nk == 0) return false;
+  const uint32_t far = m->hi[cell * RS_BG_SURFACES + nk - 1];
+  if (far == BEYOND || cm <= far) return false;
+  *beyond = true;
+  return m->beyond_static && (m->far_seen[cell] >= RS_BG_SOLID_PCT || cm - far <= (far < 1000u ? 30u : far * 3u / 100u));
+}
+
+bool rs_bg_return_static(const rs_bg_model_t *m, int row, int col, float r, bool *beyond) {
+  bool b;
+  bool st = classify(m, row, col, (uint32_t)row * m->cols + (uint32_t)col, to_cm(r), &b);
+  if (beyond) *beyond = b;
+  return st;
+}
+
+void rs_bg_subtract(const rs_bg_model_t *m, rs_slot_t *s, rs_bg_counts_t *c) {
+  const int rows = s->meta.rows, cols = s->meta.cols;
+  for (int l = 0; l < RS_LAYERS; l++)
+    for (int r = 0; r < rows; r++) {
+      const uint32_t base = (uint32_t)l * RS_MAX_CELLS + (uint32_t)r * (uint32_t)cols;
+      for (int col = 0; col < cols; col++) {
+        const float range = s->range[base + (uint32_t)col];
+        if (range == 0.0f) continue;
+        const uint32_t cell = (uint32_t)r * (uint32_t)cols + (uint32_t)col;
+        bool beyond;
+        const bool st = classify(m, r, col, cell, to_cm(range), &beyond);
+        if (beyond) {
+          if (c->beyond_cells) c->beyond_cells[cell]++;
+          c->beyond++;
+        }
+        s->label[base + (uint32_t)col] = st ? RS_LABEL_BACKGROUND : RS_LABEL_NOISE;
+        if (st) c->background++;
+        else c->foreground++;
+      }
+    }
+}
+
+int rs_bg_model_copy(rs_bg_model_t *dst, const rs_bg_model_t *src) {
+  int rc = rs_bg_model_alloc(dst, src->model, src->rows, src->cols);
+  if (rc != RS_OK) return rc;
+  const size_t cells = (size_t)src->rows * src->cols;
+  dst->rate_hz = src->rate_hz;
+  dst->params = src->params;
+  dst->frames = src->frames;
+  dst->created = src->created;
+  dst->see_through = src->see_through;
+  dst->beyond_static = src->beyond_static;
+  memcpy(dst->n, src->n, cells);
+  memcpy(dst->far_seen, src->far_seen, cells);
+  memcpy(dst->lo, src->lo, cells * RS_BG_SURFACES * sizeof *dst->lo);
+  memcpy(dst->hi, src->hi, cells * RS_BG_SURFACES * sizeof *dst->hi);
+  return RS_OK;
+}
+
+/* ---- 1-D DBSCAN on sorted unique values with counts ---- */
+
+int rs_bg_dbscan1d(const int32_t *v, const uint32_t *c, int u, int32_t eps, uint32_t min_pts, int16_t *label) {
+  /* core values (positive labels): the count within eps reaches min_pts */
+  int lo = 0, hi = 0;
+  uint64_t win = 0;
+  for (int i = 0; i < u; i++) {
+    while (hi < u && v[hi] - v[i] <= eps) win += c[hi++];
+    while (v[i] - v[lo] > eps) win -= c[lo++];
+    label[i] = win >= min_pts ? 1 : 0;
+  }
+  /* clusters: runs of core values no more than eps apart, numbered from 1 */
+  int k = 0, last_core = -1;
+  for (int i = 0; i < u; i++) {
+    if (label[i] <= 0) continue;
+    if (last_core < 0 || v[i] - v[last_core] > eps) k++;
+    label[i] = (int16_t)k;
+    last_core = i;
+  }
+  /* border values (negative labels) join the nearest core value within eps */
+  int prev_core = -1;
+  for (int i = 0; i < u; i++) {
+    if (label[i] > 0) {
+      prev_core = i;
+      continue;
+    }
+    int next_core = -1;
+    for (int j = i + 1; j < u && v[j] - v[i] <= eps; j++)
+      if (label[j] > 0) {
+        next_core = j;
+        break;
+      }
+    int32_t dp = prev_core >= 0 ? v[i] - v[prev_core] : INT32_MAX;
+    int32_t dn = next_core >= 0 ? v[next_core] - v[i] : INT32_MAX;
+    if (dp <= eps && dp <= dn) label[i] = (int16_t)-label[prev_core];
+    else if (dn <= eps) label[i] = (int16_t)-label[next_core];
+  }
+  for (int i = 0; i < u; i++) label[i] = (int16_t)(label[i] > 0 ? label[i] - 1 : (label[i] < 0 ? -label[i] - 1 : -1));
+  return k;
+}
+
+double rs_bg_silhouette1d(const int32_t *v, const uint32_t *c, int u, const int16_t *label, int k) {
+  if (k < 2) return NAN;
+  /* per cluster: weighted count and sum; clusters are intervals in 1-D */
+  double n[RS_BG_SURFACES * 8] = {0}, sum[RS_BG_SURFACES * 8] = {0};
+  if (k > RS_BG_SURFACES * 8) return NAN;
+  for (int i = 0; i < u; i++)
+    if (label[i] >= 0) {
+      n[label[i]] += c[i];
+      sum[label[i]] += (double)c[i] * v[i];
+    }
+  /* mean distance of x to a cluster: exact with prefix sums inside the own
+   * cluster; other clusters lie wholly on one side except at ties */
+  double total = 0, weight = 0;
+  double run_n = 0, run_s = 0;
+  int cur = -1;
+  for (int i = 0; i < u; i++) {
+    int a = label[i];
+    if (a < 0) continue;
+    if (a != cur) {
+      cur = a;
+      run_n = 0;
+      run_s = 0;
+    }
+    double x = v[i];
+    /* values of own cluster below x: run_n, run_s; above: the rest minus this value's copies */
+    double below_n = run_n, below_s = run_s;
+    double above_n = n[a] - run_n - c[i], above_s = sum[a] - run_s - (double)c[i] * x;
+    double own = n[a] - 1; /* other members (ties at distance 0 included) */
+    double ai = own > 0 ? (x * below_n - below_s + above_s - x * above_n) / own : 0.0;
+    double bi = INFINITY;
+    for (int b = 0; b < k; b++) {
+      if (b == a || n[b] == 0) continue;
+      double mb = fabs(sum[b] / n[b] - x);
+      if (mb < bi) bi = mb;
+    }
+    double si = (own <= 0 || !isfinite(bi)) ? 0.0 : (bi - ai) / fmax(ai, bi);
+    total += si * c[i];
+    weight += c[i];
+    run_n += c[i];
+    run_s += (double)c[i] * x;
+  }
+  return weight > 0 ? total / weight : NAN;
+}
+
+/* weighted mean pairwise distance inside cluster 0 of a one-cluster labelling */
+static double intra1d(const int32_t *v, const uint32_t *c, int u, const int16_t *label) {
+  double run_n = 0, run_s = 0, pairs = 0, dist = 0;
+  for (int i = 0; i < u; i++) {
+    if (label[i] < 0) continue;
+    dist += (double)c[i] * ((double)v[i] * run_n - run_s);
+    pairs += (double)c[i] * run_n + (double)c[i] * (c[i] - 1) / 2.0;
+    run_n += c[i];
+    run_s += (double)c[i] * v[i];
+  }
+  return pairs > 0 ? dist / pairs : 0.0; /* one value: no spread */
+}
+
+/* ---- learning ---- */
+
+size_t rs_bg_learner_bytes(int rows, int cols, int max_frames) {
+  return (size_t)rows * (size_t)cols * (size_t)max_frames * sizeof(uint16_t);
+}
+
+int rs_bg_learner_init(rs_bg_learner_t *l, rs_model_t model, int rows, int cols, int max_frames, uint64_t seed) {
+  memset(l, 0, sizeof *l);
+  if (rows < 1 || rows > RS_MAX_ROWS || cols < RS_MIN_COLS || cols > RS_MAX_COLS || max_frames < 2) return RS_E_INVAL;
+  l->model = model;
+  l->rows = rows;
+  l->cols = cols;
+  l->max_frames = max_frames;
+  l->samples = malloc(rs_bg_learner_bytes(rows, cols, max_frames));
+  l->t = calloc((size_t)max_frames, sizeof(double));
+  l->rng = seed * 0x9E3779B97F4A7C15ull + 1;
+  if (l->samples == NULL || l->t == NULL) {
+    rs_bg_learner_free(l);
+    return RS_E_NOMEM;
+  }
+  return RS_OK;
+}
+
+void rs_bg_learner_free(rs_bg_learner_t *l) {
+  free(l->samples);
+  free(l->t);
+  l->samples = NULL;
+  l->t = NULL;
+}
+
+static uint64_t next_rand(uint64_t *s) {
+  *s ^= *s << 13;
+  *s ^= *s >> 7;
+  *s ^= *s << 17;
+  return *s;
+}
+
+void rs_bg_learner_set(rs_bg_learner_t *l, int f, const rs_slot_t *s) {
+  if (f < 0 || f >= l->max_frames || s->meta.rows != l->rows || s->meta.cols != l->cols) return;
+  if (f >= l->nframes) l->nframes = f + 1;
+  l->t[f] = s->meta.t_first;
+  const size_t cells = (size_t)l->rows * (size_t)l->cols;
+  for (size_t i = 0; i < cells; i++) {
+    float r = s->range[i];
+    l->samples[i * (size_t)l->max_frames + (size_t)f] = r <= 0.0f ? 0 : (r >= 655.0f ? 65534 : (uint16_t)(r * 100.0f + 0.5f));
+  }
+}
+
+void rs_bg_learner_add(rs_bg_learner_t *l, const rs_slot_t *s) {
+  if (s->meta.rows != l->rows || s->meta.cols != l->cols) return;
+  int f;
+  if (l->nframes < l->max_frames) {
+    f = l->nframes++;
+  } else {
+    uint64_t j = next_rand(&l->rng) % (l->seen + 1);
+    if (j >= (uint64_t)l->max_frames) {
+      l->seen++;
+      return;
+    }
+    f = (int)j;
+  }
+  l->seen++;
+  l->t[f] = s->meta.t_first;
+  const size_t cells = (size_t)l->rows * (size_t)l->cols;
+  for (size_t i = 0; i < cells; i++) {
+    float r = s->range[i];
+    l->samples[i * (size_t)l->max_frames + (size_t)f] = r <= 0.0f ? 0 : (r >= 655.0f ? 65534 : (uint16_t)(r * 100.0f + 0.5f));
+  }
+}
+
+static int cmp_i32(const void *a, const void *b) {
+  int32_t x = *(const int32_t *)a, y = *(const int32_t *)b;
+  return (x > y) - (x < y);
+}
+
+#define MAXK 32
+
+typedef struct {
+  int32_t lo, hi;
+  uint32_t count;
+  uint32_t pairs, stay;  /* consecutive-sample pairs starting in the cluster, and staying */
+  uint32_t second;       /* pairs (of any start) whose second sample is in the cluster */
+  uint32_t windows;      /* time windows in which it appears */
+} clus_t;
+
+/* Chooses eps and clusters one cell; returns the number of clusters. */
+static int cluster_cell(const rs_bg_params_t *p, int32_t *vals, int nz, uint32_t min_pts, int32_t *v, uint32_t *c,
+                        int16_t *label, int *u_out, int32_t *eps_out) {
+  qsort(vals, (size_t)nz, sizeof vals[0], cmp_i32);
+  int u = 0;
+  for (int i = 0; i < nz; i++) {
+    if (u > 0 && v[u - 1] == vals[i]) c[u - 1]++;
+    else {
+      v[u] = vals[i];
+      c[u] = 1;
+      u++;
+    }
+  }
+  *u_out = u;
+  const int32_t e0 = (int32_t)lround(p->eps_min * 100), e1 = (int32_t)lround(p->eps_max * 100);
+  const int32_t es = (int32_t)fmax(1, lround(p->eps_step * 100));
+  double best_sil = -INFINITY, best_intra = INFINITY;
+  int32_t eps_multi = -1, eps_single = -1;
+  for (int32_t eps = e0; eps <= e1; eps += es) {
+    int k = rs_bg_dbscan1d(v, c, u, eps, min_pts, label);
+    if (k >= 2 && k <= MAXK) {
+      double s = rs_bg_silhouette1d(v, c, u, label, k);
+      if (s > best_sil) {
+        best_sil = s;
+        eps_multi = eps;
+      }
+    } else if (k == 1) {
+      double in = intra1d(v, c, u, label);
+      if (in < best_intra) {
+        best_intra = in;
+        eps_single = eps;
+      }
+    }
+  }
+  int32_t eps = eps_multi >= 0 ? eps_multi : eps_single;
+  if (eps < 0) return 0;
+  *eps_out = eps;
+  return rs_bg_dbscan1d(v, c, u, eps, min_pts, label);
+}
+
+static int find_value(const int32_t *v, int u, int32_t x) {
+  int a = 0, b = u - 1;
+  while (a <= b) {
+    int m = (a + b) / 2;
+    if (v[m] == x) return m;
+    if (v[m] < x) a = m + 1;
+    else b = m - 1;
+  }
+  return -1;
+}
+
+/* Flickering clusters of one cell less than gap apart become one (ids
+ * renumbered from 0 in range order); returns the new count. A surface seen
+ * at a grazing angle is sampled at the 0.01 degree steps of the azimuth
+ * field: its ranges come in clumps (0.17 m apart for a facade at 190 m seen
+ * 6 degrees off its plane), each flickering but too sparse to be present in
+ * most windows, yet the surface is. A vehicle does not flicker: its cluster
+ * is never joined to one beside it. */
+static int chain_clusters(const int32_t *v, int u, int16_t *label, int32_t gap, const bool *flicker) {
+  int16_t grp[MAXK];
+  int g = -1, last = -1;
+  int32_t prev = 0;
+  for (int i = 0; i < u; i++) {
+    if (label[i] < 0) continue;
+    if (label[i] != last) {
+      if (g < 0 || v[i] - prev > gap || !flicker[label[i]] || !flicker[last]) g++;
+      grp[label[i]] = (int16_t)g;
+      last = label[i];
+    }
+    prev = v[i];
+  }
+  for (int i = 0; i < u; i++)
+    if (label[i] >= 0) label[i] = grp[label[i]];
+  return g + 1;
+}
+
+/* one cell's samples, for the cluster statistics */
+typedef struct {
+  const int32_t *v;
+  const uint32_t *cnt;
+  int u;
+  const uint16_t *smp; /* [stored frame] range in cm, 0 = no return */
+  const int *order;    /* stored frames in time order */
+  const int *win;      /* time window of each, in that order */
+  int nf, nz;
+  const double *t;
+  double pair_gap_s;
+} cell_in_t;
+
+static bool flickers(const clus_t *q, uint32_t npairs, double lift) {
+  /* whether the next sample is in the cluster hardly depends on whether
+   * this one was (leaves); a vehicle stays for several frames. (A cluster
+   * present in more than 1 - lift of the frames always passes: it is
+   * present, flickering or not. Normalising the lift by 1 - base was tried:
+   * it loses the main return of surfaces that come in two, rush static
+   * 99.76 -> 99.39 %, the real capture 0.26 -> 0.37 % foreground.) */
+  double stay = q->pairs ? (double)q->stay / q->pairs : 1.0;
+  double base = npairs ? (double)q->second / npairs : 0.0;
+  return q->pairs >= 10 && stay - base < lift;
+}
+
+/* extent, count, time windows and consecutive pairs of every cluster and of
+ * "no return" (cl[k]); memb = cluster of every stored frame in time order.
+ * Returns the number of consecutive pairs. */
+static uint32_t cell_stats(const cell_in_t *in, const int16_t *label, int k, clus_t *cl, int16_t *memb) {
+  memset(cl, 0, sizeof(clus_t) * (size_t)(k + 1));
+  for (int j = 0; j < k; j++) {
+    cl[j].lo = INT32_MAX;
+    cl[j].hi = INT32_MIN;
+  }
+  for (int i = 0; i < in->u; i++) {
+    if (label[i] < 0) continue;
+    clus_t *q = &cl[label[i]];
+    if (in->v[i] < q->lo) q->lo = in->v[i];
+    if (in->v[i] > q->hi) q->hi = in->v[i];
+    q->count += in->cnt[i];
+  }
+  for (int i = 0; i < in->nf; i++) {
+    uint16_t x = in->smp[in->order[i]];
+    if (x == 0) memb[i] = (int16_t)k;
+    else {
+      int at = find_value(in->v, in->u, x);
+      memb[i] = (int16_t)(at < 0 ? -1 : label[at]);
+    }
+  }
+  cl[k].count = (uint32_t)(in->nf - in->nz);
+  bool seen_in_win[MAXK + 1] = {false};
+  uint32_t npairs = 0;
+  for (int i = 0; i < in->nf; i++) {
+    if (i > 0 && in->win[i] != in->win[i - 1]) memset(seen_in_win, 0, sizeof seen_in_win);
+    int m = memb[i];
+    if (m >= 0 && !seen_in_win[m]) {
+      seen_in_win[m] = true;
+      cl[m].windows++;
+    }
+    if (i + 1 < in->nf && in->t[in->order[i + 1]] - in->t[in->order[i]] <= in->pair_gap_s) {
+      npairs++;
+      if (memb[i + 1] >= 0) cl[memb[i + 1]].second++;
+      if (m >= 0) {
+        cl[m].pairs++;
+        cl[m].stay += memb[i + 1] == m;
+      }
+    }
+  }
+  return npairs;
+}
+
+/* frames in time order */
+typedef struct {
+  double t;
+  int i;
+} tidx_t;
+static int cmp_tidx(const void *a, const void *b) {
+  const tidx_t *x = a, *y = b;
+  return (x->t > y->t) - (x->t < y->t) + (x->t == y->t) * ((x->i > y->i) - (x->i < y->i));
+}
+
+int rs_bg_min_pts(const rs_bg_params_t *p, int nframes) {
+  /* 1 % of the samples, at least the floor; a short capture brings the
+   * floor down to a tenth of its frames, never below 2 (below 6 frames, a
+   * single return makes a surface: there is nothing else to go by) */
+  int floor_ = p->min_pts_floor;
+  if (floor_ > nframes / 10) floor_ = nframes / 10;
+  if (floor_ < 2) floor_ = nframes < 6 ? 1 : 2;
+  return (int)fmax(floor_, ceil(p->min_pts_share * nframes));
+}
+
+/* A cell's clusters after the first pass (at most CAND per cell, the
+ * farthest ones): range extent (cm), the share of frames in which it is
+ * seen, and whether it is background so far. */
+#define CAND 12
+_Static_assert(CAND <= 16, "the support pass keeps a 16-bit mask per cell");
+typedef struct {
+  int32_t lo, hi;
+  uint16_t seen;    /* share of frames, x 10000 */
+  uint8_t bg;       /* 1 background, 0 not (yet) */
+  uint8_t farthest; /* the cell's static surface by the first rule */
+  uint8_t stays;    /* seen to stay for several frames (enough pairs, no flicker): something standing */
+  uint8_t wide;     /* spread too wide for a surface */
+} cand_t;
+
+/* support from a neighbour: one of its background clusters, seen in at least
+ * half of the frames, holds the middle of [lo, hi] within tol */
+static bool supported(const cand_t *c, const uint8_t *nc, size_t cell, int32_t lo, int32_t hi, int32_t tol) {
+  const int32_t mid = lo + (hi - lo) / 2;
+  for (int k = 0; k < nc[cell]; k++) {
+    const cand_t *q = &c[cell * CAND + (size_t)k];
+    if (q->bg && q->seen >= 5000 && mid >= q->lo - tol && mid <= q->hi + tol) return true;
+  }
+  return false;
+}
+
+int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz, rs_bg_model_t *out) {
+  int rc = rs_bg_model_alloc(out, l->model, l->rows, l->cols);
+  if (rc != RS_OK) return rc;
+  out->params = *p;
+  out->rate_hz = rate_hz;
+  out->frames = (uint32_t)l->nframes;
+  out->created = (uint64_t)time(NULL);
+  const int nf = l->nframes;
+  if (nf < 2) return RS_OK;
+  const size_t cells = (size_t)l->rows * (size_t)l->cols;
+  tidx_t *ti = malloc(sizeof(tidx_t) * (size_t)nf);
+  int *order = malloc(sizeof(int) * (size_t)nf);
+  int *win = malloc(sizeof(int) * (size_t)nf);
+  int32_t *vals = malloc(sizeof(int32_t) * (size_t)nf), *v = malloc(sizeof(int32_t) * (size_t)nf);
+  uint32_t *cnt = malloc(sizeof(uint32_t) * (size_t)nf);
+  int16_t *label = malloc(sizeof(int16_t) * (size_t)nf);
+  int16_t *memb = malloc(sizeof(int16_t) * (size_t)nf);
+  cand_t *cand = p->method == RS_BG_PERCENTILE ? NULL : calloc(cells * CAND, sizeof(cand_t));
+  uint8_t *ncand = calloc(cells, 1);
+  uint16_t *ilo = malloc(cells * RS_BG_SURFACES * sizeof(uint16_t)), *ihi = malloc(cells * RS_BG_SURFACES * sizeof(uint16_t));
+  if (!ti || !order || !win || !vals || !v || !cnt || !label || !memb || (!cand && p->method != RS_BG_PERCENTILE) ||
+      !ncand || !ilo || !ihi) {
+    rc = RS_E_NOMEM;
+    goto done;
+  }
+  for (int i = 0; i < nf; i++) ti[i] = (tidx_t){l->t[i], i};
+  qsort(ti, (size_t)nf, sizeof ti[0], cmp_tidx);
+  for (int i = 0; i < nf; i++) order[i] = ti[i].i;
+  const double t0 = l->t[order[0]];
+  for (int i = 0; i < nf; i++) win[i] = (int)floor((l->t[order[i]] - t0) / p->window_s);
+  int nwin = 1;
+  for (int i = 1; i < nf; i++) nwin += win[i] != win[i - 1];
+  const uint32_t min_pts = (uint32_t)rs_bg_min_pts(p, nf);
+
+  /* pass 1: every cell's clusters, decided by the cell's own samples */
+  for (size_t cell = 0; cell < cells; cell++) {
+    const uint16_t *smp = l->samples + cell * (size_t)l->max_frames;
+    int nz = 0;
+    for (int f = 0; f < nf; f++)
+      if (smp[f]) vals[nz++] = smp[f];
+    if ((uint32_t)nz < min_pts) continue;
+    if (p->method == RS_BG_PERCENTILE) {
+      uint16_t *lo = out->lo + cell * RS_BG_SURFACES, *hi = out->hi + cell * RS_BG_SURFACES;
+      qsort(vals, (size_t)nz, sizeof vals[0], cmp_i32);
+      int idx = (int)floor(p->percentile / 100.0 * (nz - 1));
+      int32_t b = vals[idx] - (int32_t)lround(p->percentile_tol * 100);
+      lo[0] = (uint16_t)(b < 0 ? 0 : b);
+      hi[0] = BEYOND;
+      out->n[cell] = 1;
+      continue;
+    }
+    int u = 0;
+    int32_t eps = 0;
+    int k = cluster_cell(p, vals, nz, min_pts, v, cnt, label, &u, &eps);
+    if (k <= 0 || k > MAXK) continue;
+    clus_t cl[MAXK + 1]; /* cl[k] = "no return" */
+    const cell_in_t in = {v, cnt, u, smp, order, win, nf, nz, l->t, p->pair_gap_s};
+    uint32_t npairs = cell_stats(&in, label, k, cl, memb);
+    if (p->chain_gap > 0) {
+      bool fl[MAXK];
+      for (int j = 0; j < k; j++) fl[j] = flickers(&cl[j], npairs, p->flicker_lift);
+      int k2 = chain_clusters(v, u, label, (int32_t)lround(p->chain_gap * 100.0), fl);
+      if (k2 != k) {
+        k = k2;
+        npairs = cell_stats(&in, label, k, cl, memb);
+      }
+    }
+    /* "no return" as a persistent state of the cell: sky behind */
+    bool sky = cl[k].count >= min_pts && cl[k].pairs >= 10 && (double)cl[k].stay / cl[k].pairs >= p->persist_max;
+    /* decide every cluster, nearest first: the farthest is the static
+     * surface (unless sky); a nearer one is background when it flickers and
+     * is present throughout the capture (most windows). Consecutive
+     * background clusters close together are one entry (leaves of a canopy
+     * come out as many clusters); the farthest CAND entries are kept. */
+    cand_t cc[MAXK];
+    bool bg[MAXK], fl[MAXK], wide[MAXK];
+    /* a cluster spread over more than max(2 m, 15 %) of range in one cell is
+     * no surface: a queue creeping through the cell, traffic in front of
+     * nothing the sensor can see (a dark road too far to return) */
+    for (int j = 0; j < k; j++)
+      wide[j] = cl[j].hi - cl[j].lo > (int32_t)lround(fmax(p->wide_min * 100.0, p->wide_share * cl[j].lo));
+    for (int j = 0; j < k; j++) {
+      fl[j] = flickers(&cl[j], npairs, p->flicker_lift);
+      bg[j] = !wide[j] && ((j == k - 1 && !sky) || (fl[j] && (double)cl[j].windows / nwin >= p->coverage_min));
+      /* under RS_BG_JUDGE_FRAMES frames nothing tells what stays from what
+       * flickers: everything seen is the scene */
+      if (nf < RS_BG_JUDGE_FRAMES) bg[j] = !wide[j];
+    }
+    /* a flickering cluster just in front of a background one is the same
+     * surface, sampled two ways from turn to turn (a grazing surface whose
+     * footprint splits into a near and a far return of about the same
+     * strength): background, present in most windows or not (traffic may
+     * hide it) */
+    /* likewise a cluster just in front of a farthest one that flickers and
+     * returns less often: the farther return is the occasional one of the
+     * two (a vehicle standing in front of the road leaves the road to return
+     * steadily, not at random) */
+    for (int j = k - 2; j >= 0; j--) {
+      const int32_t gap_max = (int32_t)lround(100.0 * fmax(p->merge_gap_min, p->merge_gap_share * cl[j].lo / 100.0));
+      const bool weak_far = j == k - 2 && fl[j + 1] && cl[j + 1].count < cl[j].count;
+      if (!bg[j] && !wide[j] && (fl[j] || weak_far) && bg[j + 1] && cl[j + 1].lo - cl[j].hi <= gap_max)
+        bg[j] = true;
+    }
+    int ne = 0;
+    for (int j = 0; j < k; j++) {
+      cand_t c = {cl[j].lo, cl[j].hi, (uint16_t)lround(10000.0 * cl[j].count / nf), 0, 0, 0, 0};
+      c.farthest = j == k - 1 && !sky && !wide[j];
+      c.wide = wide[j];
+      c.bg = bg[j];
+      c.stays = cl[j].pairs >= 10 && !fl[j];
+      const int32_t gap_max = (int32_t)lround(100.0 * fmax(p->merge_gap_min, p->merge_gap_share * c.lo / 100.0));
+      /* consecutive clusters decided alike and close together: one entry */
+      if (ne > 0 && c.bg == cc[ne - 1].bg && !c.farthest && !c.wide && !cc[ne - 1].wide && c.lo - cc[ne - 1].hi <= gap_max) {
+        cand_t *e = &cc[ne - 1];
+        e->hi = c.hi;
+        e->seen = (uint16_t)(e->seen + c.seen > 10000 ? 10000 : e->seen + c.seen);
+        e->stays &= c.stays;
+        continue;
+      }
+      cc[ne++] = c;
+    }
+    const int first = ne > CAND ? ne - CAND : 0;
+    memcpy(&cand[cell * CAND], &cc[first], sizeof(cand_t) * (size_t)(ne - first));
+    ncand[cell] = (uint8_t)(ne - first);
+  }
+  if (p->method == RS_BG_PERCENTILE) goto done;
+
+  /* pass 2: a nearer cluster that a cell beside it in the row sees as part
+   * of its static scene in most frames is static here too, unless it was
+   * seen to stay for several frames (a vehicle): the edge of a pole or a
+   * facade, where the firings fall on one side or the other from turn to
+   * turn. This needs no long capture (the flicker and presence rules do).
+   * Only the row: the rows above and below look at other ranges of the
+   * ground, which a passing vehicle matches. Decided from the first pass
+   * only, so the order of the cells does not matter. */
+  if (p->support) {
+    uint16_t *add = calloc(cells, sizeof *add);
+    if (add == NULL) {
+      rc = RS_E_NOMEM;
+      goto done;
+    }
+    const int rows = l->rows, cols = l->cols;
+    for (size_t cell = 0; cell < cells; cell++) {
+      const int r = (int)(cell / (size_t)cols), col = (int)(cell % (size_t)cols);
+      const size_t base = cell - (size_t)col;
+      const size_t nb[4] = {base + (size_t)(col > 0 ? col - 1 : cols - 1), base + (size_t)(col + 1 < cols ? col + 1 : 0),
+                            r > 0 ? cell - (size_t)cols : SIZE_MAX, r + 1 < rows ? cell + (size_t)cols : SIZE_MAX};
+      for (int k = 0; k < ncand[cell]; k++) {
+        cand_t *c = &cand[cell * CAND + (size_t)k];
+        if (c->bg || c->stays || c->wide) continue;
+        int32_t tol = (int32_t)lround(fmax(p->support_tol_min * 100.0, p->support_tol_share * c->lo));
+        int32_t tol_v = (int32_t)lround(fmax(10.0, 0.005 * c->lo));
+        for (int q = 0; q < 4 && !(add[cell] & (1u << k)); q++)
+          if (nb[q] != SIZE_MAX && supported(cand, ncand, nb[q], c->lo, c->hi, q < 2 ? tol : tol_v))
+            add[cell] |= (uint16_t)(1u << k);
+      }
+    }
+    for (size_t cell = 0; cell < cells; cell++)
+      for (int k = 0; k < ncand[cell]; k++)
+        if (add[cell] & (1u << k)) cand[cell * CAND + (size_t)k].bg = 1;
+    free(add);
+  }
+
+  /* pass 3: background intervals with margins; a surface seen at a grazing
+   * angle spreads over a metre or more inside one cell and comes out as
+   * several clusters: neighbours with a small gap and no foreground cluster
+   * between them are one surface */
+  for (size_t cell = 0; cell < cells; cell++) {
+    int32_t jlo[CAND], jhi[CAND];
+    int ni = 0;
+    bool fg_since = false;
+    for (int j = 0; j < ncand[cell]; j++) {
+      const cand_t *c = &cand[cell * CAND + (size_t)j];
+      if (!c->bg) {
+        fg_since = true;
+        continue;
+      }
+      /* the margin: the noise floor, plus what a few samples of a spread
+       * surface do not show (n samples leave about spread / n uncovered on
+       * either side, 1/(n+1) of the draws each) */
+      const double spread_cm = (double)(c->hi - c->lo), ns = fmax(1.0, c->seen * nf / 10000.0);
+      int32_t mg = (int32_t)lround(100.0 * fmax(p->margin_min, p->margin_share * c->lo / 100.0) +
+                                   spread_cm * fmin(1.0, p->margin_samples / ns));
+      int32_t a = c->lo - mg, b = c->hi + mg;
+      int32_t gap_max = (int32_t)lround(100.0 * fmax(p->merge_gap_min, p->merge_gap_share * c->lo / 100.0));
+      if (ni > 0 && !fg_since && a - jhi[ni - 1] <= gap_max) {
+        jhi[ni - 1] = b;
+      } else {
+        jlo[ni] = a;
+        jhi[ni] = b;
+        ni++;
+      }
+      fg_since = false;
+    }
+    /* keep the farthest RS_BG_SURFACES, nearest first */
+    uint16_t *lo = out->lo + cell * RS_BG_SURFACES, *hi = out->hi + cell * RS_BG_SURFACES;
+    int first = ni > RS_BG_SURFACES ? ni - RS_BG_SURFACES : 0, m = 0;
+    for (int i = first; i < ni; i++) {
+      int32_t a = jlo[i] < 0 ? 0 : jlo[i], b = jhi[i] > 65534 ? 65534 : jhi[i];
+      if (m > 0 && a <= hi[m - 1]) {
+        if (b > hi[m - 1]) hi[m - 1] = (uint16_t)b;
+        continue;
+      }
+      lo[m] = (uint16_t)a;
+      hi[m] = (uint16_t)b;
+      m++;
+    }
+    out->n[cell] = (uint8_t)m;
+    /* how often the farthest surface is seen: solid (a wall, the road) or seen through */
+    if (m > 0 && ncand[cell] > 0) {
+      const cand_t *far = &cand[cell * CAND + (size_t)(ncand[cell] - 1)];
+      out->far_seen[cell] = far->bg ? (uint8_t)lround(far->seen / 100.0) : 0;
+    }
+  }
+
+  /* pass 4: a surface continues into the cells beside it in the row: the
+   * firings of a turn fall anywhere across a column, so a return may come
+   * from anywhere between the ranges the neighbours see. An interval reaches
+   * half-way to the nearest interval of the cell on either side when the two
+   * are close (a connected surface, not an edge). From the pass-3 intervals,
+   * so the order of the cells does not matter. */
+  if (p->connect_min > 0) {
+    memcpy(ilo, out->lo, cells * RS_BG_SURFACES * sizeof(uint16_t));
+    memcpy(ihi, out->hi, cells * RS_BG_SURFACES * sizeof(uint16_t));
+    const int cols = l->cols;
+    for (size_t cell = 0; cell < cells; cell++) {
+      const int col = (int)(cell % (size_t)cols);
+      const size_t base = cell - (size_t)col;
+      const size_t side[2] = {base + (size_t)(col > 0 ? col - 1 : cols - 1), base + (size_t)(col + 1 < cols ? col + 1 : 0)};
+      for (int k = 0; k < out->n[cell]; k++) {
+        const size_t i = cell * RS_BG_SURFACES + (size_t)k;
+        int32_t a = ilo[i], b = ihi[i];
+        const int32_t reach = (int32_t)lround(fmax(p->connect_min * 100.0, p->connect_share * a));
+        for (int q = 0; q < 2; q++)
+          for (int j = 0; j < out->n[side[q]]; j++) {
+            const size_t o = side[q] * RS_BG_SURFACES + (size_t)j;
+            if (ilo[o] > ihi[i] && ilo[o] - ihi[i] <= reach) b = (int32_t)fmax(b, (ihi[i] + ilo[o]) / 2);
+            if (ihi[o] < ilo[i] && ilo[i] - ihi[o] <= reach) a = (int32_t)fmin(a, (ihi[o] + ilo[i]) / 2);
+          }
+        /* never into the next interval of the same cell */
+        if (k > 0 && a <= out->hi[i - 1]) a = out->hi[i - 1] + 1;
+        if (k + 1 < out->n[cell] && b >= ilo[i + 1]) b = ilo[i + 1] - 1;
+        out->lo[i] = (uint16_t)a;
+        out->hi[i] = (uint16_t)b;
+      }
+    }
+  }
+done:
+  free(ti);
+  free(order);
+  free(win);
+  free(vals);
+  free(v);
+  free(cnt);
+  free(label);
+  free(memb);
+  free(cand);
+  free(ncand);
+  free(ilo);
+  free(ihi);
+  return rc;
+}
+
+/* ---- the model file ---- */
+
+static uint32_t crc32_update(uint32_t crc, const uint8_t *p, size_t n) {
+  crc = ~crc;
+  for (size_t i = 0; i < n; i++) {
+    crc ^= p[i];
+    for (int k = 0; k < 8; k++) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+  }
+  return ~crc;
+}
+
+#define HDR_SIZE 116
+
+static void put16(uint8_t *p, uint32_t v) {
+  p[0] = (uint8_t)v;
+  p[1] = (uint8_t)(v >> 8);
+}
+static void put32(uint8_t *p, uint32_t v) {
+  for (int i = 0; i < 4; i++) p[i] = (uint8_t)(v >> (8 * i));
+}
+static void put64(uint8_t *p, uint64_t v) {
+  for (int i = 0; i < 8; i++) p[i] = (uint8_t)(v >> (8 * i));
+}
+static uint32_t get16(const uint8_t *p) { return (uint32_t)p[0] | ((uint32_t)p[1] << 8); }
+static uint32_t get32(const uint8_t *p) {
+  return (uint32_t)p[0] | ((uint32_t)p[1] << 8) | ((uint32_t)p[2] << 16) | ((uint32_t)p[3] << 24);
+}
+static uint64_t get64(const uint8_t *p) { return (uint64_t)get32(p) | ((uint64_t)get32(p + 4) << 32); }
+static void putf(uint8_t *p, double v) { put32(p, (uint32_t)(int32_t)lround(v * 1000.0)); }
+static double getf(const uint8_t *p) { return (double)(int32_t)get32(p) / 1000.0; }
+
+/* header (little-endian): magic[8] version u32 header_size u32 sensor u32 rows u32 cols u32
+ * rate_mhz u32 method u32 frames u32 created u64 min_pts_floor u32 then milli-units of
+ * min_pts_share eps_min eps_max eps_step persist_max coverage_min window_s pair_gap_s
+ * percentile percentile_tol (i32 each), surfaces per cell u32, margin_min margin_share
+ * merge_gap_min merge_gap_share flicker_lift (milli-units); then per cell a byte: the number of surfaces n (bits 0-6) and
+ * the percentage of frames in which its farthest surface is seen (u8), then
+ * lo/hi u16 pairs [cells][RS_BG_SURFACES]; then CRC-32 of everything before it. */
+int rs_bg_save(const rs_bg_model_t *m, const char *path, char *err, size_t n) {
+  const size_t cells = (size_t)m->rows * m->cols;
+  const size_t size = HDR_SIZE + 2 * cells + cells * RS_BG_SURFACES * 4 + 4;
+  uint8_t *b = calloc(size, 1);
+  if (b == NULL) {
+    snprintf(err, n, "%s: out of memory", path);
+    return RS_E_NOMEM;
+  }
+  memcpy(b, RS_BG_MAGIC, 8);
+  put32(b + 8, RS_BG_VERSION);
+  put32(b + 12, HDR_SIZE);
+  put32(b + 16, (uint32_t)m->model);
+  put32(b + 20, m->rows);
+  put32(b + 24, m->cols);
+  put32(b + 28, (uint32_t)lround(m->rate_hz * 1000.0));
+  put32(b + 32, (uint32_t)m->params.method);
+  put32(b + 36, m->frames);
+  put64(b + 40, m->created);
+  put32(b + 48, (uint32_t)m->params.min_pts_floor);
+  const double f[10] = {m->params.min_pts_share, m->params.eps_min, m->params.eps_max, m->params.eps_step,
+                        m->params.persist_max, m->params.coverage_min, m->params.window_s, m->params.pair_gap_s,
+                        m->params.percentile, m->params.percentile_tol};
+  for (int i = 0; i < 10; i++) putf(b + 52 + 4 * i, f[i]);
+  put32(b + 92, RS_BG_SURFACES);
+  const double g[4] = {m->params.margin_min, m->params.margin_share, m->params.merge_gap_min, m->params.merge_gap_share};
+  for (int i = 0; i < 4; i++) putf(b + 96 + 4 * i, g[i]);
+  putf(b + 112, m->params.flicker_lift);
+  for (size_t c = 0; c < cells; c++) {
+    b[HDR_SIZE + 2 * c] = m->n[c];
+    b[HDR_SIZE + 2 * c + 1] = m->far_seen[c];
+  }
+  uint8_t *s = b + HDR_SIZE + 2 * cells;
+  for (size_t i = 0; i < cells * RS_BG_SURFACES; i++) {
+    put16(s + 4 * i, m->lo[i]);
+    put16(s + 4 * i + 2, m->hi[i]);
+  }
+  put32(b + size - 4, crc32_update(0, b, size - 4));
+  FILE *fp = fopen(path, "wb");
+  int rc = RS_OK;
+  if (fp == NULL || fwrite(b, 1, size, fp) != size) rc = RS_E_IO;
+  if (fp && fclose(fp) != 0) rc = RS_E_IO;
+  if (rc != RS_OK) snprintf(err, n, "%s: cannot write the model", path);
+  free(b);
+  return rc;
+}
+
+int rs_bg_load(rs_bg_model_t *m, const char *path, char *err, size_t n) {
+  memset(m, 0, sizeof *m);
+  FILE *fp = fopen(path, "rb");
+  if (fp == NULL) {
+    snprintf(err, n, "%s: cannot open the background model", path);
+    return RS_E_NOENT;
+  }
+  fseek(fp, 0, SEEK_END);
+  long size = ftell(fp);
+  fseek(fp, 0, SEEK_SET);
+  if (size < HDR_SIZE + 4 || size > 256L * 1024 * 1024) {
+    fclose(fp);
+    snprintf(err, n, "%s: not a background model (%ld bytes)", path, size);
+    return RS_E_FORMAT;
+  }
+  uint8_t *b = malloc((size_t)size);
+  if (b == NULL || fread(b, 1, (size_t)size, fp) != (size_t)size) {
+    fclose(fp);
+    free(b);
+    snprintf(err, n, "%s: cannot read", path);
+    return RS_E_IO;
+  }
+  fclose(fp);
+  int rc = RS_E_FORMAT;
+  if (memcmp(b, RS_BG_MAGIC, 6) != 0) {
+    snprintf(err, n, "%s: not a roadscan background model (bad magic)", path);
+    goto out;
+  }
+  if (memcmp(b, RS_BG_MAGIC, 8) != 0 || get32(b + 8) != RS_BG_VERSION) {
+    snprintf(err, n, "%s: model format version %u, this program reads version %d: relearn the model", path,
+             get32(b + 8), RS_BG_VERSION);
+    goto out;
+  }
+  uint32_t rows = get32(b + 20), cols = get32(b + 24), model = get32(b + 16), k = get32(b + 92);
+  if (get32(b + 12) != HDR_SIZE || k != RS_BG_SURFACES || rows < 1 || rows > RS_MAX_ROWS || cols < RS_MIN_COLS ||
+      cols > RS_MAX_COLS || model == RS_MODEL_UNKNOWN || model >= RS_MODEL_COUNT) {
+    snprintf(err, n, "%s: corrupt header (sensor %u, %u x %u cells)", path, model, rows, cols);
+    goto out;
+  }
+  if (rows != rs_model_info((rs_model_t)model)->lasers) {
+    snprintf(err, n, "%s: corrupt header: %u rows, a %s has %u lasers", path, rows, rs_model_name((rs_model_t)model),
+             rs_model_info((rs_model_t)model)->lasers);
+    goto out;
+  }
+  size_t cells = (size_t)rows * cols, want = HDR_SIZE + 2 * cells + cells * RS_BG_SURFACES * 4 + 4;
+  if ((size_t)size != want) {
+    snprintf(err, n, "%s: truncated or padded: %ld bytes, a %u x %u model has %zu", path, size, rows, cols, want);
+    goto out;
+  }
+  if (crc32_update(0, b, want - 4) != get32(b + want - 4)) {
+    snprintf(err, n, "%s: checksum mismatch: the file is corrupted", path);
+    goto out;
+  }
+  if (rs_bg_model_alloc(m, (rs_model_t)model, (int)rows, (int)cols) != RS_OK) {
+    snprintf(err, n, "%s: out of memory", path);
+    rc = RS_E_NOMEM;
+    goto out;
+  }
+  m->rate_hz = (float)get32(b + 28) / 1000.0f;
+  m->params.method = (rs_bg_method_t)get32(b + 32);
+  m->frames = get32(b + 36);
+  m->created = get64(b + 40);
+  m->params.min_pts_floor = (int)get32(b + 48);
+  double *f[10] = {&m->params.min_pts_share, &m->params.eps_min, &m->params.eps_max, &m->params.eps_step,
+                   &m->params.persist_max, &m->params.coverage_min, &m->params.window_s, &m->params.pair_gap_s,
+                   &m->params.percentile, &m->params.percentile_tol};
+  for (int i = 0; i < 10; i++) *f[i] = getf(b + 52 + 4 * i);
+  double *g[4] = {&m->params.margin_min, &m->params.margin_share, &m->params.merge_gap_min, &m->params.merge_gap_share};
+  for (int i = 0; i < 4; i++) *g[i] = getf(b + 96 + 4 * i);
+  m->params.flicker_lift = getf(b + 112);
+  for (size_t c = 0; c < cells; c++) {
+    m->n[c] = b[HDR_SIZE + 2 * c];
+    m->far_seen[c] = b[HDR_SIZE + 2 * c + 1];
+  }
+  const uint8_t *s = b + HDR_SIZE + 2 * cells;
+  for (size_t i = 0; i < cells * RS_BG_SURFACES; i++) {
+    m->lo[i] = (uint16_t)get16(s + 4 * i);
+    m->hi[i] = (uint16_t)get16(s + 4 * i + 2);
+  }
+  for (size_t c = 0; c < cells; c++) {
+    if (m->n[c] > RS_BG_SURFACES) {
+      snprintf(err, n, "%s: cell %zu has %u surfaces (at most %d)", path, c, m->n[c], RS_BG_SURFACES);
+      rs_bg_model_free(m);
+      goto out;
+    }
+    for (int j = 0; j < m->n[c]; j++) {
+      size_t i = c * RS_BG_SURFACES + (size_t)j;
+      if (m->lo[i] > m->hi[i] || (j > 0 && m->lo[i] <= m->hi[i - 1])) {
+        snprintf(err, n, "%s: cell %zu: surfaces not ordered", path, c);
+        rs_bg_model_free(m);
+        goto out;
+      }
+    }
+  }
+  rc = RS_OK;
+out:
+  free(b);
+  return rc;
+}

@@ -1,0 +1,399 @@
+/* cluster.c - FSPC, adaptive FSPC, DBSCAN and CCL on a frame slot
+ * (processing thread; no allocation, bounded loops). */
+#include "roadscan/perception/cluster.h"
+
+#include "roadscan/util/error.h"
+
+#include <math.h>
+#include <string.h>
+
+#define NEG (-1.0e9f)
+#define D2R (3.14159265358979323846 / 180.0)
+
+void rs_cluster_cfg_default(rs_cluster_cfg_t *c) {
+  memset(c, 0, sizeof *c);
+  c->method = RS_CLUSTER_FSPC;
+  c->win_h = 5;
+  c->win_w = 11;
+  c->eps = 1.8f;
+  c->min_pts = 15;
+  c->obj_w = 0.5f;
+  c->obj_h = 0.8f;
+  c->adapt_share = 0.2f;
+  c->adapt_min_pts = 3;
+  c->adapt_sparse_cells = 3.0f;
+  c->adapt_sparse_min_pts = 2;
+  c->adapt_min_half_w = 2;
+  c->adapt_eps_share = 0.03f;
+  c->adapt_eps_rows = 1.0f;
+  c->adapt_eps_min = 0.5f;
+  c->adapt_eps_max = 2.5f;
+  c->adapt_border_eps = 2.0f;
+  c->adapt_seed_surfaces = 3;
+  c->dbscan_eps = 1.2f;
+  c->dbscan_min_pts = 15;
+  c->ccl_eps = 1.0f;
+}
+
+const char *rs_cluster_method_name(rs_cluster_method_t m) {
+  switch (m) {
+  case RS_CLUSTER_FSPC: return "fspc";
+  case RS_CLUSTER_FSPC_ADAPTIVE: return "fspc-adaptive";
+  case RS_CLUSTER_DBSCAN: return "dbscan";
+  case RS_CLUSTER_CCL: return "ccl";
+  default: return "none";
+  }
+}
+
+int rs_cluster_method_from_name(const char *s) {
+  for (int m = RS_CLUSTER_NONE; m <= RS_CLUSTER_CCL; m++)
+    if (strcmp(s, rs_cluster_method_name((rs_cluster_method_t)m)) == 0) return m;
+  return -1;
+}
+
+int rs_cluster_init(rs_cluster_t *c, const rs_cluster_cfg_t *cfg, const rs_sensor_t *s) {
+  if (cfg->win_h < 1 || cfg->win_h > RS_MAX_WIN_H || cfg->win_h % 2 == 0 || cfg->win_w < 1 ||
+      cfg->win_w > RS_MAX_WIN_W || cfg->win_w % 2 == 0)
+    return RS_E_INVAL;
+  if (!(cfg->eps > 0) || cfg->min_pts < 1 || !(cfg->adapt_eps_max >= cfg->adapt_eps_min) || !(cfg->adapt_border_eps >= 1.0f) ||
+      cfg->adapt_min_pts < 1 || cfg->adapt_sparse_min_pts < 1 || !(cfg->adapt_sparse_cells >= 0.0f) ||
+      cfg->adapt_min_half_w < 0 || !(cfg->dbscan_eps > 0) || cfg->dbscan_min_pts < 1 || !(cfg->ccl_eps > 0))
+    return RS_E_INVAL;
+  c->cfg = *cfg;
+  c->sensor = s;
+  c->bg_surfaces = NULL;
+  c->cols = 0;
+  c->overflow_total = 0;
+  return RS_OK;
+}
+
+/* adaptive tables for a column count: per row and 1 m range bin, the window
+ * and minPts an object of obj_w x obj_h would fill */
+static void build_adaptive(rs_cluster_t *c, int cols) {
+  const rs_sensor_t *s = c->sensor;
+  const double daz = 2.0 * 3.14159265358979323846 / cols;
+  /* the sensor's median spacing between adjacent rows (radians): adjacent
+   * rows on one surface differ in range in proportion to it */
+  double gaps[RS_MAX_ROWS];
+  int ng = 0;
+  for (int r = 1; r < s->lasers; r++)
+    gaps[ng++] = (s->elevation_deg[s->laser_of_row[r]] - s->elevation_deg[s->laser_of_row[r - 1]]) * D2R;
+  for (int i = 1; i < ng; i++) /* insertion sort, at most 127 values, once per geometry */
+    for (int j = i; j > 0 && gaps[j - 1] > gaps[j]; j--) {
+      double t = gaps[j];
+      gaps[j] = gaps[j - 1];
+      gaps[j - 1] = t;
+    }
+  const double eps_share = fmax(c->cfg.adapt_eps_share, c->cfg.adapt_eps_rows * (ng ? gaps[ng / 2] : 0.0));
+  for (int r = 0; r < s->lasers; r++) {
+    double el = s->elevation_deg[s->laser_of_row[r]];
+    double lo = r > 0 ? el - s->elevation_deg[s->laser_of_row[r - 1]] : 1e9;
+    double hi = r + 1 < s->lasers ? s->elevation_deg[s->laser_of_row[r + 1]] - el : 1e9;
+    double del = fmin(lo, hi) < 1e8 ? fmin(lo, hi) * D2R : 2.0 * D2R;
+    if (del < 0.05 * D2R) del = 0.05 * D2R;
+    for (int b = 0; b < RS_ADAPT_BINS; b++) {
+      double range = b + 0.5;
+      double ncol = c->cfg.obj_w / (range * daz), nrow = c->cfg.obj_h / (range * del);
+      int hw = (int)fmin(c->cfg.win_w / 2, fmax(c->cfg.adapt_min_half_w, ceil(ncol / 2.0)));
+      int hh = (int)fmin(c->cfg.win_h / 2, fmax(1.0, ceil(nrow / 2.0)));
+      double cells = fmin(2 * hw + 1, fmax(1.0, ncol)) * fmin(2 * hh + 1, fmax(1.0, nrow));
+      int mp = (int)lround(c->cfg.adapt_share * cells);
+      if (mp > c->cfg.min_pts) mp = c->cfg.min_pts;
+      /* where the smallest object covers only a few cells, a pair of returns side by side is one */
+      const int floor_mp = cells < c->cfg.adapt_sparse_cells ? c->cfg.adapt_sparse_min_pts : c->cfg.adapt_min_pts;
+      if (mp < floor_mp) mp = floor_mp;
+      c->half_w[r][b] = (uint8_t)hw;
+      c->half_h[r][b] = (uint8_t)hh;
+      c->min_pts[r][b] = (uint8_t)mp;
+      double e = eps_share * range;
+      c->eps_tab[r][b] = (float)fmin(c->cfg.adapt_eps_max, fmax(c->cfg.adapt_eps_min, e));
+    }
+  }
+  c->cols = cols;
+}
+
+static inline int bin_of(float r) {
+  int b = (int)r;
+  return b < 0 ? 0 : (b >= RS_ADAPT_BINS ? RS_ADAPT_BINS - 1 : b);
+}
+
+/* neighbours of cell (r, col) in a (2hh+1) x (2hw+1) window, counted until
+ * `enough` (a core needs no more): rows nearest the centre first */
+static uint32_t count_window(const float *rr, int rows, int cols, int r, int col, int hh, int hw, float eps,
+                             uint32_t enough) {
+  const float x = rr[r * cols + col];
+  uint32_t n = 0;
+  for (int step = 0; step <= 2 * hh; step++) {
+    int y = r + (step % 2 ? (step + 1) / 2 : -(step / 2)); /* r, r-1, r+1, r-2, r+2, ... */
+    if (y < 0 || y >= rows) continue;
+    const float *row = rr + (size_t)y * (size_t)cols;
+    if (col - hw >= 0 && col + hw < cols) {
+      for (int k = col - hw; k <= col + hw; k++) n += fabsf(row[k] - x) < eps;
+    } else {
+      for (int d = -hw; d <= hw; d++) {
+        int k = col + d;
+        if (k < 0) k += cols;
+        else if (k >= cols) k -= cols;
+        n += fabsf(row[k] - x) < eps;
+      }
+    }
+    if (n >= enough) break;
+  }
+  return n;
+}
+
+/* up to 64 bits of a row's bitset from column a on */
+static inline uint64_t row_bits(const uint64_t *w, int a, int n) {
+  const int wi = a >> 6, off = a & 63;
+  uint64_t v = w[wi] >> off;
+  if (off + n > 64) v |= w[wi + 1] << (64 - off);
+  return n >= 64 ? v : v & ((1ull << n) - 1);
+}
+
+static void prepare(rs_cluster_t *c, rs_slot_t *s, uint32_t *nfg) {
+  const uint32_t rows = s->meta.rows, cols = s->meta.cols;
+  uint32_t n = 0;
+  for (uint32_t y = 0, i = 0; y < rows; y++)
+    for (uint32_t x = 0; x < cols; x++, i++) {
+      const float r = s->range[i];
+      const bool fg = r > 0.0f && s->label[i] != 1;
+      c->rr[i] = fg ? r : NEG;
+      c->core[i] = 0;
+      if (fg) {
+        c->fg[n] = i;
+        c->fgrc[n++] = y << 16 | x;
+        s->label[i] = 2;
+      }
+    }
+  *nfg = n;
+}
+
+/* The FSPC expansion with a given window, eps and minPts (or the adaptive
+ * tables). CCL is the same with a 3 x 3 window and minPts 1: every
+ * foreground cell is a core, 8-neighbours within eps join. */
+static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int hh0, int hw0, float eps, int min_pts,
+                 rs_cluster_stats_t *st) {
+  const int rows = s->meta.rows, cols = s->meta.cols;
+  if (adaptive && c->cols != cols) build_adaptive(c, cols);
+  const int seed_surf = adaptive && c->bg_surfaces ? c->cfg.adapt_seed_surfaces : 0;
+  /* core cells */
+  for (uint32_t k = 0; k < nfg; k++) {
+    const uint32_t i = c->fg[k];
+    const int r = (int)(c->fgrc[k] >> 16), col = (int)(c->fgrc[k] & 0xffff);
+    int hh = hh0, hw = hw0;
+    uint32_t mp = (uint32_t)min_pts;
+    float e = eps;
+    if (adaptive) {
+      int b = bin_of(c->rr[i]);
+      hh = c->half_h[r][b];
+      hw = c->half_w[r][b];
+      mp = c->min_pts[r][b];
+      e = c->eps_tab[r][b];
+    }
+    c->core[i] = count_window(c->rr, rows, cols, r, col, hh, hw, e, mp) >= mp;
+    /* a cell the sensor sees through (several static surfaces) seeds no cluster */
+    if (seed_surf > 0 && c->bg_surfaces[i] >= seed_surf) c->core[i] = 0;
+  }
+  /* clusters: breadth-first over core cells; every cell enters the queue
+   * once. The window scan visits only the cells still open (foreground, no
+   * cluster yet), from a per-row bitset: in a dense cluster most are taken. */
+  const int wpr = (cols + 63) / 64;
+  memset(c->open, 0, sizeof(uint64_t) * (size_t)rows * (size_t)wpr);
+  for (uint32_t k = 0; k < nfg; k++) {
+    const uint32_t r = c->fgrc[k] >> 16, col = c->fgrc[k] & 0xffff;
+    c->open[r * (uint32_t)wpr + (col >> 6)] |= 1ull << (col & 63);
+  }
+  uint32_t ncl = 0;
+  for (uint32_t k = 0; k < nfg; k++) {
+    uint32_t seed = c->fg[k];
+    if (!c->core[seed] || s->label[seed] != 2) continue;
+    if (ncl >= RS_MAX_CLUSTERS) {
+      st->overflow++;
+      continue;
+    }
+    const uint16_t id = (uint16_t)(3 + ncl++);
+    uint32_t head = 0, tail = 0;
+    c->queue[tail++] = c->fgrc[k];
+    s->label[seed] = id;
+    {
+      const uint32_t sr = c->fgrc[k] >> 16, sc = c->fgrc[k] & 0xffff;
+      c->open[sr * (uint32_t)wpr + (sc >> 6)] &= ~(1ull << (sc & 63));
+    }
+    while (head < tail) {
+      const int r = (int)(c->queue[head] >> 16), col = (int)(c->queue[head] & 0xffff);
+      head++;
+      const uint32_t i = (uint32_t)r * (uint32_t)cols + (uint32_t)col;
+      int hh = hh0, hw = hw0;
+      float e = eps;
+      if (adaptive) {
+        int b = bin_of(c->rr[i]);
+        hh = c->half_h[r][b];
+        hw = c->half_w[r][b];
+        e = c->eps_tab[r][b];
+      }
+      const float x = c->rr[i];
+      const float eb = adaptive ? e * c->cfg.adapt_border_eps : e; /* reach of a cell that is not a core */
+      /* the window's columns as at most two segments (it may wrap) */
+      int seg_a[2], seg_n[2], nseg = 0;
+      if (2 * hw + 1 >= cols) {
+        seg_a[0] = 0;
+        seg_n[0] = cols;
+        nseg = 1;
+      } else if (col - hw < 0) {
+        seg_a[0] = 0;
+        seg_n[0] = col + hw + 1;
+        seg_a[1] = cols + col - hw;
+        seg_n[1] = hw - col;
+        nseg = 2;
+      } else if (col + hw >= cols) {
+        seg_a[0] = col - hw;
+        seg_n[0] = cols - (col - hw);
+        seg_a[1] = 0;
+        seg_n[1] = col + hw - cols + 1;
+        nseg = 2;
+      } else {
+        seg_a[0] = col - hw;
+        seg_n[0] = 2 * hw + 1;
+        nseg = 1;
+      }
+      int r0 = r - hh < 0 ? 0 : r - hh, r1 = r + hh >= rows ? rows - 1 : r + hh;
+      for (int y = r0; y <= r1; y++) {
+        uint64_t *w = c->open + (size_t)y * (size_t)wpr;
+        const uint32_t base = (uint32_t)y * (uint32_t)cols;
+        for (int g = 0; g < nseg; g++) {
+          /* a segment longer than 64 columns (a huge window) is read in pieces */
+          for (int a = seg_a[g], left = seg_n[g]; left > 0; a += 64, left -= 64) {
+            int n = left < 64 ? left : 64;
+            uint64_t m = row_bits(w, a, n);
+            while (m) {
+              int bit = __builtin_ctzll(m);
+              m &= m - 1;
+              const int cc = a + bit;
+              const uint32_t j = base + (uint32_t)cc;
+              const float d = fabsf(c->rr[j] - x);
+              if (d >= e && (d >= eb || c->core[j])) continue;
+              s->label[j] = id;
+              w[cc >> 6] &= ~(1ull << (cc & 63));
+              if (c->core[j]) c->queue[tail++] = (uint32_t)y << 16 | (uint32_t)cc;
+            }
+          }
+        }
+      }
+    }
+  }
+  st->clusters = ncl;
+}
+
+/* ---- DBSCAN in 3-D on a voxel hash grid ---- */
+
+static inline uint32_t voxel_hash(int x, int y, int z) {
+  uint32_t h = (uint32_t)x * 73856093u ^ (uint32_t)y * 19349663u ^ (uint32_t)z * 83492791u;
+  return h & (RS_GRID_BUCKETS - 1);
+}
+
+/* points within eps of point k (itself included) */
+static uint32_t region_count(const rs_cluster_t *c, uint32_t k, float eps) {
+  const float x = c->px[k], y = c->py[k], z = c->pz[k], e2 = eps * eps;
+  const int ix = (int)floorf(x / eps), iy = (int)floorf(y / eps), iz = (int)floorf(z / eps);
+  uint32_t n = 0;
+  for (int dx = -1; dx <= 1; dx++)
+    for (int dy = -1; dy <= 1; dy++)
+      for (int dz = -1; dz <= 1; dz++)
+        for (int32_t j = c->heads[voxel_hash(ix + dx, iy + dy, iz + dz)]; j >= 0; j = c->next[j]) {
+          float ax = c->px[j] - x, ay = c->py[j] - y, az = c->pz[j] - z;
+          if (ax * ax + ay * ay + az * az > e2) continue;
+          n++;
+        }
+  return n;
+}
+
+static void dbscan(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, rs_cluster_stats_t *st) {
+  const int cols = s->meta.cols;
+  const rs_sensor_t *sen = c->sensor;
+  const float eps = c->cfg.dbscan_eps;
+  for (int b = 0; b < RS_GRID_BUCKETS; b++) c->heads[b] = -1;
+  for (uint32_t k = 0; k < nfg; k++) {
+    const uint32_t i = c->fg[k];
+    const int r = (int)(c->fgrc[k] >> 16), col = (int)(c->fgrc[k] & 0xffff);
+    int laser = sen->laser_of_row[r];
+    float range = c->rr[i], az = (float)((col + 0.5) * 2.0 * 3.14159265358979323846 / cols);
+    float xy = range * sen->cos_el[laser];
+    c->px[k] = xy * sinf(az);
+    c->py[k] = xy * cosf(az);
+    c->pz[k] = range * sen->sin_el[laser];
+    uint32_t h = voxel_hash((int)floorf(c->px[k] / eps), (int)floorf(c->py[k] / eps), (int)floorf(c->pz[k] / eps));
+    c->next[k] = c->heads[h];
+    c->heads[h] = (int32_t)k;
+  }
+  for (uint32_t k = 0; k < nfg; k++) c->core[k] = region_count(c, k, eps) >= (uint32_t)c->cfg.dbscan_min_pts;
+  /* labels by point index in queue order; cluster ids written to the slot */
+  uint32_t ncl = 0;
+  for (uint32_t k = 0; k < nfg; k++) {
+    if (!c->core[k] || s->label[c->fg[k]] != 2) continue;
+    if (ncl >= RS_MAX_CLUSTERS) {
+      st->overflow++;
+      continue;
+    }
+    const uint16_t id = (uint16_t)(3 + ncl++);
+    uint32_t head = 0, tail = 0;
+    c->queue[tail++] = k;
+    s->label[c->fg[k]] = id;
+    while (head < tail) {
+      uint32_t q = c->queue[head++];
+      const float x = c->px[q], y = c->py[q], z = c->pz[q], e2 = eps * eps;
+      const int ix = (int)floorf(x / eps), iy = (int)floorf(y / eps), iz = (int)floorf(z / eps);
+      for (int dx = -1; dx <= 1; dx++)
+        for (int dy = -1; dy <= 1; dy++)
+          for (int dz = -1; dz <= 1; dz++)
+            for (int32_t j = c->heads[voxel_hash(ix + dx, iy + dy, iz + dz)]; j >= 0; j = c->next[j]) {
+              float ax = c->px[j] - x, ay = c->py[j] - y, az = c->pz[j] - z;
+              if (ax * ax + ay * ay + az * az > e2 || s->label[c->fg[j]] != 2) continue;
+              s->label[c->fg[j]] = id;
+              if (c->core[j]) c->queue[tail++] = (uint32_t)j;
+            }
+    }
+  }
+  st->clusters = ncl;
+}
+
+void rs_cluster_run(rs_cluster_t *c, rs_slot_t *s, rs_cluster_stats_t *st) {
+  memset(st, 0, sizeof *st);
+  uint32_t nfg;
+  prepare(c, s, &nfg);
+  st->foreground = nfg;
+  switch (c->cfg.method) {
+  case RS_CLUSTER_FSPC:
+  case RS_CLUSTER_FSPC_ADAPTIVE:
+    fspc(c, s, nfg, c->cfg.method == RS_CLUSTER_FSPC_ADAPTIVE, c->cfg.win_h / 2, c->cfg.win_w / 2, c->cfg.eps,
+         c->cfg.min_pts, st);
+    break;
+  case RS_CLUSTER_DBSCAN: dbscan(c, s, nfg, st); break;
+  case RS_CLUSTER_CCL: fspc(c, s, nfg, false, 1, 1, c->cfg.ccl_eps, 1, st); break;
+  default: break;
+  }
+  for (uint32_t k = 0; k < nfg; k++) {
+    if (s->label[c->fg[k]] >= 3) st->clustered++;
+    else st->noise++;
+  }
+  c->overflow_total += st->overflow;
+  /* dual return: the second layer follows the first where the ranges agree
+   * within the method's own eps (the adaptive one by row and range); then
+   * every clustered cell, layer by layer, row-major, for the object stage */
+  const uint32_t cols = s->meta.cols, cells = (uint32_t)s->meta.rows * cols;
+  const rs_cluster_method_t m = c->cfg.method;
+  const float eps = m == RS_CLUSTER_DBSCAN ? c->cfg.dbscan_eps : (m == RS_CLUSTER_CCL ? c->cfg.ccl_eps : c->cfg.eps);
+  uint32_t nm = 0;
+  for (uint32_t k = 0; k < nfg; k++)
+    if (s->label[c->fg[k]] >= RS_LABEL_FIRST_OBJECT) c->members[nm++] = c->fg[k];
+  for (uint32_t i = 0; i < cells; i++) {
+    uint32_t j = RS_MAX_CELLS + i;
+    float r = s->range[j];
+    if (r <= 0.0f || s->label[j] == RS_LABEL_STATIC) continue;
+    uint16_t l0 = s->label[i];
+    float e = eps;
+    if (m == RS_CLUSTER_FSPC_ADAPTIVE && l0 >= RS_LABEL_FIRST_OBJECT) e = c->eps_tab[i / cols][bin_of(s->range[i])];
+    s->label[j] = (uint16_t)((l0 >= RS_LABEL_FIRST_OBJECT && fabsf(s->range[i] - r) < e) ? l0 : RS_LABEL_NOISE);
+    if (s->label[j] >= RS_LABEL_FIRST_OBJECT) c->members[nm++] = j;
+  }
+  c->nmembers = nm;
+}

@@ -1,0 +1,868 @@
+/* track.c - the tracker stage (processing thread; no allocation).
+ *
+ * Per frame: predict every track to each object's time, gate (grid lookup
+ * around the prediction, then Mahalanobis, Euclidean and implied speed),
+ * mark clusters that hold two confirmed tracks, assign (confirmed tracks,
+ * then tentative ones: Hungarian per connected group, greedy beyond
+ * RS_TRACK_GROUP_MAX), update, absorb split parts, give birth, confirm, end.
+ * Every loop is bounded by RS_TRACK_MAX, RS_OBJ_MAX or the edge capacity. */
+#include "roadscan/perception/track.h"
+
+#include "roadscan/util/error.h"
+#include "roadscan/util/sort.h"
+
+#include <math.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+#define BIG 1e12
+#define GRID 4.0          /* m, cells of the object lookup grid */
+#define GRID_BUCKETS RS_TRACK_GRID_BUCKETS
+#define EDGES_PER_TRACK RS_TRACK_EDGES_PER_TRACK
+
+void rs_track_cfg_default(rs_track_cfg_t *c) {
+  c->q_accel = 1.0;
+  c->q_long = 1.0;
+  c->meas_sd = 0.15;
+  c->meas_sd_per_m = 0.1;
+  c->gate_chi2 = 13.8;
+  c->gate_m = 4.0;
+  c->max_speed = 50.0;
+  c->init_speed_sd = 25.0;
+  c->init_small_speed_sd = 5.0;
+  c->birth_points = 5;
+  c->confirm_hits = 3;
+  c->confirm_move_m = 0.8;
+  c->confirm_still_s = 1.5;
+  c->tentative_miss_s = 0.25;
+  c->coast_s = 1.0;
+  c->lost_s = 2.0;
+  c->still_speed = 0.3;
+  c->size_weight = 2.0;
+}
+
+int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
+  if (!(cfg->q_accel > 0 && cfg->q_accel < 1000) || !(cfg->q_long > 0 && cfg->q_long < 1000) || !(cfg->meas_sd > 0 && cfg->meas_sd < 10) ||
+      !(cfg->meas_sd_per_m >= 0 && cfg->meas_sd_per_m < 10) || !(cfg->gate_chi2 > 0) || !(cfg->gate_m > 0 && cfg->gate_m <= 20) ||
+      !(cfg->max_speed > 0 && cfg->max_speed <= 100) || !(cfg->init_speed_sd > 0) || !(cfg->init_small_speed_sd > 0) || cfg->birth_points < 1 ||
+      cfg->confirm_hits < 1 || !(cfg->confirm_move_m >= 0) || !(cfg->confirm_still_s >= 0) ||
+      !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100))
+    return RS_E_INVAL;
+  memset(&tr->list, 0, sizeof tr->list);
+  memset(&tr->n, 0, sizeof tr->n);
+  tr->cfg = *cfg;
+  tr->next_id = 1;
+  tr->last_t = 0;
+  return RS_OK;
+}
+
+/* the parameters by name, with their ranges (rs_track_cfg_set) */
+typedef struct {
+  const char *name;
+  size_t off;
+  double lo, hi;
+  bool integer;
+} knob_t;
+#define KNOB(f, lo, hi) {#f, offsetof(rs_track_cfg_t, f), lo, hi, false}
+static const knob_t knobs[] = {
+    KNOB(q_accel, 0.01, 100.0),       KNOB(q_long, 0.01, 100.0),       KNOB(meas_sd, 0.01, 5.0),         KNOB(meas_sd_per_m, 0.0, 2.0),
+    KNOB(gate_chi2, 1.0, 100.0),      KNOB(gate_m, 0.5, 20.0),          KNOB(max_speed, 1.0, 100.0),
+    KNOB(init_speed_sd, 0.1, 100.0),  KNOB(init_small_speed_sd, 0.1, 100.0),
+    {"birth_points", offsetof(rs_track_cfg_t, birth_points), 1, 10000, true},
+    {"confirm_hits", offsetof(rs_track_cfg_t, confirm_hits), 1, 100, true},
+    KNOB(confirm_move_m, 0.0, 20.0),  KNOB(confirm_still_s, 0.0, 60.0), KNOB(tentative_miss_s, 0.01, 10.0),
+    KNOB(coast_s, 0.01, 60.0),        KNOB(lost_s, 0.0, 60.0),          KNOB(still_speed, 0.0, 5.0),
+    KNOB(size_weight, 0.0, 100.0),
+};
+
+int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
+  for (size_t k = 0; k < sizeof knobs / sizeof knobs[0]; k++) {
+    if (strcmp(knobs[k].name, name) != 0) continue;
+    char *end;
+    double v = strtod(value, &end);
+    if (end == value || *end != '\0' || !(v >= knobs[k].lo && v <= knobs[k].hi) ||
+        (knobs[k].integer && v != floor(v))) {
+      snprintf(err, n, "tracking parameter %s: '%s' is not a%s number from %g to %g", name, value,
+               knobs[k].integer ? " whole" : "", knobs[k].lo, knobs[k].hi);
+      return RS_E_INVAL;
+    }
+    if (knobs[k].integer) *(int *)((char *)c + knobs[k].off) = (int)v;
+    else *(double *)((char *)c + knobs[k].off) = v;
+    return RS_OK;
+  }
+  size_t used = (size_t)snprintf(err, n, "no tracking parameter '%s'; there are:", name);
+  for (size_t k = 0; k < sizeof knobs / sizeof knobs[0] && used < n; k++)
+    used += (size_t)snprintf(err + used, n - used, " %s", knobs[k].name);
+  return RS_E_INVAL;
+}
+
+const char *rs_track_state_name(rs_track_state_t s) {
+  switch (s) {
+  case RS_TRACK_TENTATIVE: return "tentative";
+  case RS_TRACK_CONFIRMED: return "confirmed";
+  case RS_TRACK_COASTING: return "coasting";
+  case RS_TRACK_LOST: return "lost";
+  }
+  return "?";
+}
+
+const char *rs_class_name(rs_class_t c) {
+  static const char *const names[RS_CLASS_COUNT] = {"unknown", "pedestrian", "cyclist", "car", "van/truck", "bus"};
+  return (unsigned)c < RS_CLASS_COUNT ? names[c] : "?";
+}
+
+/* object k's measurement: box centre, noise sd */
+static void meas(const rs_tracker_t *tr, const rs_object_t *o, double *z, double *sd) {
+  z[0] = o->sensor.obb_center[0];
+  z[1] = o->sensor.obb_center[1];
+  *sd = tr->cfg.meas_sd + tr->cfg.meas_sd_per_m * o->sensor.obb_length;
+}
+
+#define MAX_SHIFT 3.0 /* m, the most a partial view's centre is moved */
+
+/* The same, as track t sees it: the sensor sees the faces of an object that
+ * face it, so a box shorter (narrower) than the track's along its axes is
+ * its near part; its centre is moved away from the sensor by half what is
+ * missing (at most MAX_SHIFT), on each of the track's axes. Only for
+ * tracks whose size is known (confirmed, 5 hits). */
+static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o, double *z, double *sd) {
+  meas(tr, o, z, sd);
+  if (t == NULL || t->state == RS_TRACK_TENTATIVE || t->hits < 5 || t->length < 1.5f) return;
+  const double c = t->hcos, s = t->hsin;
+  const double dh = (double)o->sensor.obb_heading - t->heading;
+  const double a = 0.5 * o->sensor.obb_length, b = 0.5 * o->sensor.obb_width;
+  const double ext_u = 2.0 * (a * fabs(cos(dh)) + b * fabs(sin(dh))), ext_v = 2.0 * (a * fabs(sin(dh)) + b * fabs(cos(dh)));
+  const double miss_u = fmin(MAX_SHIFT, fmax(0.0, 0.5 * ((double)t->length - ext_u)));
+  const double miss_v = fmin(MAX_SHIFT, fmax(0.0, 0.5 * ((double)t->width - ext_v)));
+  const double pu = z[0] * c + z[1] * s, pv = -z[0] * s + z[1] * c; /* the centre on the track's axes */
+  const double su = pu >= 0 ? miss_u : -miss_u, sv = pv >= 0 ? miss_v : -miss_v;
+  z[0] += su * c - sv * s;
+  z[1] += su * s + sv * c;
+  *sd += 0.5 * (miss_u + miss_v); /* the move is a guess: less sure the more it moves */
+}
+
+/* The acceleration spectral density of track t on the ground plane (xx, xy,
+ * yy): q_long along its motion and q_accel across it when it moves faster
+ * than 1 m/s (vehicles speed up and brake along their heading far more than
+ * they swerve), q_accel both ways otherwise. */
+static void accel_density(const rs_tracker_t *tr, const rs_track_t *t, double q[3]) {
+  const double vx = t->x[2], vy = t->x[3], v2 = vx * vx + vy * vy;
+  const double ql = tr->cfg.q_long, qc = tr->cfg.q_accel;
+  if (v2 < 1.0 || ql == qc) {
+    q[0] = q[2] = qc;
+    q[1] = 0.0;
+    return;
+  }
+  const double cx = vx * vx / v2, cy = vy * vy / v2, cxy = vx * vy / v2;
+  q[0] = ql * cx + qc * cy;
+  q[1] = (ql - qc) * cxy;
+  q[2] = ql * cy + qc * cx;
+}
+
+/* predicted position and its covariance (2 x 2) of track t at time tk */
+static void predict_pos(const rs_tracker_t *tr, const rs_track_t *t, double tk, double p[2], double S[3]) {
+  double dt = tk - t->t_state;
+  if (dt < 0) dt = 0;
+  double q[3];
+  accel_density(tr, t, q);
+  const double d3 = dt * dt * dt / 3.0;
+  p[0] = t->x[0] + t->x[2] * dt;
+  p[1] = t->x[1] + t->x[3] * dt;
+  /* S = H F P F' H' + H Q H' (xx, xy, yy) */
+  S[0] = t->P[0][0] + dt * (t->P[0][2] + t->P[2][0]) + dt * dt * t->P[2][2] + q[0] * d3;
+  S[1] = t->P[0][1] + dt * (t->P[0][3] + t->P[2][1]) + dt * dt * t->P[2][3] + q[1] * d3;
+  S[2] = t->P[1][1] + dt * (t->P[1][3] + t->P[3][1]) + dt * dt * t->P[3][3] + q[2] * d3;
+}
+
+/* x, P to time tk (constant velocity, full white-noise-acceleration Q) */
+static void predict(const rs_tracker_t *tr, rs_track_t *t, double tk) {
+  double dt = tk - t->t_state;
+  if (dt <= 0) return;
+  double q[3];
+  accel_density(tr, t, q);
+  const double F[4][4] = {{1, 0, dt, 0}, {0, 1, 0, dt}, {0, 0, 1, 0}, {0, 0, 0, 1}};
+  double FP[4][4], P[4][4];
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) {
+      double s = 0;
+      for (int k = 0; k < 4; k++) s += F[i][k] * t->P[k][j];
+      FP[i][j] = s;
+    }
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) {
+      double s = 0;
+      for (int k = 0; k < 4; k++) s += FP[i][k] * F[j][k];
+      P[i][j] = s;
+    }
+  /* Q = [S dt^3/3, S dt^2/2; S dt^2/2, S dt], S the 2 x 2 density */
+  const double a = dt * dt * dt / 3.0, b = dt * dt / 2.0, c = dt;
+  const int pos[2] = {0, 1}, vel[2] = {2, 3};
+  for (int i = 0; i < 2; i++)
+    for (int j = 0; j < 2; j++) {
+      const double sij = i == j ? q[2 * i] : q[1];
+      P[pos[i]][pos[j]] += sij * a;
+      P[pos[i]][vel[j]] += sij * b;
+      P[vel[i]][pos[j]] += sij * b;
+      P[vel[i]][vel[j]] += sij * c;
+    }
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) t->P[i][j] = P[i][j];
+  t->x[0] += t->x[2] * dt;
+  t->x[1] += t->x[3] * dt;
+  t->t_state = tk;
+}
+
+/* Kalman update with a position measurement z of noise sd */
+static void update(rs_track_t *t, const double z[2], double sd) {
+  const double r = sd * sd;
+  const double s00 = t->P[0][0] + r, s01 = t->P[0][1], s11 = t->P[1][1] + r;
+  const double det = s00 * s11 - s01 * s01;
+  if (!(det > 0)) return;
+  const double i00 = s11 / det, i01 = -s01 / det, i11 = s00 / det;
+  double K[4][2];
+  for (int i = 0; i < 4; i++) {
+    K[i][0] = t->P[i][0] * i00 + t->P[i][1] * i01;
+    K[i][1] = t->P[i][0] * i01 + t->P[i][1] * i11;
+  }
+  const double y0 = z[0] - t->x[0], y1 = z[1] - t->x[1];
+  for (int i = 0; i < 4; i++) t->x[i] += K[i][0] * y0 + K[i][1] * y1;
+  double P[4][4];
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) P[i][j] = t->P[i][j] - K[i][0] * t->P[0][j] - K[i][1] * t->P[1][j];
+  for (int i = 0; i < 4; i++) /* symmetric */
+    for (int j = 0; j < i; j++) P[i][j] = P[j][i] = 0.5 * (P[i][j] + P[j][i]);
+  for (int i = 0; i < 4; i++)
+    for (int j = 0; j < 4; j++) t->P[i][j] = P[i][j];
+}
+
+static void set_heading(rs_track_t *t, float h) {
+  t->heading = h;
+  t->hcos = cosf(h);
+  t->hsin = sinf(h);
+}
+
+static double obj_time(const rs_object_t *o, double t_frame) {
+  return o->points > 0 && o->t_last >= o->t_first ? 0.5 * (o->t_first + o->t_last) : t_frame;
+}
+
+/* is (px, py) inside object o's oriented box (heading cosine c, sine s) grown by m? */
+static bool in_box(const rs_object_t *o, double c, double s, double px, double py, double m) {
+  const double dx = px - o->sensor.obb_center[0], dy = py - o->sensor.obb_center[1];
+  const double u = dx * c + dy * s, v = -dx * s + dy * c;
+  return fabs(u) <= 0.5 * o->sensor.obb_length + m && fabs(v) <= 0.5 * o->sensor.obb_width + m;
+}
+
+/* inside track t's box (at its current state) grown by RS_TRACK_SPLIT_MARGIN
+ * along its length and half that across */
+static bool in_track_box(const rs_track_t *t, double px, double py) {
+  const double c = t->hcos, s = t->hsin;
+  const double dx = px - t->x[0], dy = py - t->x[1];
+  const double u = dx * c + dy * s, v = -dx * s + dy * c;
+  return fabs(u) <= 0.5 * t->length + RS_TRACK_SPLIT_MARGIN && fabs(v) <= 0.5 * t->width + 0.5 * RS_TRACK_SPLIT_MARGIN;
+}
+
+/* ---- object lookup grid (hash of 4 m cells) ----------------------------- */
+static uint32_t bucket(long gx, long gy) {
+  return (uint32_t)(((unsigned long)gx * 73856093ul) ^ ((unsigned long)gy * 19349663ul)) & (GRID_BUCKETS - 1);
+}
+
+/* ---- track lookup grid: tracks by their position (4 m cells, hashed) ---- */
+static void track_grid(rs_tracker_t *tr, double t_frame) {
+  for (int b = 0; b < GRID_BUCKETS; b++) tr->tgrid_head[b] = -1;
+  tr->vmax = 0.0;
+  for (uint32_t i = 0; i < tr->list.count; i++) {
+    const rs_track_t *t = &tr->list.track[i];
+    double dt = t_frame - t->t_state;
+    if (dt < 0) dt = 0;
+    tr->tpos[i][0] = t->x[0] + t->x[2] * dt;
+    tr->tpos[i][1] = t->x[1] + t->x[3] * dt;
+    const double v = sqrt(t->x[2] * t->x[2] + t->x[3] * t->x[3]);
+    if (v > tr->vmax) tr->vmax = v;
+    tr->tcell[i][0] = (long)floor(tr->tpos[i][0] / GRID);
+    tr->tcell[i][1] = (long)floor(tr->tpos[i][1] / GRID);
+    const uint32_t bk = bucket(tr->tcell[i][0], tr->tcell[i][1]);
+    tr->tgrid_next[i] = tr->tgrid_head[bk];
+    tr->tgrid_head[bk] = (int32_t)i;
+  }
+}
+
+/* the tracks whose grid position lies within r (at most 30 m) of (x, y), in
+ * index order (so in id order), into tr->near; returns how many */
+static uint32_t tracks_near(rs_tracker_t *tr, double x, double y, double r) {
+  if (r > 30.0) r = 30.0;
+  uint32_t n = 0;
+  const long g0x = (long)floor((x - r) / GRID), g1x = (long)floor((x + r) / GRID);
+  const long g0y = (long)floor((y - r) / GRID), g1y = (long)floor((y + r) / GRID);
+  for (long gx = g0x; gx <= g1x; gx++)
+    for (long gy = g0y; gy <= g1y; gy++)
+      for (int32_t i = tr->tgrid_head[bucket(gx, gy)], guard = 0; i >= 0 && guard < RS_TRACK_MAX;
+           i = tr->tgrid_next[i], guard++) {
+        if (tr->tcell[i][0] != gx || tr->tcell[i][1] != gy) continue;
+        const double dx = tr->tpos[i][0] - x, dy = tr->tpos[i][1] - y;
+        if (dx * dx + dy * dy <= r * r) tr->near[n++] = (uint16_t)i;
+      }
+  /* index order: insertion sort (n is small) */
+  for (uint32_t a = 1; a < n; a++) {
+    uint16_t v = tr->near[a];
+    uint32_t b = a;
+    while (b > 0 && tr->near[b - 1] > v) {
+      tr->near[b] = tr->near[b - 1];
+      b--;
+    }
+    tr->near[b] = v;
+  }
+  return n;
+}
+
+/* ---- assignment ------------------------------------------------------------ */
+/* Hungarian algorithm (shortest augmenting paths with potentials) on an
+ * n x n matrix; a[i] = column of row i. O(n^3), n <= RS_TRACK_GROUP_MAX. */
+static void hungarian(double (*cost)[RS_TRACK_GROUP_MAX], int n, int *a) {
+  double u[RS_TRACK_GROUP_MAX + 1], v[RS_TRACK_GROUP_MAX + 1], minv[RS_TRACK_GROUP_MAX + 1];
+  int p[RS_TRACK_GROUP_MAX + 1], way[RS_TRACK_GROUP_MAX + 1];
+  bool used[RS_TRACK_GROUP_MAX + 1];
+  for (int j = 0; j <= n; j++) u[j] = v[j] = 0, p[j] = 0, way[j] = 0;
+  for (int i = 1; i <= n; i++) {
+    p[0] = i;
+    int j0 = 0;
+    for (int j = 0; j <= n; j++) minv[j] = INFINITY, used[j] = false;
+    for (int guard = 0; guard <= n + 1; guard++) { /* at most n + 1 steps */
+      used[j0] = true;
+      int i0 = p[j0], j1 = 0;
+      double delta = INFINITY;
+      for (int j = 1; j <= n; j++) {
+        if (used[j]) continue;
+        double cur = cost[i0 - 1][j - 1] - u[i0] - v[j];
+        if (cur < minv[j]) minv[j] = cur, way[j] = j0;
+        if (minv[j] < delta) delta = minv[j], j1 = j;
+      }
+      for (int j = 0; j <= n; j++) {
+        if (used[j]) u[p[j]] += delta, v[j] -= delta;
+        else minv[j] -= delta;
+      }
+      j0 = j1;
+      if (p[j0] == 0) break;
+    }
+    for (int guard = 0; guard <= n && j0; guard++) {
+      int j1 = way[j0];
+      p[j0] = p[j1];
+      j0 = j1;
+    }
+  }
+  for (int i = 0; i < n; i++) a[i] = -1;
+  for (int j = 1; j <= n; j++)
+    if (p[j] > 0) a[p[j] - 1] = j - 1;
+}
+
+static int cmp_edge(const void *x, const void *y) {
+  const rs_track_edge_t *p = x, *q = y;
+  if (p->c != q->c) return p->c < q->c ? -1 : 1;
+  if (p->t != q->t) return p->t < q->t ? -1 : 1; /* then track, then object */
+  return (p->o > q->o) - (p->o < q->o);
+}
+
+static uint16_t find(uint16_t *c, uint16_t i) {
+  for (int guard = 0; guard < RS_TRACK_MAX + RS_OBJ_MAX && c[i] != i; guard++) {
+    c[i] = c[c[i]];
+    i = c[i];
+  }
+  return i;
+}
+
+/* one association round over the edges: tracks and objects of each connected
+ * group assigned optimally (or greedily when the group is too large) */
+static void assign(rs_tracker_t *tr, uint32_t nobj) {
+  const uint32_t nt = tr->list.count, ne = tr->edges;
+  if (ne == 0) return;
+  uint16_t *c = tr->comp; /* tracks 0..nt-1, objects RS_TRACK_MAX + k */
+  for (uint32_t i = 0; i < nt; i++) c[i] = (uint16_t)i;
+  for (uint32_t k = 0; k < nobj; k++) c[RS_TRACK_MAX + k] = (uint16_t)(RS_TRACK_MAX + k);
+  for (uint32_t e = 0; e < ne; e++) {
+    uint16_t a = find(c, tr->edge[e].t), b = find(c, (uint16_t)(RS_TRACK_MAX + tr->edge[e].o));
+    if (a != b) c[a > b ? a : b] = a < b ? a : b;
+  }
+  /* edges grouped by their group's root (a stable counting sort: within a
+   * group, edges keep their order, by track and then cost) */
+  uint32_t *start = tr->root_start;
+  memset(start, 0, sizeof(uint32_t) * (RS_TRACK_MAX + RS_OBJ_MAX + 1));
+  for (uint32_t e = 0; e < ne; e++) {
+    tr->eroot[e] = find(c, tr->edge[e].t);
+    start[tr->eroot[e] + 1]++;
+  }
+  for (uint32_t r = 0; r < RS_TRACK_MAX + RS_OBJ_MAX; r++) start[r + 1] += start[r];
+  for (uint32_t e = 0; e < ne; e++) tr->gedge[start[tr->eroot[e]]++] = tr->edge[e];
+  /* start[r] is now the end of group r's edges */
+  for (uint32_t e0 = 0, e1; e0 < ne; e0 = e1) {
+    const uint16_t root = find(c, tr->gedge[e0].t);
+    e1 = start[root];
+    int ntg = 0, nog = 0;
+    bool greedy = false;
+    /* the group's tracks and objects, in order of first appearance */
+    for (uint32_t e = e0; e < e1 && !greedy; e++) {
+      int a = -1, b = -1;
+      for (int i = 0; i < ntg; i++)
+        if (tr->gt[i] == tr->gedge[e].t) a = i;
+      for (int i = 0; i < nog; i++)
+        if (tr->go[i] == tr->gedge[e].o) b = i;
+      if (a < 0) {
+        if (ntg == RS_TRACK_GROUP_MAX) greedy = true;
+        else tr->gt[ntg++] = tr->gedge[e].t;
+      }
+      if (b < 0 && !greedy) {
+        if (nog == RS_TRACK_GROUP_MAX) greedy = true;
+        else tr->go[nog++] = tr->gedge[e].o;
+      }
+    }
+    if (greedy) {
+      tr->n.greedy_groups++;
+      /* cheapest first (ties: track, then object) */
+      rs_sort(tr->gedge + e0, e1 - e0, sizeof tr->gedge[0], cmp_edge);
+      for (uint32_t e = e0; e < e1; e++) {
+        rs_track_t *t = &tr->list.track[tr->gedge[e].t];
+        if (t->object >= 0 || tr->taken_by[tr->gedge[e].o] >= 0) continue;
+        t->object = tr->gedge[e].o;
+        tr->taken_by[tr->gedge[e].o] = tr->gedge[e].t;
+      }
+      continue;
+    }
+    const int n = ntg > nog ? ntg : nog;
+    for (int i = 0; i < n; i++)
+      for (int j = 0; j < n; j++) tr->cost[i][j] = BIG;
+    for (uint32_t e = e0; e < e1; e++) {
+      int a = 0, b = 0;
+      while (tr->gt[a] != tr->gedge[e].t) a++;
+      while (tr->go[b] != tr->gedge[e].o) b++;
+      tr->cost[a][b] = tr->gedge[e].c;
+    }
+    int as[RS_TRACK_GROUP_MAX];
+    hungarian(tr->cost, n, as);
+    for (int i = 0; i < ntg; i++) {
+      if (as[i] < 0 || as[i] >= nog || tr->cost[i][as[i]] >= BIG) continue;
+      rs_track_t *t = &tr->list.track[tr->gt[i]];
+      t->object = tr->go[as[i]];
+      tr->taken_by[tr->go[as[i]]] = tr->gt[i];
+    }
+  }
+}
+
+/* gated pairs of the tracks selected by `want` and the free objects */
+static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_round) {
+  tr->edges = 0;
+  const rs_track_cfg_t *cf = &tr->cfg;
+  for (uint32_t i = 0; i < tr->list.count; i++) {
+    rs_track_t *t = &tr->list.track[i];
+    if (t->held || t->object >= 0) continue;
+    if ((t->state != RS_TRACK_TENTATIVE) != confirmed_round) continue;
+    const double sp = hypot(t->x[2], t->x[3]);
+    const double radius = cf->gate_m + sp * 0.15 + MAX_SHIFT;
+    const long g0x = (long)floor((t->x[0] - radius) / GRID), g1x = (long)floor((t->x[0] + radius) / GRID);
+    const long g0y = (long)floor((t->x[1] - radius) / GRID), g1y = (long)floor((t->x[1] + radius) / GRID);
+    struct { uint16_t o; float c; } best[EDGES_PER_TRACK];
+    int nb = 0;
+    for (long gx = g0x; gx <= g1x && gx - g0x < 16; gx++)
+      for (long gy = g0y; gy <= g1y && gy - g0y < 16; gy++) {
+        for (int32_t k = tr->grid_head[bucket(gx, gy)], guard = 0; k >= 0 && guard < RS_OBJ_MAX; k = tr->grid_next[k], guard++) {
+          const rs_object_t *o = &objs->obj[k];
+          if (tr->taken_by[k] >= 0 || tr->shared[k]) continue;
+          double z[2], sd, p[2], S[3];
+          meas(tr, o, z, &sd);
+          if ((long)floor(z[0] / GRID) != gx || (long)floor(z[1] / GRID) != gy) continue; /* another cell, same bucket */
+          meas_for(tr, t, o, z, &sd);
+          const double tk = tr->obj_t[k];
+          predict_pos(tr, t, tk, p, S);
+          const double dx = z[0] - p[0], dy = z[1] - p[1], d = sqrt(dx * dx + dy * dy);
+          const double unseen = tk - t->t_update; /* the gate grows while a track is not seen */
+          if (d > (unseen > 0.5 ? fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (unseen - 0.5)) : cf->gate_m)) continue;
+          const double dtu = tk - t->t_update; /* the speed the pairing implies, from the last measurement */
+          if (dtu > 0.02 && hypot(z[0] - t->last_z[0], z[1] - t->last_z[1]) / dtu > cf->max_speed) continue;
+          const double s00 = S[0] + sd * sd, s01 = S[1], s11 = S[2] + sd * sd, det = s00 * s11 - s01 * s01;
+          if (!(det > 0)) continue;
+          const double m2 = (dx * dx * s11 - 2 * dx * dy * s01 + dy * dy * s00) / det;
+          if (m2 > cf->gate_chi2) continue;
+          /* and how unlike the track's last object it is: a track keeps its object, not a fragment beside it */
+          /* (beyond what counting noise explains: 3 sd of the smaller count) */
+          const double lo = o->points < t->points ? o->points : t->points, hi = o->points < t->points ? t->points : o->points;
+          const double unlike = lo > 0 ? fmax(0.0, log(hi / lo) - log(1.0 + 3.0 / sqrt(lo))) : 0.0;
+          const float cost = (float)(m2 + log(det) + cf->size_weight * fmin(unlike, 4.0));
+          /* keep the best EDGES_PER_TRACK, by cost then object order */
+          int at = nb;
+          while (at > 0 && (best[at - 1].c > cost || (best[at - 1].c == cost && best[at - 1].o > k))) at--;
+          if (at >= EDGES_PER_TRACK) continue;
+          int last = nb < EDGES_PER_TRACK ? nb : EDGES_PER_TRACK - 1;
+          for (int m = last; m > at; m--) best[m] = best[m - 1];
+          best[at].o = (uint16_t)k;
+          best[at].c = cost;
+          if (nb < EDGES_PER_TRACK) nb++;
+        }
+      }
+    for (int b = 0; b < nb; b++) {
+      tr->edge[tr->edges].t = (uint16_t)i;
+      tr->edge[tr->edges].o = best[b].o;
+      tr->edge[tr->edges].c = best[b].c;
+      tr->edges++;
+    }
+  }
+}
+
+static rs_class_t classify(const rs_track_t *t) {
+  const float L = t->length, W = t->width, H = t->height, V = t->max_speed;
+  if (t->state == RS_TRACK_TENTATIVE) return RS_CLASS_UNKNOWN;
+  if (L >= 10.0f) return RS_CLASS_BUS;
+  if (L >= 5.6f || (L >= 4.0f && H >= 2.1f)) return RS_CLASS_VAN_TRUCK;
+  if (L >= 3.0f && W >= 1.3f) return RS_CLASS_CAR;
+  if (L >= 1.2f && W < 1.2f && V >= 2.0f) return RS_CLASS_CYCLIST;
+  if (L < 1.3f && W < 1.3f && H >= 0.9f && H <= 2.3f && V < 4.0f) return RS_CLASS_PEDESTRIAN;
+  return RS_CLASS_UNKNOWN;
+}
+
+static float smooth(float cur, float obs, bool first) {
+  if (first) return obs;
+  return cur + (obs > cur ? 0.5f : 0.05f) * (obs - cur);
+}
+
+/* track t took object o (measured at tk) */
+static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double tk) {
+  double z[2], sd;
+  meas_for(tr, t, o, z, &sd);
+  t->last_z[0] = z[0];
+  t->last_z[1] = z[1];
+  predict(tr, t, tk);
+  update(t, z, sd);
+  const bool first = t->hits == 0;
+  t->length = smooth(t->length, o->sensor.obb_length, first);
+  t->width = smooth(t->width, o->sensor.obb_width, first);
+  t->height = smooth(t->height, o->sensor.box_max[2] - o->sensor.box_min[2], first);
+  t->z_min = first ? o->sensor.box_min[2] : 0.9f * t->z_min + 0.1f * o->sensor.box_min[2];
+  t->hits++;
+  t->t_update = tk;
+  t->points = o->points;
+  const double sp = hypot(t->x[2], t->x[3]);
+  if (sp > 1.0 && t->hits >= 2) {
+    set_heading(t, (float)atan2(t->x[3], t->x[2]));
+  } else if (first) {
+    set_heading(t, o->sensor.obb_heading);
+  }
+}
+
+static void report_speed(const rs_tracker_t *tr, rs_track_t *t) {
+  const double sp = hypot(t->x[2], t->x[3]), sdv = sqrt(0.5 * (t->P[2][2] + t->P[3][3]));
+  const double floor_v = fmax(tr->cfg.still_speed, fmin(sdv, 1.0)); /* within one sd of 0 (at most 1 m/s) */
+  t->speed = (float)(sp < floor_v ? 0.0 : sp);
+}
+
+static void end_track(rs_tracker_t *tr, const rs_track_t *t, double t_end) {
+  tr->n.ended++;
+  if (t->state == RS_TRACK_TENTATIVE) return; /* never confirmed: no event */
+  if (tr->list.ended >= RS_TRACK_ENDED_MAX) {
+    tr->n.ends_dropped++;
+    return;
+  }
+  rs_track_end_t *e = &tr->list.end[tr->list.ended++];
+  e->id = t->id;
+  e->cls = t->cls;
+  e->confirmed = true;
+  e->t_birth = t->t_birth;
+  e->t_end = t_end;
+  e->distance = t->distance_seen; /* to where it was last seen */
+  e->mean_speed = t->speed_n ? t->sum_speed / t->speed_n : 0.0;
+  e->max_speed = t->max_speed;
+}
+
+void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_frame) {
+  rs_track_list_t *L = &tr->list;
+  const rs_track_cfg_t *cf = &tr->cfg;
+  const uint32_t nobj = objs->count < RS_OBJ_MAX ? objs->count : RS_OBJ_MAX;
+  tr->n.frames++;
+  L->t = t_frame;
+  L->ended = 0;
+  if (t_frame < tr->last_t) t_frame = tr->last_t; /* time never runs back */
+  tr->last_t = t_frame;
+  for (int b = 0; b < GRID_BUCKETS; b++) tr->grid_head[b] = -1;
+  for (uint32_t k = 0; k < nobj; k++) {
+    const rs_object_t *o = &objs->obj[k];
+    tr->taken_by[k] = -1;
+    tr->shared[k] = 0;
+    L->object_track[k] = 0;
+    tr->obj_t[k] = obj_time(o, t_frame);
+    if (tr->obj_t[k] < t_frame - 1.0 || tr->obj_t[k] > t_frame + 1.0) tr->obj_t[k] = t_frame;
+    if (o->points == 0) continue;
+    const uint32_t bk = bucket((long)floor(o->sensor.obb_center[0] / GRID), (long)floor(o->sensor.obb_center[1] / GRID));
+    tr->grid_next[k] = tr->grid_head[bk];
+    tr->grid_head[bk] = (int32_t)k;
+  }
+  for (uint32_t i = 0; i < L->count; i++) {
+    L->track[i].object = -1;
+    L->track[i].held = false;
+  }
+  /* clusters over two confirmed tracks whose predictions are apart: held */
+  track_grid(tr, t_frame);
+  for (uint32_t k = 0; k < nobj; k++) {
+    const rs_object_t *o = &objs->obj[k];
+    if (o->points == 0 || o->sensor.obb_length < 0.8f) continue;
+    const double oc = cos(o->sensor.obb_heading), os = sin(o->sensor.obb_heading);
+    int in = 0;
+    double first[2] = {0, 0};
+    float first_len = 0.0f;
+    uint32_t most_points = 0;
+    bool apart = false;
+    /* (a track moves at most max_speed x 1 s between its grid position and the object's time) */
+    const uint32_t nn = tracks_near(tr, o->sensor.obb_center[0], o->sensor.obb_center[1],
+                                    0.5 * (o->sensor.obb_length + o->sensor.obb_width) + 0.3 + 0.1 * tr->vmax);
+    for (uint32_t q = 0; q < nn; q++) {
+      const uint32_t i = tr->near[q];
+      const rs_track_t *t = &L->track[i];
+      if (t->state == RS_TRACK_TENTATIVE || t->state == RS_TRACK_LOST) continue;
+      double p[2], S[3];
+      predict_pos(tr, t, tr->obj_t[k], p, S);
+      if (!in_box(o, oc, os, p[0], p[1], 0.3)) continue;
+      /* apart: two objects side by side (pedestrians 0.7 m, cars in a queue 6 m) */
+      if (in == 0) first[0] = p[0], first[1] = p[1], first_len = t->length;
+      else if (hypot(p[0] - first[0], p[1] - first[1]) >= 0.25 * (first_len + t->length) + 0.4) apart = true;
+      if (t->points > most_points) most_points = t->points;
+      in++;
+    }
+    /* and the cluster holds more than either track's last object did */
+    if (in < 2 || !apart || 5 * (uint64_t)o->points < 6 * (uint64_t)most_points) continue;
+    tr->shared[k] = 1;
+    for (uint32_t q = 0; q < nn; q++) {
+      rs_track_t *t = &L->track[tr->near[q]];
+      if (t->state == RS_TRACK_TENTATIVE || t->state == RS_TRACK_LOST || t->held) continue;
+      double p[2], S[3];
+      predict_pos(tr, t, tr->obj_t[k], p, S);
+      if (!in_box(o, oc, os, p[0], p[1], 0.3)) continue;
+      t->held = true;
+      tr->n.held++;
+      if (L->object_track[k] == 0) L->object_track[k] = t->id;
+    }
+  }
+  /* confirmed (and coasting) tracks first, then tentative ones */
+  gate(tr, objs, true);
+  assign(tr, nobj);
+  gate(tr, objs, false);
+  assign(tr, nobj);
+  /* updates */
+  for (uint32_t i = 0; i < L->count; i++) {
+    rs_track_t *t = &L->track[i];
+    if (t->object < 0) continue;
+    take(tr, t, &objs->obj[t->object], tr->obj_t[t->object]);
+    L->object_track[t->object] = t->id;
+  }
+  /* split parts: a free object inside the box of a track that took one this
+   * frame, or of a confirmed one (predicted), starts no track: its returns
+   * carry that track's id */
+  for (uint32_t k = 0; k < nobj; k++) {
+    if (tr->taken_by[k] >= 0 || tr->shared[k] || objs->obj[k].points == 0) continue;
+    const double zx = objs->obj[k].sensor.obb_center[0], zy = objs->obj[k].sensor.obb_center[1];
+    const uint32_t nn = tracks_near(tr, zx, zy, 10.0); /* half a bus, the margin and an update's step */
+    for (uint32_t q = 0; q < nn; q++) {
+      const uint32_t i = tr->near[q];
+      const rs_track_t *t = &L->track[i];
+      if (t->object < 0 && (t->state == RS_TRACK_TENTATIVE || t->state == RS_TRACK_LOST)) continue;
+      if (!in_track_box(t, zx, zy)) continue;
+      tr->taken_by[k] = (int32_t)i;
+      L->object_track[k] = t->id;
+      tr->n.absorbed++;
+      break;
+    }
+  }
+  /* stitching: a track that took an object and was born after a coasting or
+   * lost track was last seen, in that track's gate, is that object seen
+   * again; an older confirmed track, unseen this frame, predicted right where
+   * a younger one of its size is, follows the same object (a duplicate). The
+   * older track takes the object over (its id continues), the younger one
+   * ends without an event */
+  uint32_t nunseen = 0; /* the coasting and lost tracks not held, in index order */
+  for (uint32_t j = 0; j < L->count; j++) {
+    const rs_track_t *o = &L->track[j];
+    if (o->id != 0 && o->object < 0 && !o->held && (o->state == RS_TRACK_COASTING || o->state == RS_TRACK_LOST))
+      tr->near[nunseen++] = (uint16_t)j;
+  }
+  for (uint32_t i = 0; i < L->count && nunseen > 0; i++) {
+    rs_track_t *y = &L->track[i];
+    if (y->object < 0 || y->id == 0) continue;
+    int best = -1;
+    double best_m2 = cf->gate_chi2;
+    for (uint32_t q = 0; q < nunseen; q++) {
+      const uint32_t j = tr->near[q];
+      const rs_track_t *o = &L->track[j];
+      if (j == i || o->id == 0 || o->object >= 0) continue; /* (stitched this frame) */
+      /* far from its position at the frame's time: out of every gate below (at most 2 gate_m from its
+       * prediction at y's time, which is within 0.15 s x max_speed of it) */
+      const double gx = y->x[0] - tr->tpos[j][0], gy = y->x[1] - tr->tpos[j][1], gr = 2.0 * cf->gate_m + 0.15 * cf->max_speed;
+      if (gx * gx + gy * gy > gr * gr) continue;
+      double p[2], S[3];
+      predict_pos(tr, o, y->t_state, p, S);
+      const double dx = y->x[0] - p[0], dy = y->x[1] - p[1];
+      if (o->t_update >= y->t_birth) {
+        /* they were seen together: the same object only when the older one, unseen, is predicted where the
+         * younger one is (within a third of its length) and they are of a size */
+        const double lmax = fmax(o->length, y->length), lmin = fmin(o->length, y->length);
+        if (o->id > y->id || sqrt(dx * dx + dy * dy) > fmax(0.5, 0.35 * y->length) || lmin < 0.5 * lmax - 0.5) continue;
+      } else if (sqrt(dx * dx + dy * dy) > fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (y->t_state - o->t_update))) {
+        continue;
+      }
+      const double s00 = S[0] + y->P[0][0], s01 = S[1] + y->P[0][1], s11 = S[2] + y->P[1][1];
+      const double det = s00 * s11 - s01 * s01;
+      if (!(det > 0)) continue;
+      const double m2 = (dx * dx * s11 - 2 * dx * dy * s01 + dy * dy * s00) / det;
+      if (m2 <= best_m2) {
+        best_m2 = m2;
+        best = (int)j;
+      }
+    }
+    if (best < 0) continue;
+    rs_track_t *o = &L->track[best];
+    const uint32_t yid = y->id;
+    /* the older track takes the younger one's object: a Kalman update of its
+     * own state (its velocity, learned over many frames, is kept), unless the
+     * younger one has seen more */
+    const int32_t k = y->object;
+    if (y->hits > o->hits) {
+      predict(tr, o, y->t_state);
+      o->distance += hypot(y->x[0] - o->prev[0], y->x[1] - o->prev[1]);
+      memcpy(o->x, y->x, sizeof o->x);
+      for (int a = 0; a < 4; a++)
+        for (int b = 0; b < 4; b++) o->P[a][b] = y->P[a][b];
+      o->t_state = y->t_state;
+      o->t_update = y->t_update;
+      o->last_z[0] = y->last_z[0];
+      o->last_z[1] = y->last_z[1];
+      o->points = y->points;
+      o->hits += y->hits;
+      if (hypot(o->x[2], o->x[3]) > 1.0) set_heading(o, y->heading);
+    } else {
+      const double ox = o->x[0], oy = o->x[1];
+      take(tr, o, &objs->obj[k], tr->obj_t[k]);
+      o->distance += hypot(o->x[0] - ox, o->x[1] - oy);
+      o->hits += y->hits - 1;
+    }
+    o->prev[0] = o->x[0];
+    o->prev[1] = o->x[1];
+    o->object = k;
+    o->state = RS_TRACK_CONFIRMED;
+    tr->taken_by[k] = (int32_t)best;
+    for (uint32_t q = 0; q < nobj; q++)
+      if (L->object_track[q] == yid) L->object_track[q] = o->id;
+    y->object = -1;
+    y->id = 0; /* removed below */
+    tr->n.stitched++;
+  }
+  /* duplicates, ended without an event: a tentative track inside the box of
+   * a confirmed one at least its size (a fragment of its object); a
+   * confirmed one unseen this frame, predicted where an older track of its
+   * size was seen (the older one follows the object) */
+  for (uint32_t i = 0; i < L->count; i++) {
+    rs_track_t *t = &L->track[i];
+    if (t->id == 0) continue;
+    const bool tentative = t->state == RS_TRACK_TENTATIVE;
+    if (!tentative && (t->object >= 0 || t->held)) continue;
+    double px = t->x[0], py = t->x[1];
+    if (!tentative) {
+      double dt = t_frame - t->t_state;
+      if (dt < 0) dt = 0;
+      px += t->x[2] * dt;
+      py += t->x[3] * dt;
+    }
+    const uint32_t nn = tracks_near(tr, px, py, tentative ? 8.0 : 5.0);
+    bool dup = false;
+    const rs_track_t *o = NULL;
+    for (uint32_t q = 0; q < nn && !dup; q++) {
+      o = &L->track[tr->near[q]];
+      if (o == t || o->id == 0) continue;
+      if (tentative) {
+        dup = (o->state == RS_TRACK_CONFIRMED || o->state == RS_TRACK_COASTING) && o->length >= t->length &&
+              in_track_box(o, t->x[0], t->x[1]);
+      } else if (o->id < t->id && o->object >= 0) {
+        const double lmax = fmax(o->length, t->length), lmin = fmin(o->length, t->length);
+        const double dx = o->x[0] - px, dy = o->x[1] - py, r = fmax(0.5, 0.35 * o->length);
+        dup = dx * dx + dy * dy <= r * r && lmin >= 0.5 * lmax - 0.5;
+      }
+    }
+    if (!dup) continue;
+    for (uint32_t k = 0; k < nobj && t->object >= 0; k++) /* its fragment's returns go to the track it is part of */
+      if (L->object_track[k] == t->id) L->object_track[k] = o->id;
+    t->id = 0;
+    tr->n.duplicates++;
+  }
+  /* states, confirmation, ends (compacting the list, id order kept) */
+  uint32_t w = 0;
+  for (uint32_t i = 0; i < L->count; i++) {
+    rs_track_t *t = &L->track[i];
+    if (t->id == 0) continue; /* stitched into an older track */
+    const bool updated = t->object >= 0;
+    if (!updated) {
+      predict(tr, t, t_frame);
+      if (t->held) t->t_update = t_frame; /* seen, inside a shared cluster */
+      else t->misses++;
+    }
+    const double since = t_frame - t->t_update;
+    bool ends = false;
+    if (t->state == RS_TRACK_TENTATIVE) {
+      const double moved = hypot(t->x[0] - t->px0, t->x[1] - t->py0);
+      if (!updated && since > cf->tentative_miss_s) {
+        ends = true;
+      } else if (updated && t->hits >= (uint32_t)cf->confirm_hits &&
+                 ((moved >= cf->confirm_move_m && moved >= 0.5 * t->distance) ||
+                  (t->misses == 0 && t->t_update - t->t_birth >= cf->confirm_still_s))) {
+        t->state = RS_TRACK_CONFIRMED;
+        tr->n.confirmed++;
+      }
+    } else {
+      if (since > cf->coast_s + cf->lost_s) ends = true;
+      else if (updated || t->held) t->state = RS_TRACK_CONFIRMED;
+      else t->state = since > cf->coast_s ? RS_TRACK_LOST : RS_TRACK_COASTING;
+    }
+    if (ends) {
+      end_track(tr, t, t->t_update);
+      continue;
+    }
+    report_speed(tr, t);
+    t->distance += hypot(t->x[0] - t->prev[0], t->x[1] - t->prev[1]); /* path, coasting included */
+    t->prev[0] = t->x[0];
+    t->prev[1] = t->x[1];
+    if (updated || t->held) t->distance_seen = t->distance;
+    if (t->state != RS_TRACK_TENTATIVE && updated) {
+      if (t->speed > t->max_speed) t->max_speed = t->speed;
+      t->sum_speed += t->speed;
+      t->speed_n++;
+    }
+    t->cls = classify(t);
+    if (w != i) L->track[w] = *t; /* taken_by[] keeps old indices: only its sign is read below */
+    w++;
+  }
+  L->count = w;
+  /* births, in object order */
+  for (uint32_t k = 0; k < nobj; k++) {
+    const rs_object_t *o = &objs->obj[k];
+    if (tr->taken_by[k] >= 0 || tr->shared[k] || o->points < (uint32_t)cf->birth_points) continue;
+    if (L->count >= RS_TRACK_MAX) {
+      tr->n.overflow++;
+      continue;
+    }
+    rs_track_t *t = &L->track[L->count++];
+    memset(t, 0, sizeof *t);
+    t->id = tr->next_id++;
+    if (tr->next_id == 0) tr->next_id = 1; /* after 4e9 tracks */
+    double z[2], sd;
+    meas(tr, o, z, &sd);
+    t->x[0] = z[0];
+    t->x[1] = z[1];
+    t->P[0][0] = t->P[1][1] = sd * sd;
+    /* a small object (pedestrian, cyclist) is slow: its first pairing stays near */
+    const double vsd = o->sensor.obb_length < 2.0f ? cf->init_small_speed_sd : cf->init_speed_sd;
+    t->P[2][2] = t->P[3][3] = vsd * vsd;
+    t->t_state = t->t_birth = tr->obj_t[k];
+    t->px0 = t->prev[0] = z[0];
+    t->py0 = t->prev[1] = z[1];
+    t->state = RS_TRACK_TENTATIVE;
+    t->object = (int32_t)k;
+    take(tr, t, o, tr->obj_t[k]);
+    t->cls = RS_CLASS_UNKNOWN;
+    report_speed(tr, t);
+    L->object_track[k] = t->id;
+    tr->n.born++;
+  }
+}

@@ -1,0 +1,1226 @@
+/* scene.c - the simulated intersection: world building, traffic, ray casting.
+ *
+ * Single-threaded, owned by the simulator. Start-up builds the static
+ * geometry and a static range table (first static surface and first canopy
+ * per laser and 0.01-degree azimuth step, found with 1-degree azimuth
+ * buckets of primitives); per packet, traffic advances and the objects
+ * whose azimuth span meets the packet's are collected, so a ray tests the
+ * table plus a handful of objects. */
+#include "roadscan/sim/scene.h"
+
+#include "roadscan/util/error.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+#define D2R (PI / 180.0)
+#define AZ_STEPS 36000
+#define ROAD_HALF 7.0
+#define WALK_OUTER 12.0
+#define KERB 0.15
+#define STOP_DIST 12.0
+#define STEP_S 0.05
+#define MAX_AGENTS 2048
+#define MAX_CAND 512
+#define CAND_BUCKETS 64
+#define CAND_BUCKET_ITEMS 8192
+#define MAX_PRIMS 4096
+#define ROUTES 16
+#define AMBER_S 3.0
+#define RS_SCENE_LEAF 2 /* truth label of leaves, rain and dust */
+#define ALLRED_S 2.0
+
+/* ---- random numbers (xoroshiro128+) ---- */
+
+static uint64_t splitmix(uint64_t *x) {
+  uint64_t z = (*x += 0x9E3779B97F4A7C15ull);
+  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+  return z ^ (z >> 31);
+}
+void rs_rng_seed(rs_rng_t *r, uint64_t seed) {
+  r->s[0] = splitmix(&seed);
+  r->s[1] = splitmix(&seed);
+}
+static uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+uint64_t rs_rng_next(rs_rng_t *r) {
+  uint64_t s0 = r->s[0], s1 = r->s[1], res = s0 + s1;
+  s1 ^= s0;
+  r->s[0] = rotl(s0, 24) ^ s1 ^ (s1 << 16);
+  r->s[1] = rotl(s1, 37);
+  return res;
+}
+double rs_rng_uniform(rs_rng_t *r) { return (double)(rs_rng_next(r) >> 11) * (1.0 / 9007199254740992.0); }
+double rs_rng_normal(rs_rng_t *r) {
+  /* Irwin-Hall: four 16-bit uniforms from one draw, scaled to unit variance
+   * (tails end at 3.46 sigma, which suits range noise) */
+  uint64_t x = rs_rng_next(r);
+  double sum = (double)(x & 0xFFFF) + (double)((x >> 16) & 0xFFFF) + (double)((x >> 32) & 0xFFFF) +
+               (double)(x >> 48);
+  return (sum / 65536.0 - 2.0) * 1.7320508075688772;
+}
+
+/* ---- configuration ---- */
+
+static void defaults(rs_scene_cfg_t *c) {
+  memset(c, 0, sizeof *c);
+  c->pole_height = 5.0;
+  c->pole_x = -11.5;
+  c->pole_y = -11.5;
+  c->leg_length = 250.0;
+  c->trees_per_leg = 6;
+  c->site_seed = 1;
+  c->foliage_hit = 0.55;
+  c->vehicles_per_min = 8.0;
+  c->pedestrians_per_min = 1.0;
+  c->cyclist_share = 0.05;
+  c->green_s = 25.0;
+  c->warmup_s = 60.0;
+  c->range_noise = 0.012;
+  c->noise_tail = 0.005;
+  c->dropout = 0.012;
+  c->spurious = 0.0002;
+  c->beam_samples = 9;
+  c->mix_depth = 0.6;
+  c->rpm_offset = -0.0005;
+  c->rpm_jitter = 0.0005;
+}
+
+bool rs_scene_preset(const char *name, rs_scene_cfg_t *c) {
+  defaults(c);
+  if (strcmp(name, "light") == 0) {
+    c->vehicles_per_min = 4.0;
+    c->pedestrians_per_min = 0.6;
+  } else if (strcmp(name, "rush") == 0) {
+    /* peak demand near capacity (v/c about 0.93): long queues that clear in
+     * most cycles; the sensor on a 3 m pole (a signal-cabinet mount) */
+    c->vehicles_per_min = 24.0;
+    c->pedestrians_per_min = 6.0;
+    c->cyclist_share = 0.08;
+    c->green_s = 30.0;
+    c->warmup_s = 180.0;
+    c->pole_height = 3.0;
+  } else if (strcmp(name, "far") == 0) {
+    c->vehicles_per_min = 14.0;
+    c->pedestrians_per_min = 0.0;
+    c->objects_min_range = 100.0;
+    c->objects_max_range = 200.0;
+  } else if (strcmp(name, "storm") == 0) {
+    c->vehicles_per_min = 10.0;
+    c->pedestrians_per_min = 1.0;
+    c->range_noise = 0.05;
+    c->dropout = 0.03;
+    c->spurious = 0.01;
+    c->attenuation = 5.0;
+    c->packet_loss = 0.05;
+    c->foliage_hit = 0.45;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+typedef struct {
+  const char *key;
+  size_t off;
+  double lo, hi;
+  bool is_int;
+} knob_t;
+
+#define KNOB(f, lo, hi) {#f, offsetof(rs_scene_cfg_t, f), lo, hi, false}
+static const knob_t knobs[] = {
+    KNOB(pole_height, 1.0, 30.0),         KNOB(pole_x, -14.0, -8.0),
+    KNOB(pole_y, -14.0, -8.0),            KNOB(leg_length, 50.0, 400.0),
+    KNOB(foliage_hit, 0.0, 1.0),          KNOB(vehicles_per_min, 0.0, 120.0),
+    KNOB(pedestrians_per_min, 0.0, 60.0), KNOB(cyclist_share, 0.0, 1.0),
+    KNOB(green_s, 5.0, 120.0),            KNOB(objects_min_range, 0.0, 400.0),
+    KNOB(objects_max_range, 0.0, 400.0),  KNOB(warmup_s, 0.0, 600.0),
+    KNOB(range_noise, 0.0, 1.0),          KNOB(dropout, 0.0, 1.0),
+    KNOB(spurious, 0.0, 0.5),             KNOB(packet_loss, 0.0, 0.9),
+    KNOB(max_range, 0.0, 400.0),          KNOB(noise_tail, 0.0, 0.5),
+    KNOB(attenuation, 0.0, 100.0),        KNOB(beam_div_h, 0.0, 20.0),
+    KNOB(beam_div_v, 0.0, 20.0),          KNOB(mix_depth, 0.0, 5.0),
+    KNOB(rpm_offset, -0.05, 0.05),        KNOB(rpm_jitter, 0.0, 0.01),
+    {"beam_samples", offsetof(rs_scene_cfg_t, beam_samples), 1, 9, true},
+    {"trees_per_leg", offsetof(rs_scene_cfg_t, trees_per_leg), 0, 40, true},
+    {"site_seed", offsetof(rs_scene_cfg_t, site_seed), 0, 2147483647.0, true},
+};
+
+const char *rs_scene_keys(void) {
+  return "site_seed pole_height pole_x pole_y leg_length trees_per_leg foliage_hit vehicles_per_min pedestrians_per_min "
+         "cyclist_share green_s objects_min_range objects_max_range warmup_s range_noise noise_tail dropout spurious "
+         "attenuation packet_loss max_range beam_div_h beam_div_v beam_samples mix_depth rpm_offset rpm_jitter";
+}
+
+int rs_scene_set(rs_scene_cfg_t *cfg, const char *key, const char *value, char *err, size_t n) {
+  for (size_t i = 0; i < sizeof knobs / sizeof knobs[0]; i++) {
+    if (strcmp(knobs[i].key, key) != 0) continue;
+    char *end;
+    double v = strtod(value, &end);
+    if (end == value || *end != '\0' || !isfinite(v)) {
+      snprintf(err, n, "%s: '%s' is not a number", key, value);
+      return RS_E_INVAL;
+    }
+    if (v < knobs[i].lo || v > knobs[i].hi || (knobs[i].is_int && v != floor(v))) {
+      snprintf(err, n, "%s: %s is out of range (%g to %g%s)", key, value, knobs[i].lo, knobs[i].hi,
+               knobs[i].is_int ? ", whole number" : "");
+      return RS_E_INVAL;
+    }
+    if (knobs[i].is_int)
+      *(int *)(void *)((char *)cfg + knobs[i].off) = (int)v;
+    else
+      *(double *)(void *)((char *)cfg + knobs[i].off) = v;
+    return RS_OK;
+  }
+  snprintf(err, n, "unknown scene key '%s' (known: %s)", key, rs_scene_keys());
+  return RS_E_INVAL;
+}
+
+/* ---- geometry ---- */
+
+enum { P_BOX, P_CYL, P_SPHERE };
+
+typedef struct {
+  uint8_t kind;
+  uint8_t intensity;
+  uint16_t label;
+  float a[6]; /* box: x0 y0 z0 x1 y1 z1; cyl: x y r z0 z1; sphere: x y z r */
+} prim_t;
+
+typedef struct {
+  double x0, y0, dx, dy; /* start and unit direction */
+  double length;         /* despawn after */
+  double stop_s;         /* front stops here on red */
+  int phase;             /* 0 east-west, 1 north-south */
+  bool pedestrian;
+  int agents[MAX_AGENTS / 8];
+  int n;                 /* agents on the route, front first */
+  double next_spawn;
+} route_t;
+
+enum { T_CAR, T_VAN, T_TRUCK, T_BUS, T_CYCLIST, T_PED };
+
+typedef struct {
+  bool active;
+  uint16_t id;
+  uint8_t type, intensity;
+  int route;
+  double s, v, v0, l, w, h;
+  double clear;        /* body above the road (ground clearance) */
+  double span0, spanw; /* azimuth span over the current traffic step, widened */
+} agent_t;
+
+typedef struct {
+  uint16_t id;
+  uint8_t intensity;
+  bool cyl;
+  double cx, cy, c, s; /* centre, cos/sin of heading */
+  double hl, hw, h;    /* half length, half width, height */
+  double z0;           /* bottom of the body (ground clearance) */
+  double az0, aw;      /* azimuth span from the sensor (deg) */
+  double dmin;         /* no part is nearer than this */
+} cand_t;
+
+/* the static scene along one firing direction, footprint included: the
+ * nearer and the farther return (r2 = 0: one), with their intensities */
+typedef struct {
+  float r1, r2;     /* 0 = none */
+  float fol;        /* first canopy entry when nearer than r1, else 0 */
+  uint8_t i1, i2;
+  uint8_t fol_p;    /* leaf chance, 0..255 */
+} st_cell_t;
+
+struct rs_scene {
+  rs_scene_cfg_t cfg;
+  const rs_sensor_t *sensor;
+  double ox, oy, oz;
+  prim_t *prims;
+  int nprims;
+  int *bucket_start, *bucket_items; /* 360 buckets */
+  /* static table, [0.01-degree azimuth step][laser]: the lasers of one
+   * firing sit side by side in memory */
+  st_cell_t *st;
+  int slots;          /* record slots per row: 32, or 128 (VLS-128) */
+  double deg_per_us;  /* rotation rate the table was cast for */
+  /* traffic */
+  rs_rng_t rng;
+  route_t routes[ROUTES];
+  int nroutes;
+  agent_t agents[MAX_AGENTS];
+  uint16_t next_id;
+  double t; /* traffic time (s since capture start; negative during warm-up) */
+  cand_t cand[MAX_CAND];
+  int ncand;
+  /* candidates by whole degree of azimuth inside the packet window */
+  double win0;
+  int nwin;
+  uint16_t bstart[CAND_BUCKETS + 1];
+  uint16_t bitems[CAND_BUCKET_ITEMS];
+  int agent_hwm; /* agents[agent_hwm..] have never been used */
+  double wind;
+};
+
+static void add_prim(rs_scene_t *sc, int kind, uint16_t label, uint8_t intensity, const float *a, int na) {
+  if (sc->nprims >= MAX_PRIMS) return;
+  prim_t *p = &sc->prims[sc->nprims++];
+  p->kind = (uint8_t)kind;
+  p->label = label;
+  p->intensity = intensity;
+  memset(p->a, 0, sizeof p->a);
+  memcpy(p->a, a, sizeof(float) * (size_t)na);
+}
+
+static void box(rs_scene_t *sc, double x0, double y0, double z0, double x1, double y1, double z1, uint8_t inten) {
+  float a[6] = {(float)fmin(x0, x1), (float)fmin(y0, y1), (float)z0, (float)fmax(x0, x1), (float)fmax(y0, y1), (float)z1};
+  add_prim(sc, P_BOX, 1, inten, a, 6);
+}
+static void cyl(rs_scene_t *sc, double x, double y, double r, double z0, double z1, uint8_t inten) {
+  float a[5] = {(float)x, (float)y, (float)r, (float)z0, (float)z1};
+  add_prim(sc, P_CYL, 1, inten, a, 5);
+}
+static void sphere(rs_scene_t *sc, double x, double y, double z, double r, double leaf_p, uint8_t inten) {
+  float a[5] = {(float)x, (float)y, (float)z, (float)r, (float)leaf_p};
+  add_prim(sc, P_SPHERE, 2, inten, a, 5);
+}
+
+/* a leg's side: direction (ux, uy) from the centre, side normal (nx, ny) */
+static void build_leg(rs_scene_t *sc, double ux, double uy, double nx, double ny, rs_rng_t *r) {
+  const double L = sc->cfg.leg_length;
+  /* buildings on both sides, with gaps for side streets */
+  for (int side = -1; side <= 1; side += 2) {
+    double s = 16.0 + 6.0 * rs_rng_uniform(r);
+    while (s < L) {
+      double len = 18.0 + 40.0 * rs_rng_uniform(r);
+      double h = 6.0 + 18.0 * rs_rng_uniform(r);
+      double near = 15.0 + 3.0 * rs_rng_uniform(r), depth = 12.0 + 10.0 * rs_rng_uniform(r);
+      double e = fmin(s + len, L);
+      double ax = ux * s + side * nx * near, ay = uy * s + side * ny * near;
+      double bx = ux * e + side * nx * (near + depth), by = uy * e + side * ny * (near + depth);
+      box(sc, ax, ay, 0.0, bx, by, h, (uint8_t)(30 + rs_rng_uniform(r) * 50));
+      s = e + (rs_rng_uniform(r) < 0.25 ? 12.0 + 8.0 * rs_rng_uniform(r) : 1.0);
+    }
+    /* street lights */
+    for (double p = 20.0; p < fmin(L, 200.0); p += 35.0)
+      cyl(sc, ux * p + side * nx * 11.6, uy * p + side * ny * 11.6, 0.12, 0.0, 8.0, 70);
+    /* trees (canopy = foliage, trunk = static) and bushes */
+    for (int i = 0; i < sc->cfg.trees_per_leg; i++) {
+      double p = 25.0 + rs_rng_uniform(r) * fmin(L - 30.0, 150.0);
+      double cx = ux * p + side * nx * 13.0, cy = uy * p + side * ny * 13.0;
+      double rad = 2.0 + 1.2 * rs_rng_uniform(r), cz = 3.5 + rad;
+      cyl(sc, cx, cy, 0.18, 0.0, cz - rad * 0.6, 35);
+      sphere(sc, cx, cy, cz, rad, sc->cfg.foliage_hit, (uint8_t)(25 + 20 * rs_rng_uniform(r)));
+      if (rs_rng_uniform(r) < 0.5)
+        sphere(sc, cx + ux * 4.0, cy + uy * 4.0, 0.7, 0.9, fmin(1.0, sc->cfg.foliage_hit + 0.3), 30);
+    }
+    /* a sign */
+    double sp = 30.0 + 20.0 * rs_rng_uniform(r);
+    double sx = ux * sp + side * nx * 10.5, sy = uy * sp + side * ny * 10.5;
+    cyl(sc, sx, sy, 0.04, 0.0, 2.2, 60);
+    box(sc, sx - 0.4 * fabs(uy) - 0.03 * fabs(ux), sy - 0.4 * fabs(ux) - 0.03 * fabs(uy), 2.2,
+        sx + 0.4 * fabs(uy) + 0.03 * fabs(ux), sy + 0.4 * fabs(ux) + 0.03 * fabs(uy), 3.0, 200);
+  }
+  /* a low wall along part of the leg */
+  double w0 = 60.0 + 40.0 * rs_rng_uniform(r);
+  box(sc, ux * w0 + nx * 12.4, uy * w0 + ny * 12.4, 0.0, ux * (w0 + 25) + nx * 12.8, uy * (w0 + 25) + ny * 12.8, 1.2, 45);
+}
+
+static void add_route(rs_scene_t *sc, double x0, double y0, double dx, double dy, double length, double stop_s,
+                      int phase, bool ped) {
+  route_t *rt = &sc->routes[sc->nroutes++];
+  memset(rt, 0, sizeof *rt);
+  rt->x0 = x0;
+  rt->y0 = y0;
+  rt->dx = dx;
+  rt->dy = dy;
+  rt->length = length;
+  rt->stop_s = stop_s;
+  rt->phase = phase;
+  rt->pedestrian = ped;
+}
+
+static void build_routes(rs_scene_t *sc) {
+  const double L = sc->cfg.leg_length, Lp = fmin(L, 150.0);
+  static const double lanes[2] = {1.75, 5.25};
+  for (int i = 0; i < 2; i++) {
+    double o = lanes[i];
+    add_route(sc, -L, -o, 1, 0, 2 * L, L - STOP_DIST, 0, false); /* eastbound */
+    add_route(sc, L, o, -1, 0, 2 * L, L - STOP_DIST, 0, false);  /* westbound */
+    add_route(sc, o, -L, 0, 1, 2 * L, L - STOP_DIST, 1, false);  /* northbound */
+    add_route(sc, -o, L, 0, -1, 2 * L, L - STOP_DIST, 1, false); /* southbound */
+  }
+  /* pedestrians along the sidewalks, crossing with the parallel traffic */
+  add_route(sc, -Lp, -9.5, 1, 0, 2 * Lp, Lp - 8.0, 0, true);
+  add_route(sc, Lp, 9.5, -1, 0, 2 * Lp, Lp - 8.0, 0, true);
+  add_route(sc, 9.5, -Lp, 0, 1, 2 * Lp, Lp - 8.0, 1, true);
+  add_route(sc, -9.5, Lp, 0, -1, 2 * Lp, Lp - 8.0, 1, true);
+  add_route(sc, Lp, -10.5, -1, 0, 2 * Lp, Lp - 8.0, 0, true);
+  add_route(sc, -Lp, 10.5, 1, 0, 2 * Lp, Lp - 8.0, 0, true);
+  add_route(sc, 10.5, Lp, 0, -1, 2 * Lp, Lp - 8.0, 1, true);
+  add_route(sc, -10.5, -Lp, 0, 1, 2 * Lp, Lp - 8.0, 1, true);
+}
+
+/* ---- ray tests (origin o, direction d; return t > 0 or INFINITY) ---- */
+
+static double hit_cyl(double cx, double cy, double r, double z0, double z1, const double *o, const double *d) {
+  double px = o[0] - cx, py = o[1] - cy;
+  double A = d[0] * d[0] + d[1] * d[1];
+  if (A < 1e-12) return INFINITY;
+  double B = 2 * (px * d[0] + py * d[1]), C = px * px + py * py - r * r;
+  double disc = B * B - 4 * A * C;
+  if (disc < 0) return INFINITY;
+  double t = (-B - sqrt(disc)) / (2 * A);
+  if (t <= 1e-6) return INFINITY;
+  double z = o[2] + t * d[2];
+  if (z < z0 || z > z1) {
+    /* top cap */
+    if (d[2] < 0 && o[2] > z1) {
+      double tc = (z1 - o[2]) / d[2];
+      double qx = px + tc * d[0], qy = py + tc * d[1];
+      if (qx * qx + qy * qy <= r * r) return tc;
+    }
+    return INFINITY;
+  }
+  return t;
+}
+
+static double hit_sphere(const float *a, const double *o, const double *d, double *exit) {
+  double px = o[0] - a[0], py = o[1] - a[1], pz = o[2] - a[2];
+  double B = px * d[0] + py * d[1] + pz * d[2];
+  double C = px * px + py * py + pz * pz - (double)a[3] * a[3];
+  double disc = B * B - C;
+  if (disc < 0) return INFINITY;
+  double q = sqrt(disc), t = -B - q;
+  *exit = -B + q;
+  if (*exit <= 1e-6) return INFINITY;
+  return t > 1e-6 ? t : 1e-6;
+}
+
+/* azimuth (degrees, [0,360)) of a world point from the sensor */
+static double az_of(const rs_scene_t *sc, double x, double y) {
+  double a = atan2(x - sc->ox, y - sc->oy) / D2R;
+  return a < 0 ? a + 360.0 : a;
+}
+
+/* azimuth span of a set of xy points: start and width (deg); full circle
+ * when the sensor is inside the hull (approximated by the box) */
+static void az_span(const rs_scene_t *sc, const double *xs, const double *ys, int n, double *start, double *width) {
+  double ref = az_of(sc, xs[0], ys[0]), lo = 0, hi = 0;
+  for (int i = 1; i < n; i++) {
+    double d = az_of(sc, xs[i], ys[i]) - ref;
+    if (d > 180) d -= 360;
+    if (d < -180) d += 360;
+    if (d < lo) lo = d;
+    if (d > hi) hi = d;
+  }
+  *start = fmod(ref + lo + 360.0, 360.0);
+  *width = hi - lo;
+}
+
+static void prim_span(const rs_scene_t *sc, const prim_t *p, double *start, double *width) {
+  double x0, y0, x1, y1;
+  if (p->kind == P_BOX) {
+    x0 = p->a[0]; y0 = p->a[1]; x1 = p->a[3]; y1 = p->a[4];
+  } else {
+    double r = p->a[p->kind == P_CYL ? 2 : 3];
+    x0 = p->a[0] - r; y0 = p->a[1] - r; x1 = p->a[0] + r; y1 = p->a[1] + r;
+  }
+  if (sc->ox >= x0 - 0.5 && sc->ox <= x1 + 0.5 && sc->oy >= y0 - 0.5 && sc->oy <= y1 + 0.5) {
+    *start = 0;
+    *width = 360;
+    return;
+  }
+  double xs[4] = {x0, x1, x0, x1}, ys[4] = {y0, y0, y1, y1};
+  az_span(sc, xs, ys, 4, start, width);
+}
+
+static void build_buckets(rs_scene_t *sc) {
+  int counts[360] = {0};
+  double st[MAX_PRIMS], wd[MAX_PRIMS];
+  for (int i = 0; i < sc->nprims; i++) {
+    prim_span(sc, &sc->prims[i], &st[i], &wd[i]);
+    for (int b = 0; b <= (int)wd[i] + 1 && b < 360; b++) counts[((int)st[i] + b) % 360]++;
+  }
+  sc->bucket_start = calloc(361, sizeof(int));
+  int total = 0;
+  for (int b = 0; b < 360; b++) {
+    sc->bucket_start[b] = total;
+    total += counts[b];
+  }
+  sc->bucket_start[360] = total;
+  sc->bucket_items = calloc((size_t)total + 1, sizeof(int));
+  int fill[360] = {0};
+  for (int i = 0; i < sc->nprims; i++)
+    for (int b = 0; b <= (int)wd[i] + 1 && b < 360; b++) {
+      int k = ((int)st[i] + b) % 360;
+      sc->bucket_items[sc->bucket_start[k] + fill[k]++] = i;
+    }
+}
+
+static void dir_el(double el_deg, double az_deg, double *d) {
+  double a = az_deg * D2R, e = el_deg * D2R, ce = cos(e);
+  d[0] = ce * sin(a);
+  d[1] = ce * cos(a);
+  d[2] = sin(e);
+}
+
+static void dir_of(const rs_scene_t *sc, int laser, double az, double *d) {
+  double a = az * D2R, ce = sc->sensor->cos_el[laser];
+  d[0] = ce * sin(a);
+  d[1] = ce * cos(a);
+  d[2] = sc->sensor->sin_el[laser];
+}
+
+/* a box face hit: which axis the entry face is normal to */
+static double hit_box_axis(const float *a, const double *o, const double *d, int *axis) {
+  double tmin = 1e-6, tmax = INFINITY;
+  *axis = 2;
+  for (int k = 0; k < 3; k++) {
+    double lo = a[k], hi = a[k + 3];
+    if (fabs(d[k]) < 1e-12) {
+      if (o[k] < lo || o[k] > hi) return INFINITY;
+      continue;
+    }
+    double t1 = (lo - o[k]) / d[k], t2 = (hi - o[k]) / d[k];
+    if (t1 > t2) {
+      double t = t1;
+      t1 = t2;
+      t2 = t;
+    }
+    if (t1 > tmin) {
+      tmin = t1;
+      *axis = k;
+    }
+    if (t2 < tmax) tmax = t2;
+    if (tmin > tmax) return INFINITY;
+  }
+  return tmin;
+}
+
+/* one ray against the static scene: the first surface (range, reflectivity,
+ * cosine of the incidence angle) and the first canopy */
+typedef struct {
+  double t, cosi, fol;
+  uint8_t refl, fol_p;
+} st_hit_t;
+
+static void static_hit(const rs_scene_t *sc, const double *d, double az, st_hit_t *h) {
+  const double o[3] = {sc->ox, sc->oy, sc->oz};
+  double best = INFINITY, fbest = INFINITY, cosi = 1.0;
+  uint8_t bint = 0, fp = 0;
+  if (d[2] < 0) {
+    best = -o[2] / d[2];
+    bint = 12;
+    cosi = -d[2];
+  }
+  int b = (int)az % 360;
+  for (int k = sc->bucket_start[b]; k < sc->bucket_start[b + 1]; k++) {
+    const prim_t *p = &sc->prims[sc->bucket_items[k]];
+    double t, ex, c = 1.0;
+    int axis;
+    switch (p->kind) {
+    case P_BOX:
+      t = hit_box_axis(p->a, o, d, &axis);
+      c = fabs(d[axis]);
+      break;
+    case P_CYL: {
+      t = hit_cyl(p->a[0], p->a[1], p->a[2], p->a[3], p->a[4], o, d);
+      double px = o[0] + t * d[0] - p->a[0], py = o[1] + t * d[1] - p->a[1], n = hypot(px, py);
+      c = n > 1e-9 ? fabs(px * d[0] + py * d[1]) / n : 1.0;
+      break;
+    }
+    default:
+      t = hit_sphere(p->a, o, d, &ex);
+      if (t < fbest) {
+        fbest = t;
+        fp = (uint8_t)(p->a[4] * 255.0f);
+      }
+      continue;
+    }
+    if (t < best) {
+      best = t;
+      bint = p->intensity;
+      cosi = c;
+    }
+  }
+  h->t = isfinite(best) ? best : 0.0;
+  h->refl = bint;
+  h->cosi = cosi;
+  h->fol = (isfinite(fbest) && fbest < best) ? fbest : 0.0;
+  h->fol_p = h->fol > 0 ? fp : 0;
+}
+
+/* ---- the beam: footprint and returns ----
+ * A firing lights a footprint beam_div_h x beam_div_v wide, sampled by up to
+ * 3 x 3 rays (weights of a Gaussian profile). The surfaces it meets form
+ * returns: hits closer in range than mix_depth are one return at their
+ * energy-weighted range (the mixed range of a beam split across a small
+ * depth step), farther apart they are separate returns. A return's
+ * intensity is the reflectivity its part of the footprint sends back
+ * (reflectivity x (0.3 + 0.7 cos incidence) x the share of the footprint):
+ * the strongest return is the brightest, the last the farthest. */
+typedef struct {
+  double r, w, refl, cosi;
+  uint16_t label;
+} sub_hit_t;
+
+typedef struct {
+  double r, inten;
+  uint16_t label;
+} beam_ret_t;
+
+static const double sub_off[3] = {-0.3, 0.0, 0.3};    /* of the divergence */
+static const double sub_w[3] = {0.27, 0.46, 0.27};   /* Gaussian profile, normalised */
+
+/* groups sub-hits (sorted by range here) into returns; out[0] nearer, out[1]
+ * farther (the brightest and the last when there are more); returns count */
+static int form_returns(sub_hit_t *h, int n, double mix_depth, beam_ret_t out[2]) {
+  for (int i = 1; i < n; i++)
+    for (int j = i; j > 0 && h[j].r < h[j - 1].r; j--) {
+      sub_hit_t t = h[j];
+      h[j] = h[j - 1];
+      h[j - 1] = t;
+    }
+  beam_ret_t g[9];
+  int ng = 0;
+  for (int i = 0; i < n;) {
+    double sw = 0, swr = 0, si = 0, best_w = -1;
+    uint16_t label = h[i].label;
+    int j = i;
+    for (; j < n && h[j].r - h[i].r <= mix_depth; j++) {
+      double e = h[j].w * h[j].refl * (0.3 + 0.7 * h[j].cosi);
+      sw += h[j].w;
+      swr += h[j].w * h[j].r;
+      si += e;
+      if (h[j].w > best_w) {
+        best_w = h[j].w;
+        label = h[j].label;
+      }
+    }
+    g[ng].r = swr / sw;
+    g[ng].inten = si;
+    g[ng].label = label;
+    ng++;
+    i = j;
+  }
+  if (ng == 0) return 0;
+  int strongest = 0;
+  for (int k = 1; k < ng; k++)
+    if (g[k].inten > g[strongest].inten) strongest = k;
+  out[0] = g[strongest];
+  if (strongest == ng - 1) {
+    /* the last is the strongest: the second return is the brightest other one */
+    if (ng == 1) return 1;
+    int second = 0;
+    for (int k = 1; k < ng - 1; k++)
+      if (g[k].inten > g[second].inten) second = k;
+    out[0] = g[second];
+    out[1] = g[ng - 1];
+    return 2;
+  }
+  out[1] = g[ng - 1];
+  return 2;
+}
+
+static int beam_grid(const rs_scene_t *sc, int *nh, int *nv) {
+  *nh = sc->cfg.beam_samples >= 3 ? 3 : 1;
+  *nv = sc->cfg.beam_samples >= 9 ? 3 : 1;
+  return *nh * *nv;
+}
+
+static uint8_t clamp_u8(double v) { return (uint8_t)(v < 1 ? 1 : (v > 255 ? 255 : lround(v))); }
+
+/* the static returns of a firing of `laser` at azimuth az */
+static void beam_static(const rs_scene_t *sc, int laser, double az, st_cell_t *c) {
+  int nh, nv;
+  beam_grid(sc, &nh, &nv);
+  const double el = sc->sensor->elevation_deg[laser];
+  const double dh = sc->cfg.beam_div_h * 1e-3 / D2R, dv = sc->cfg.beam_div_v * 1e-3 / D2R; /* degrees */
+  sub_hit_t h[9];
+  int n = 0;
+  double wsum = 0, fol = 0;
+  uint8_t fol_p = 0;
+  for (int i = 0; i < nh; i++)
+    for (int j = 0; j < nv; j++) {
+      const double u = nh == 1 ? 0 : sub_off[i], v = nv == 1 ? 0 : sub_off[j];
+      const double w = (nh == 1 ? 1 : sub_w[i]) * (nv == 1 ? 1 : sub_w[j]);
+      const double a = az + u * dh;
+      double d[3];
+      dir_el(el + v * dv, a, d);
+      st_hit_t sh;
+      static_hit(sc, d, fmod(a + 360.0, 360.0), &sh);
+      wsum += w;
+      if (u == 0 && v == 0) {
+        fol = sh.fol;
+        fol_p = sh.fol_p;
+      }
+      if (sh.t <= 0) continue;
+      h[n++] = (sub_hit_t){sh.t, w, sh.refl, sh.cosi, 1};
+    }
+  beam_ret_t r[2];
+  int nr = form_returns(h, n, sc->cfg.mix_depth, r);
+  memset(c, 0, sizeof *c);
+  if (nr >= 1) {
+    c->r1 = (float)r[0].r;
+    c->i1 = clamp_u8(r[0].inten / wsum);
+  }
+  if (nr >= 2) {
+    c->r2 = (float)r[1].r;
+    c->i2 = clamp_u8(r[1].inten / wsum);
+  }
+  c->fol = (c->r1 == 0 || fol < c->r1) ? (float)fol : 0.0f;
+  c->fol_p = c->fol > 0 ? fol_p : 0;
+}
+
+/* Row k: a block whose azimuth field reads k (0.01 degree); column: the
+ * record slot (bank * 32 + record), cast at that record's true azimuth at
+ * the scene's rotation rate. */
+static void build_table(rs_scene_t *sc) {
+  const rs_sensor_t *s = sc->sensor;
+  const int n = s->info->blocks_per_cycle > 1 ? 128 : RS_RECORDS;
+  sc->slots = n;
+  sc->st = malloc((size_t)n * AZ_STEPS * sizeof(st_cell_t));
+  if (sc->st == NULL) return;
+  for (int k = 0; k < AZ_STEPS; k++)
+    for (int slot = 0; slot < n; slot++) {
+      int laser;
+      float t;
+      rs_sensor_record(s, slot / RS_RECORDS, slot % RS_RECORDS, &laser, &t);
+      double az = fmod(k * 0.01 + s->azimuth_offset_deg[laser] + sc->deg_per_us * t + 720.0, 360.0);
+      beam_static(sc, laser, az, &sc->st[(size_t)k * (size_t)n + (size_t)slot]);
+    }
+}
+
+static double default_max_range(rs_model_t m) {
+  switch (m) {
+  case RS_MODEL_VLP32C: return 200.0;
+  case RS_MODEL_VLS128: return 245.0;
+  default: return 100.0;
+  }
+}
+
+static rs_scene_t *alloc_scene(const rs_scene_cfg_t *cfg, const rs_sensor_t *s) {
+  rs_scene_t *sc = calloc(1, sizeof *sc);
+  if (sc == NULL) return NULL;
+  sc->cfg = *cfg;
+  if (sc->cfg.max_range <= 0) sc->cfg.max_range = default_max_range(s->info->model);
+  /* the VLS-128 manual's figures (Table F-1); the other models' manuals give
+   * none as detailed, and their optics are of the same family */
+  if (sc->cfg.beam_div_h <= 0) sc->cfg.beam_div_h = 3.0;
+  if (sc->cfg.beam_div_v <= 0) sc->cfg.beam_div_v = 1.5;
+  if (sc->cfg.beam_samples < 1) sc->cfg.beam_samples = 1;
+  sc->sensor = s;
+  sc->ox = cfg->pole_x;
+  sc->oy = cfg->pole_y;
+  sc->oz = cfg->pole_height;
+  sc->prims = calloc(MAX_PRIMS, sizeof(prim_t));
+  sc->wind = 1.0;
+  return sc;
+}
+
+static void build_ground(rs_scene_t *sc) {
+  const double L = sc->cfg.leg_length;
+  /* sidewalks (kerb) in the four corners, L-shaped as two slabs each */
+  for (int sx = -1; sx <= 1; sx += 2)
+    for (int sy = -1; sy <= 1; sy += 2) {
+      box(sc, sx * ROAD_HALF, sy * ROAD_HALF, 0, sx * L, sy * WALK_OUTER, KERB, 25);
+      box(sc, sx * ROAD_HALF, sy * ROAD_HALF, 0, sx * WALK_OUTER, sy * L, KERB, 25);
+    }
+}
+
+rs_scene_t *rs_scene_create_empty(const rs_scene_cfg_t *cfg, const rs_sensor_t *s) {
+  rs_scene_t *sc = alloc_scene(cfg, s);
+  if (sc == NULL) return NULL;
+  rs_rng_seed(&sc->rng, 1);
+  return sc;
+}
+
+void rs_scene_add_box(rs_scene_t *sc, double cx, double cy, double z0, double l, double w, double h, double yaw,
+                      uint16_t label) {
+  /* as a traffic object that never moves: one route-less agent */
+  for (int i = 0; i < MAX_AGENTS; i++) {
+    agent_t *a = &sc->agents[i];
+    if (a->active) continue;
+    a->active = true;
+    a->id = label;
+    a->type = T_CAR;
+    a->route = -1;
+    a->l = l;
+    a->w = w;
+    a->h = h + z0;
+    a->intensity = 80;
+    if (i >= sc->agent_hwm) sc->agent_hwm = i + 1;
+    a->s = cx;
+    a->v = cy;   /* route-less: s, v hold the centre */
+    a->v0 = yaw; /* and v0 the heading (radians, from +x) */
+    return;
+  }
+}
+
+void rs_scene_set_intensity(rs_scene_t *sc, uint16_t label, uint8_t intensity) {
+  for (int i = 0; i < sc->agent_hwm; i++)
+    if (sc->agents[i].active && sc->agents[i].id == label) sc->agents[i].intensity = intensity;
+}
+
+rs_scene_t *rs_scene_create(const rs_scene_cfg_t *cfg, const rs_sensor_t *s, double hz, uint64_t seed) {
+  rs_scene_t *sc = alloc_scene(cfg, s);
+  if (sc == NULL) return NULL;
+  sc->deg_per_us = hz * 360.0 / 1e6;
+  rs_rng_t world; /* the site: the same for every --seed */
+  rs_rng_seed(&world, (uint64_t)cfg->site_seed ^ 0x5EED5EEDull);
+  rs_rng_seed(&sc->rng, seed);
+  build_ground(sc);
+  /* legs: east, west, north, south (direction, side normal) */
+  build_leg(sc, 1, 0, 0, 1, &world);
+  build_leg(sc, -1, 0, 0, 1, &world);
+  build_leg(sc, 0, 1, 1, 0, &world);
+  build_leg(sc, 0, -1, 1, 0, &world);
+  /* signal poles with mast arms at the corners */
+  for (int sx = -1; sx <= 1; sx += 2)
+    for (int sy = -1; sy <= 1; sy += 2) {
+      double px = sx * 9.0, py = sy * 8.5;
+      if (sx < 0 && sy < 0) continue; /* the sensor pole stands here */
+      cyl(sc, px, py, 0.2, 0.0, 6.0, 80);
+      box(sc, px - (sx > 0 ? 6.0 : -0.0), py - 0.1, 5.6, px + (sx < 0 ? 6.0 : 0.0), py + 0.1, 5.8, 80);
+    }
+  build_buckets(sc);
+  build_table(sc);
+  build_routes(sc);
+  for (int i = 0; i < sc->nroutes; i++) sc->routes[i].next_spawn = -sc->cfg.warmup_s;
+  sc->t = -sc->cfg.warmup_s;
+  sc->next_id = 3;
+  return sc;
+}
+
+void rs_scene_destroy(rs_scene_t *sc) {
+  if (sc == NULL) return;
+  free(sc->prims);
+  free(sc->bucket_start);
+  free(sc->bucket_items);
+  free(sc->st);
+  free(sc);
+}
+
+void rs_scene_origin(const rs_scene_t *sc, double *x, double *y, double *z) {
+  *x = sc->ox;
+  *y = sc->oy;
+  *z = sc->oz;
+}
+
+/* ---- traffic ---- */
+
+static bool green(const rs_scene_t *sc, int phase, double t, bool amber_counts) {
+  double g = sc->cfg.green_s, half = g + AMBER_S + ALLRED_S;
+  double m = fmod(t, 2 * half);
+  if (m < 0) m += 2 * half;
+  double start = phase == 0 ? 0.0 : half;
+  double in = m - start;
+  return in >= 0 && (in < g || (amber_counts && in < g + AMBER_S));
+}
+
+static void spawn(rs_scene_t *sc, int ri) {
+  route_t *rt = &sc->routes[ri];
+  if (rt->n >= (int)(sizeof rt->agents / sizeof rt->agents[0])) return;
+  if (rt->n > 0) {
+    const agent_t *last = &sc->agents[rt->agents[rt->n - 1]];
+    if (last->s - last->l < 8.0) return; /* queue reaches the end of the leg */
+  }
+  int slot = -1;
+  for (int i = 0; i < MAX_AGENTS; i++)
+    if (!sc->agents[i].active) {
+      slot = i;
+      break;
+    }
+  if (slot < 0) return;
+  if (slot >= sc->agent_hwm) sc->agent_hwm = slot + 1;
+  agent_t *a = &sc->agents[slot];
+  memset(a, 0, sizeof *a);
+  a->active = true;
+  a->route = ri;
+  a->id = sc->next_id++;
+  if (sc->next_id == 0) sc->next_id = 3;
+  rs_rng_t *r = &sc->rng;
+  if (rt->pedestrian) {
+    a->type = T_PED;
+    a->l = a->w = 0.5;
+    a->h = 1.55 + 0.35 * rs_rng_uniform(r);
+    a->v0 = 1.1 + 0.5 * rs_rng_uniform(r);
+    a->intensity = (uint8_t)(10 + 30 * rs_rng_uniform(r));
+  } else {
+    double u = rs_rng_uniform(r);
+    /* length, width, height, desired speed, ground clearance */
+    static const double dims[5][5] = {{4.5, 1.8, 1.5, 13.9, 0.18}, {5.2, 2.0, 2.2, 13.0, 0.22},
+                                      {9.0, 2.5, 3.5, 11.0, 0.35},  {12.0, 2.55, 3.2, 11.0, 0.32},
+                                      {1.8, 0.6, 1.7, 5.5, 0.0}};
+    int t = u < sc->cfg.cyclist_share ? T_CYCLIST : (u < 0.75 ? T_CAR : (u < 0.87 ? T_VAN : (u < 0.95 ? T_TRUCK : T_BUS)));
+    a->type = (uint8_t)t;
+    a->l = dims[t][0] * (0.92 + 0.16 * rs_rng_uniform(r));
+    a->w = dims[t][1];
+    a->h = dims[t][2] * (0.95 + 0.1 * rs_rng_uniform(r));
+    a->v0 = dims[t][3] * (0.85 + 0.3 * rs_rng_uniform(r));
+    a->clear = dims[t][4];
+    a->intensity = (uint8_t)(20 + 100 * rs_rng_uniform(r));
+  }
+  a->v = a->v0 * 0.9;
+  if (rt->n > 0) {
+    const agent_t *last = &sc->agents[rt->agents[rt->n - 1]];
+    if (a->v > last->v) a->v = last->v;
+  }
+  rt->agents[rt->n++] = slot;
+}
+
+static void step(rs_scene_t *sc, double dt) {
+  const double amax = 1.5, bcomf = 2.5, s0 = 2.0, T = 1.2;
+  for (int ri = 0; ri < sc->nroutes; ri++) {
+    route_t *rt = &sc->routes[ri];
+    double rate = (rt->pedestrian ? sc->cfg.pedestrians_per_min : sc->cfg.vehicles_per_min / 2.0) / 60.0;
+    for (int guard = 0; guard < 4 && rate > 0 && sc->t >= rt->next_spawn; guard++) {
+      spawn(sc, ri);
+      rt->next_spawn += -log(1.0 - rs_rng_uniform(&sc->rng)) / rate;
+    }
+    if (rate <= 0) rt->next_spawn = INFINITY;
+    for (int k = 0; k < rt->n; k++) {
+      agent_t *a = &sc->agents[rt->agents[k]];
+      double gap = INFINITY, vlead = 0;
+      if (k > 0) {
+        const agent_t *lead = &sc->agents[rt->agents[k - 1]];
+        gap = lead->s - lead->l - a->s;
+        vlead = lead->v;
+      }
+      double to_stop = rt->stop_s - a->s;
+      if (to_stop > -0.5 && !green(sc, rt->phase, sc->t, !rt->pedestrian)) {
+        /* amber: go when it cannot stop comfortably */
+        bool committed = green(sc, rt->phase, sc->t, true) && to_stop < a->v * a->v / (2 * bcomf);
+        if (!committed && to_stop < gap) {
+          gap = fmax(to_stop, 0.01);
+          vlead = 0;
+        }
+      }
+      double acc;
+      if (rt->pedestrian) {
+        acc = gap < 1.0 ? -a->v / dt : (a->v0 - a->v) / 0.5;
+      } else {
+        double sstar = s0 + fmax(0.0, a->v * T + a->v * (a->v - vlead) / (2 * sqrt(amax * bcomf)));
+        double free = 1.0 - pow(a->v / a->v0, 4);
+        acc = amax * (free - (isfinite(gap) ? (sstar / fmax(gap, 0.01)) * (sstar / fmax(gap, 0.01)) : 0.0));
+        if (acc < -9.0) acc = -9.0;
+      }
+      a->v = fmax(0.0, a->v + acc * dt);
+      a->s += a->v * dt;
+    }
+    /* despawn at the end of the route (front first) */
+    while (rt->n > 0 && sc->agents[rt->agents[0]].s - sc->agents[rt->agents[0]].l > rt->length) {
+      sc->agents[rt->agents[0]].active = false;
+      memmove(rt->agents, rt->agents + 1, sizeof rt->agents[0] * (size_t)(rt->n - 1));
+      rt->n--;
+    }
+  }
+  sc->t += dt;
+}
+
+int rs_scene_object_count(const rs_scene_t *sc) {
+  int n = 0;
+  for (int i = 0; i < MAX_AGENTS; i++) n += sc->agents[i].active;
+  return n;
+}
+
+void rs_scene_new_turn(rs_scene_t *sc) { sc->wind = 0.8 + 0.4 * rs_rng_uniform(&sc->rng); }
+
+static double wrap360(double a) {
+  while (a >= 360.0) a -= 360.0;
+  while (a < 0.0) a += 360.0;
+  return a;
+}
+
+static bool az_overlap(double s1, double w1, double s2, double w2) {
+  if (w1 >= 360 || w2 >= 360) return true;
+  if (wrap360(s2 - s1) <= w1) return true;
+  return wrap360(s1 - s2) <= w2;
+}
+
+/* centre and heading of an agent at time t */
+static void pose(const rs_scene_t *sc, const agent_t *a, double t, double *cx, double *cy, double *hd) {
+  if (a->route < 0) {
+    *cx = a->s;
+    *cy = a->v;
+    *hd = a->v0;
+    return;
+  }
+  const route_t *rt = &sc->routes[a->route];
+  double s = a->s + a->v * (t - sc->t) - a->l / 2;
+  *cx = rt->x0 + rt->dx * s;
+  *cy = rt->y0 + rt->dy * s;
+  *hd = atan2(rt->dy, rt->dx);
+}
+
+int rs_scene_states(const rs_scene_t *sc, double t, rs_agent_state_t *out, int max) {
+  static const char *const names[] = {"car", "van", "truck", "bus", "cyclist", "pedestrian"};
+  int n = 0;
+  for (int i = 0; i < sc->agent_hwm && n < max; i++) {
+    const agent_t *a = &sc->agents[i];
+    if (!a->active) continue;
+    double cx, cy, hd;
+    pose(sc, a, t, &cx, &cy, &hd);
+    rs_agent_state_t *o = &out[n++];
+    o->id = a->id;
+    o->cls = a->type < 6 ? names[a->type] : "?";
+    o->x = cx - sc->ox;
+    o->y = cy - sc->oy;
+    const double v = a->route < 0 ? 0.0 : a->v;
+    o->vx = v * cos(hd);
+    o->vy = v * sin(hd);
+    o->heading = hd;
+    o->length = a->l;
+    o->width = a->w;
+    o->height = a->h;
+  }
+  return n;
+}
+
+/* azimuth span of an agent over the next traffic step (cheap culling) */
+static void coarse_span(rs_scene_t *sc, agent_t *a) {
+  double cx, cy, hd;
+  pose(sc, a, sc->t, &cx, &cy, &hd);
+  double r = hypot(a->l, a->w) / 2 + a->v * STEP_S + 0.5;
+  double dist = hypot(cx - sc->ox, cy - sc->oy);
+  if (dist <= r + 0.1) {
+    a->span0 = 0;
+    a->spanw = 360;
+    return;
+  }
+  double half = asin(r / dist) / D2R;
+  a->span0 = fmod(az_of(sc, cx, cy) - half + 360.0, 360.0);
+  a->spanw = 2 * half;
+}
+
+void rs_scene_prepare(rs_scene_t *sc, double t, double az_from, double az_to) {
+  for (int i = 0; i < 100000 && sc->t + STEP_S <= t; i++) {
+    step(sc, STEP_S);
+    for (int k = 0; k < sc->agent_hwm; k++)
+      if (sc->agents[k].active) coarse_span(sc, &sc->agents[k]);
+  }
+  double span_w = fmod(az_to - az_from + 360.0, 360.0);
+  sc->ncand = 0;
+  for (int i = 0; i < sc->agent_hwm && sc->ncand < MAX_CAND; i++) {
+    agent_t *a = &sc->agents[i];
+    if (!a->active) continue;
+    if (a->spanw == 0) coarse_span(sc, a); /* new since the last step */
+    if (!az_overlap(a->span0, a->spanw, az_from, span_w)) continue;
+    double cx, cy, hd;
+    pose(sc, a, t, &cx, &cy, &hd);
+    if (sc->cfg.objects_max_range > 0) {
+      double dist = hypot(cx, cy);
+      if (dist < sc->cfg.objects_min_range || dist > sc->cfg.objects_max_range) continue;
+    }
+    cand_t *c = &sc->cand[sc->ncand];
+    c->id = a->id;
+    c->intensity = a->intensity;
+    c->cyl = a->type == T_PED;
+    c->cx = cx;
+    c->cy = cy;
+    c->c = cos(hd);
+    c->s = sin(hd);
+    c->hl = a->l / 2;
+    c->hw = a->w / 2;
+    c->h = a->h;
+    c->z0 = a->clear;
+    double xs[4], ys[4];
+    for (int k = 0; k < 4; k++) {
+      double lx = (k & 1 ? 1 : -1) * c->hl, ly = (k & 2 ? 1 : -1) * c->hw;
+      xs[k] = cx + lx * c->c - ly * c->s;
+      ys[k] = cy + lx * c->s + ly * c->c;
+    }
+    double st, wd;
+    az_span(sc, xs, ys, 4, &st, &wd);
+    c->az0 = fmod(st - 0.05 + 360.0, 360.0);
+    c->aw = wd + 0.1;
+    c->dmin = hypot(cx - sc->ox, cy - sc->oy) - hypot(c->hl, c->hw) - 0.1;
+    if (az_overlap(st - 0.5, wd + 1.0, az_from, span_w)) sc->ncand++;
+  }
+  /* bucket them by degree from az_from (a ray looks only at its bucket) */
+  sc->win0 = floor(az_from);
+  sc->nwin = (int)ceil(span_w + (az_from - sc->win0)) + 1;
+  if (sc->nwin > CAND_BUCKETS) sc->nwin = 0; /* window too wide: every ray scans all */
+  if (sc->nwin > 0) {
+    uint16_t counts[CAND_BUCKETS] = {0};
+    for (int pass = 0; pass < 2; pass++) {
+      if (pass == 1) {
+        int total = 0;
+        for (int b = 0; b < sc->nwin; b++) {
+          sc->bstart[b] = (uint16_t)total;
+          total += counts[b];
+          counts[b] = 0;
+        }
+        sc->bstart[sc->nwin] = (uint16_t)total;
+        if (total > CAND_BUCKET_ITEMS) {
+          sc->nwin = 0;
+          return;
+        }
+      }
+      for (int k = 0; k < sc->ncand; k++) {
+        const cand_t *c = &sc->cand[k];
+        double lo = wrap360(c->az0 - sc->win0), hi = lo + c->aw;
+        for (int b = 0; b < sc->nwin; b++) {
+          /* bucket b covers [b, b+1) degrees after win0 */
+          bool in = (hi >= b && lo < b + 1) || (c->aw >= 360) || (hi >= 360.0 + b && lo < 360.0 + b + 1);
+          if (!in) continue;
+          if (pass == 0) counts[b]++;
+          else sc->bitems[sc->bstart[b] + counts[b]++] = (uint16_t)k;
+        }
+      }
+    }
+  }
+}
+
+/* an object along a ray: distance and the cosine of the incidence angle */
+static double hit_cand(const cand_t *c, const double *o, const double *d, double *cosi) {
+  if (c->cyl) {
+    double t = hit_cyl(c->cx, c->cy, c->hw, 0.0, c->h, o, d);
+    double px = o[0] + t * d[0] - c->cx, py = o[1] + t * d[1] - c->cy, n = hypot(px, py);
+    *cosi = isfinite(t) && n > 1e-9 ? fabs(px * d[0] + py * d[1]) / n : 1.0;
+    return t;
+  }
+  /* into the box frame */
+  double px = o[0] - c->cx, py = o[1] - c->cy;
+  double lo[3] = {px * c->c + py * c->s, -px * c->s + py * c->c, o[2]};
+  double ld[3] = {d[0] * c->c + d[1] * c->s, -d[0] * c->s + d[1] * c->c, d[2]};
+  float a[6] = {(float)-c->hl, (float)-c->hw, (float)c->z0, (float)c->hl, (float)c->hw, (float)c->h};
+  int axis;
+  double t = hit_box_axis(a, lo, ld, &axis);
+  *cosi = fabs(ld[axis]);
+  return t;
+}
+
+/* the nearest candidate object on a ray (INFINITY: none) */
+static double nearest_object(rs_scene_t *sc, int k0, int k1, bool bucketed, double az, const double *o,
+                             const double *d, double limit, const cand_t **hit, double *cosi) {
+  double best = INFINITY;
+  for (int kk = k0; kk < k1; kk++) {
+    const cand_t *ck = &sc->cand[bucketed ? sc->bitems[kk] : kk];
+    double da = az - ck->az0;
+    if (da < 0) da += 360.0;
+    if (da > ck->aw || ck->dmin > best || ck->dmin > limit) continue;
+    double c, t = hit_cand(ck, o, d, &c);
+    if (t < best) {
+      best = t;
+      *hit = ck;
+      *cosi = c;
+    }
+  }
+  return best;
+}
+
+/* detection, noise and intensity of one return; false: lost */
+static bool sense(const rs_scene_t *sc, rs_hit_t *h, rs_rng_t *rng) {
+  const double r = h->range, mr = sc->cfg.max_range;
+  /* the range a surface of this intensity is seen to half the time: the
+   * model's maximum for intensity 15, shorter for darker surfaces (returned
+   * power ~ intensity / r^2), at most 10 % beyond it for brighter ones, less
+   * in rain or dust; nothing beyond the maximum */
+  double reach = mr * fmin(1.1, sqrt(fmax(h->intensity, 1) / 15.0));
+  if (sc->cfg.attenuation > 0) reach *= exp(-0.5 * sc->cfg.attenuation * 1e-3 * r);
+  double p = r > mr ? 0.0 : 1.0 / (1.0 + exp((r - reach) / (0.06 * reach)));
+  if (rs_rng_uniform(rng) >= p * (1.0 - sc->cfg.dropout)) return false;
+  double sd = sc->cfg.range_noise * (0.5 + r / 40.0) * (0.85 + 2.0 / fmax(h->intensity, 5));
+  if (sc->cfg.noise_tail > 0 && rs_rng_uniform(rng) < sc->cfg.noise_tail) sd *= 5.0;
+  double v = r + sd * rs_rng_normal(rng);
+  h->range = (float)(v < 0.5 ? 0.5 : v);
+  h->intensity = clamp_u8(h->intensity + rs_rng_normal(rng) * 3.0);
+  return true;
+}
+
+void rs_scene_cast(rs_scene_t *sc, int slot, int block_az, int laser, double az, rs_rng_t *rng, rs_ray_t *out) {
+  while (az >= 360.0) az -= 360.0;
+  while (az < 0.0) az += 360.0;
+  const double o[3] = {sc->ox, sc->oy, sc->oz};
+  double d[3];
+  dir_of(sc, laser, az, d);
+  const bool table = sc->st != NULL && block_az >= 0 && block_az < AZ_STEPS && slot >= 0 && slot < sc->slots;
+  /* the static scene along this firing (footprint included) */
+  st_cell_t stc;
+  if (table) {
+    stc = sc->st[(size_t)block_az * (size_t)sc->slots + (size_t)slot];
+  } else {
+    memset(&stc, 0, sizeof stc);
+    if (d[2] < 0) {
+      stc.r1 = (float)(-o[2] / d[2]);
+      stc.i1 = clamp_u8(12 * (0.3 + 0.7 * -d[2]));
+    }
+  }
+  rs_hit_t ret[2] = {{stc.r1, stc.i1, (uint16_t)(stc.r1 > 0)}, {stc.r2, stc.i2, (uint16_t)(stc.r2 > 0)}};
+  /* objects occlude what is behind them; across the footprint (three rays
+   * side by side) an object's edge mixes with what is behind it */
+  int k0 = 0, k1 = sc->ncand;
+  bool bucketed = false;
+  if (sc->nwin > 0) {
+    int b = (int)wrap360(az - sc->win0);
+    if (b < sc->nwin) {
+      k0 = sc->bstart[b];
+      k1 = sc->bstart[b + 1];
+      bucketed = true;
+    }
+  }
+  if (k1 > k0) {
+    const double limit = stc.r1 > 0 ? fmax(stc.r1, stc.r2) : INFINITY;
+    const int nh = sc->cfg.beam_samples >= 3 ? 3 : 1;
+    const double dh = sc->cfg.beam_div_h * 1e-3 / D2R;
+    sub_hit_t h[3];
+    int n = 0, objects = 0;
+    for (int i = 0; i < nh; i++) {
+      const double u = nh == 1 ? 0 : sub_off[i], w = nh == 1 ? 1 : sub_w[i];
+      double ds[3];
+      if (u == 0) memcpy(ds, d, sizeof ds);
+      else dir_of(sc, laser, az + u * dh, ds);
+      const cand_t *c = NULL;
+      double cosi = 1.0, t = nearest_object(sc, k0, k1, bucketed, az, o, ds, limit, &c, &cosi);
+      if (c && (stc.r1 == 0 || t < stc.r1)) {
+        h[n++] = (sub_hit_t){t, w, c->intensity, cosi, c->id};
+        objects++;
+      } else if (stc.r1 > 0) {
+        /* the static scene's brighter return stands for this part of the footprint */
+        bool two = stc.r2 > 0 && stc.i2 > stc.i1;
+        h[n++] = (sub_hit_t){two ? stc.r2 : stc.r1, w, 2.0 * (two ? stc.i2 : stc.i1), 1.0, 1};
+      }
+    }
+    if (objects > 0) {
+      beam_ret_t r[2];
+      int nr = form_returns(h, n, sc->cfg.mix_depth, r);
+      memset(ret, 0, sizeof ret);
+      for (int k = 0; k < nr; k++)
+        ret[k] = (rs_hit_t){(float)r[k].r, clamp_u8(r[k].inten), r[k].label};
+    }
+  }
+  /* leaves: a ray through a canopy returns a leaf in its first metre with
+   * probability fol_p x wind; what is behind is the second return */
+  if (stc.fol > 0 && rs_rng_uniform(rng) * 255.0 < stc.fol_p * sc->wind) {
+    float lr = stc.fol + (float)rs_rng_uniform(rng);
+    if (ret[0].range == 0 || lr < ret[0].range - 0.3f) {
+      ret[1] = ret[0];
+      ret[0] = (rs_hit_t){lr, 30, RS_SCENE_LEAF};
+    }
+  }
+  /* sensor effects: detection, noise, intensity */
+  for (int k = 0; k < 2; k++)
+    if (ret[k].range > 0 && !sense(sc, &ret[k], rng)) ret[k].range = 0;
+  if (ret[0].range == 0 && ret[1].range != 0) {
+    ret[0] = ret[1];
+    ret[1].range = 0;
+  }
+  if (sc->cfg.spurious > 0 && rs_rng_uniform(rng) < sc->cfg.spurious) {
+    /* rain or dust in front of whatever the beam would have hit: drops and
+     * dust near the sensor return most (exponential, mean 8 m), up to 30 m */
+    double far = ret[0].range > 0 ? fmin(30.0, ret[0].range - 0.5) : 30.0;
+    /* inverse CDF of the exponential truncated to [1, far] */
+    double r = 1.0 - 8.0 * log(1.0 - rs_rng_uniform(rng) * (1.0 - exp(-(far - 1.0) / 8.0)));
+    if (far > 1.0) {
+      ret[1] = ret[0];
+      ret[0] = (rs_hit_t){(float)r, (uint8_t)(2 + 10 * rs_rng_uniform(rng)), RS_SCENE_LEAF};
+    }
+  }
+  if (ret[1].range == 0) ret[1].label = 0;
+  if (ret[0].range == 0) ret[0].label = 0;
+  out->first = ret[0];
+  out->second = ret[1];
+}
