@@ -84,6 +84,8 @@ START_TEST(t_bad_files) {
   expect_bad(write_file("res.yaml", "lasers: []\nnum_lasers: 0\n"), "num_lasers must be");
   expect_bad(write_file("noid.yaml", "lasers:\n- {rot_correction: 0, vert_correction: 0}\nnum_lasers: 1\n"),
              "laser_id missing");
+  expect_bad(write_file("negid.yaml", "lasers:\n- {laser_id: -1, rot_correction: 0, vert_correction: 0}\nnum_lasers: 1\n"),
+             "laser_id -1 is negative");
   rs_calib_t c;
   ck_assert_int_eq(rs_calib_load_yaml(tu_tmp("does-not-exist.yaml"), &c, err, sizeof err), RS_E_NOENT);
   ck_assert_ptr_nonnull(strstr(err, "does-not-exist.yaml"));

@@ -192,17 +192,26 @@ START_TEST(t_live_loopback) {
   struct sockaddr_in other = to;
   other.sin_port = htons((uint16_t)(cc.data_port + 1));
   sendto(sock, payload, sizeof payload, 0, (struct sockaddr *)&other, sizeof other);
+  /* position packets (port 8308): the filter lets them in, the stream counts them */
+  struct sockaddr_in pos = to;
+  pos.sin_port = htons(RS_DEFAULT_POSITION_PORT);
+  static uint8_t gprmc[512];
+  for (int k = 0; k < 2; k++) ck_assert_int_eq(sendto(sock, gprmc, sizeof gprmc, 0, (struct sockaddr *)&pos, sizeof pos), 512);
   close(sock);
-  rs_stream_cfg_t sc = {.data_port = cc.data_port};
+  rs_stream_cfg_t sc = {.data_port = cc.data_port, .position_port = RS_DEFAULT_POSITION_PORT};
   rs_stream_init(&st, &sc);
   rs_frame_in_t f;
-  for (int tries = 0; tries < 30 && st.n.decoded < (uint64_t)N; tries++) {
+  for (int tries = 0; tries < 30 && (st.n.decoded < (uint64_t)N || st.n.position_packets < 2); tries++) {
     rc = rs_capture_next(&c, &f, NULL);
     ck_assert_int_ge(rc, 0);
     if (rc == 1) rs_stream_frame(&st, c.linktype, &f, NULL, NULL);
   }
   ck_assert_uint_eq(st.n.decoded, (uint64_t)N);
+  ck_assert_uint_eq(st.n.position_packets, 2);
   ck_assert_uint_eq(st.n.other_packets, 0);
+  char filter[160];
+  rs_capture_filter(&cc, filter, sizeof filter);
+  ck_assert_ptr_nonnull(strstr(filter, "dst port 8308"));
   /* nothing more arrives: next returns 0 within the poll interval, not blocking */
   ck_assert_int_eq(rs_capture_next(&c, &f, NULL), 0);
   rs_capture_close(&c);

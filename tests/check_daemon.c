@@ -51,6 +51,11 @@ START_TEST(t_config_errors) {
       {"[lcm]\nlcm-url = udpm://10.0.0.1:7667\n", "is not an IPv4 multicast address"},
       {"[daemon]\nbudget-ms = -1\n", "[daemon] budget-ms: -1 is out of range"},
       {"this is not ini\n", "not an INI line"},
+      {"[cluster]\neps = 1.0\neps = 2.0\n", "[cluster] eps: given twice in the file"},
+      {"[source]\nsource = 10.0.0.300\n", "[source] source: '10.0.0.300' is not an IPv4 or IPv6 address"},
+      {"[lcm]\nsensor-id = north-gate-with-a-name-that-goes-on-and-on-and-on-and-on-and-on-and-on-and-on-and-on-"
+       "and-on-and-on-and-on-and-on-and-on-and-on-and-on-and-on-and-on-and-on-and-on-and-on-and-on-and-on-and-on\n",
+       ":2: the line is longer than 198 characters"},
   };
   char cmd[4096];
   const char *out;
@@ -62,6 +67,22 @@ START_TEST(t_config_errors) {
     ck_assert_msg(strstr(out, ini) != NULL || strstr(cases[i].msg, "channel") || strstr(cases[i].msg, "multicast"),
                   "case %zu: the file is not named: %s", i, out);
   }
+  /* a NUL byte would cut the value silently */
+  const char *nul = tu_tmp("dmn-nul.ini");
+  FILE *nf = fopen(nul, "wb");
+  ck_assert_ptr_nonnull(nf);
+  fwrite("[lcm]\nsensor-id = north\0gate\n", 1, 30, nf);
+  fclose(nf);
+  snprintf(cmd, sizeof cmd, "./roadscand --config %s --pcap %s --fast", nul, cap);
+  ck_assert_int_eq(tu_exec(cmd, &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "dmn-nul.ini:2: a NUL byte"));
+  /* repeatable keys may repeat */
+  const char *rep = write_ini("dmn-rep.ini", "[track]\ntrack-set = q_accel=2\ntrack-set = coast_s=2\n"
+                                             "[count]\ncount-line = a 0 0 1 1\ncount-line = b 0 0 2 2\n");
+  snprintf(cmd, sizeof cmd, "./roadscand --config %s --pcap %s --fast --background %s --no-publish --quiet", rep, cap, model);
+  ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
+  ck_assert_int_eq(tu_exec("./roadscand --pcap x --source not-an-address", &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "--source: 'not-an-address' is not an IPv4 or IPv6 address"));
   ck_assert_int_eq(tu_exec("./roadscand --config /nonexistent/roadscand.ini --pcap x", &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "/nonexistent/roadscand.ini: cannot read"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --pose '0 0 0 0 0 400'", &out), 2);

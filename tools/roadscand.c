@@ -13,6 +13,7 @@
 
 #include <ini.h>
 
+#include <arpa/inet.h>
 #include <errno.h>
 #include <getopt.h>
 #include <math.h>
@@ -250,7 +251,15 @@ static int apply(int id, const char *val, const char *key, char *err, size_t n) 
     if (rs_cfg_long(key, v, 1, 65535, &l, err, n)) return RS_E_INVAL;
     cfg->capture.data_port = (uint16_t)l;
     break;
-  case O_SOURCE: cfg->capture.source_addr = v; break;
+  case O_SOURCE: {
+    unsigned char a[16];
+    if (inet_pton(AF_INET, v, a) != 1 && inet_pton(AF_INET6, v, a) != 1) {
+      snprintf(err, n, "%s: '%s' is not an IPv4 or IPv6 address", key, v);
+      return RS_E_INVAL;
+    }
+    cfg->capture.source_addr = v;
+    break;
+  }
   case O_MODEL:
     if (rs_cfg_model(key, v, &cfg->stream.force_model, err, n)) return RS_E_INVAL;
     break;
@@ -413,7 +422,11 @@ typedef struct {
   const char *path;
   char err[RS_ERRMSG_SIZE];
   bool failed;
+  bool seen[O_COUNT];
 } ini_ctx_t;
+
+/* inih's line buffer (INI_MAX_LINE, 200) less the newline and its NUL */
+#define RS_INI_LINE_MAX 198
 
 static int on_ini(void *user, const char *section, const char *name, const char *value) {
   ini_ctx_t *c = user;
@@ -427,6 +440,13 @@ static int on_ini(void *user, const char *section, const char *name, const char 
       c->failed = true;
       return 0;
     }
+    /* a key given twice is a mistake (the last would win silently), but for the repeatable ones */
+    if (c->seen[id] && id != O_COUNT_LINE && id != O_TRACK_SET) {
+      snprintf(c->err, sizeof c->err, "%s: given twice in the file", key);
+      c->failed = true;
+      return 0;
+    }
+    c->seen[id] = true;
     if (apply(id, value, key, c->err, sizeof c->err) != RS_OK) {
       c->failed = true;
       return 0;
@@ -446,6 +466,24 @@ static int read_config(const char *path) {
     snprintf(c.err, sizeof c.err, "--config %s: cannot read: %s", path, strerror(errno));
     return bad(c.err);
   }
+  /* what inih would silently cut: a NUL byte (the value ends there), a line longer than its buffer */
+  int line = 1, col = 0, ch;
+  while ((ch = fgetc(f)) != EOF) {
+    if (ch == '\0') {
+      snprintf(c.err, sizeof c.err, "%s:%d: a NUL byte (not a text file)", path, line);
+      fclose(f);
+      return bad(c.err);
+    }
+    if (ch == '\n') {
+      line++;
+      col = 0;
+    } else if (++col > RS_INI_LINE_MAX) {
+      snprintf(c.err, sizeof c.err, "%s:%d: the line is longer than %d characters", path, line, RS_INI_LINE_MAX);
+      fclose(f);
+      return bad(c.err);
+    }
+  }
+  rewind(f);
   int rc = ini_parse_file(f, on_ini, &c);
   fclose(f);
   if (c.failed) return bad(c.err);

@@ -3,6 +3,7 @@
 
 #include "roadscan/util/error.h"
 #include "roadscan/capture/net.h"
+#include "roadscan/sensor/sensor.h"
 
 #include <errno.h>
 #include <pcap/pcap.h>
@@ -15,10 +16,12 @@
 #define POLL_MS 100
 
 void rs_capture_filter(const rs_capture_cfg_t *cfg, char *buf, size_t n) {
+  /* data and position packets (the stream counts the position ones) */
   if (cfg->source_addr && cfg->source_addr[0])
-    snprintf(buf, n, "udp dst port %u and src host %s", cfg->data_port, cfg->source_addr);
+    snprintf(buf, n, "udp and (dst port %u or dst port %u) and src host %s", cfg->data_port, RS_DEFAULT_POSITION_PORT,
+             cfg->source_addr);
   else
-    snprintf(buf, n, "udp dst port %u", cfg->data_port);
+    snprintf(buf, n, "udp and (dst port %u or dst port %u)", cfg->data_port, RS_DEFAULT_POSITION_PORT);
 }
 
 static int check_linktype(rs_capture_t *c) {

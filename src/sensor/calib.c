@@ -6,6 +6,7 @@
 
 #include <errno.h>
 #include <stdarg.h>
+#include <limits.h>
 #include <math.h>
 #include <stdbool.h>
 #include <stdio.h>
@@ -52,7 +53,7 @@ __attribute__((format(printf, 4, 5))) static int fail(char *err, size_t n, const
 static int parse_laser(yaml_document_t *doc, yaml_node_t *m, rs_calib_t *c, bool *seen, long entry,
                        const char *path, char *err, size_t n) {
   if (m->type != YAML_MAPPING_NODE) return fail(err, n, path, "lasers[%ld] is not a mapping", entry);
-  long id = -1;
+  long id = LONG_MIN; /* not given */
   double rot = NAN, vert = NAN, dist = 0.0, voff = 0.0;
   int ignored = 0;
   for (yaml_node_pair_t *p = m->data.mapping.pairs.start; p < m->data.mapping.pairs.top; p++) {
@@ -78,7 +79,8 @@ static int parse_laser(yaml_document_t *doc, yaml_node_t *m, rs_calib_t *c, bool
     else if (strcmp(k, "vert_offset_correction") == 0) voff = d;
     else if (d != 0.0) ignored++; /* horiz offset, two-point and focal terms */
   }
-  if (id < 0) return fail(err, n, path, "lasers[%ld]: laser_id missing", entry);
+  if (id == LONG_MIN) return fail(err, n, path, "lasers[%ld]: laser_id missing", entry);
+  if (id < 0) return fail(err, n, path, "lasers[%ld]: laser_id %ld is negative", entry, id);
   if (id >= c->lasers) {
     return fail(err, n, path, "lasers[%ld]: laser_id %ld out of range (num_lasers %d)", entry, id, c->lasers);
   }
