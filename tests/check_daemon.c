@@ -407,7 +407,7 @@ START_TEST(t_tracks_outputs) {
   char line[512];
   ck_assert_ptr_nonnull(fgets(line, sizeof line, f));
   ck_assert_str_eq(line, "frame,t,track,state,class,x,y,z,vx,vy,speed,heading,length,width,height,points,hits,misses,"
-                         "age,cov_xx,cov_xy,cov_yy\n");
+                         "age,cov_xx,cov_xy,cov_yy,site_x,site_y,site_z,site_vx,site_vy,site_heading\n");
   static unsigned char confirmed[100000];
   long rows = 0, conf_rows = 0, last_frame = -1;
   while (fgets(line, sizeof line, f)) {
@@ -452,6 +452,25 @@ START_TEST(t_tracks_outputs) {
   } else {
     printf("t_tracks_outputs: --speed 2 dropped %ld frames on this machine: byte comparison not made\n", dropped);
   }
+  /* with a pose, the site-frame columns are filled (site x = 100 - y, site y = 50 + x for a yaw of 90 degrees) */
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s --no-publish --quiet --pose \"100 50 5 0 0 90\" "
+           "--tracks-out %s", cap, model, b);
+  ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
+  f = fopen(b, "r");
+  ck_assert_ptr_nonnull(f);
+  ck_assert_ptr_nonnull(fgets(line, sizeof line, f));
+  int site_rows = 0;
+  while (fgets(line, sizeof line, f)) {
+    double v[28];
+    int nv = 0;
+    for (char *p = line; p && nv < 28; p = strchr(p, ',') ? strchr(p, ',') + 1 : NULL) v[nv++] = strtod(p, NULL);
+    ck_assert_int_eq(nv, 28);
+    ck_assert_double_eq_tol(v[22], 100.0 - v[6], 0.01);
+    ck_assert_double_eq_tol(v[23], 50.0 + v[5], 0.01);
+    site_rows++;
+  }
+  fclose(f);
+  ck_assert_int_gt(site_rows, 20);
   /* counts: a CSV per closed interval, the summary's totals */
   char cf[600];
   snprintf(cf, sizeof cf, "%s", tu_tmp("trk-counts.csv"));

@@ -351,6 +351,30 @@ START_TEST(t_crowd_and_config) {
 }
 END_TEST
 
+/* with a pose, every track also has its site-frame state */
+START_TEST(t_site_frame) {
+  init_default();
+  rs_pose_t pose = {.x = 100.0, .y = 50.0, .z = 5.0, .yaw = M_PI / 2}; /* the sensor's +X is the site's +Y */
+  rs_track_set_pose(&tr, &pose);
+  for (int f = 0; f < 30; f++) {
+    double t = 0.1 * f;
+    clear();
+    car(t, -20 + 10 * t, 8.0, 0.0); /* sensor frame: along +X at 10 m/s */
+    rs_track_frame(&tr, &objs, t + 0.05);
+  }
+  ck_assert(tr.list.site_valid);
+  const rs_track_t *k = &tr.list.track[0];
+  ck_assert_double_eq_tol(k->site[0], 100.0 - k->x[1], 1e-3); /* site = Rz(90) p + t */
+  ck_assert_double_eq_tol(k->site[1], 50.0 + k->x[0], 1e-3);
+  ck_assert_double_eq_tol(k->site[2], 5.0 + k->z_min, 1e-3);
+  ck_assert_double_eq_tol(k->site_v[0], 0.0, 0.2);
+  ck_assert_double_eq_tol(k->site_v[1], 10.0, 0.2);
+  ck_assert_double_eq_tol(k->site_heading, M_PI / 2, 0.05);
+  rs_track_set_pose(&tr, NULL);
+  ck_assert(!tr.list.site_valid);
+}
+END_TEST
+
 /* the same input gives the same tracks, bit for bit */
 START_TEST(t_deterministic) {
   static rs_track_list_t first;
@@ -386,6 +410,7 @@ int main(void) {
   tcase_add_test(tc, t_capacity);
   tcase_add_test(tc, t_crowd_and_config);
   tcase_add_test(tc, t_deterministic);
+  tcase_add_test(tc, t_site_frame);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

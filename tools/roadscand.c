@@ -597,6 +597,7 @@ int main(int argc, char **argv) {
     cfg->object_list = &object_list;
     if (!st.no_tracking) {
       if (rs_track_init(&tracker, &st.tcfg) != RS_OK) return bad("bad tracking parameters");
+      rs_track_set_pose(&tracker, st.have_pose ? &st.pose : NULL);
       cfg->tracker = &tracker;
     }
   }

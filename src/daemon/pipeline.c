@@ -20,7 +20,7 @@ const char *rs_pipeline_counts_header(void) { return "t_start,t_end,line,directi
 
 const char *rs_pipeline_tracks_header(void) {
   return "frame,t,track,state,class,x,y,z,vx,vy,speed,heading,length,width,height,points,hits,misses,age,"
-         "cov_xx,cov_xy,cov_yy";
+         "cov_xx,cov_xy,cov_yy,site_x,site_y,site_z,site_vx,site_vy,site_heading";
 }
 
 const char *rs_pipeline_csv_header(void) {
@@ -294,11 +294,16 @@ static void write_tracks(FILE *f, const rs_slot_t *s, const rs_track_list_t *tl)
   for (uint32_t i = 0; i < tl->count; i++) {
     const rs_track_t *t = &tl->track[i];
     if (t->state == RS_TRACK_LOST) continue; /* kept for re-acquisition, not published */
-    fprintf(f, "%" PRIu64 ",%.6f,%u,%s,%s,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.4f,%.2f,%.2f,%.2f,%u,%u,%u,%.3f,%.4f,%.4f,%.4f\n",
+    fprintf(f, "%" PRIu64 ",%.6f,%u,%s,%s,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.4f,%.2f,%.2f,%.2f,%u,%u,%u,%.3f,%.4f,%.4f,%.4f",
             s->meta.seq, t->t_state, t->id, rs_track_state_name(t->state), rs_class_name(t->cls), t->x[0], t->x[1],
             (double)t->z_min, t->x[2], t->x[3], (double)t->speed, (double)t->heading, (double)t->length,
             (double)t->width, (double)t->height, t->points, t->hits, t->misses, tl->t - t->t_birth, t->P[0][0],
             t->P[0][1], t->P[1][1]);
+    if (tl->site_valid) /* (empty without a pose) */
+      fprintf(f, ",%.3f,%.3f,%.3f,%.3f,%.3f,%.4f\n", (double)t->site[0], (double)t->site[1], (double)t->site[2],
+              (double)t->site_v[0], (double)t->site_v[1], (double)t->site_heading);
+    else
+      fputs(",,,,,,\n", f);
   }
 }
 

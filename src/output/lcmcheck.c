@@ -145,7 +145,7 @@ bool rs_lcm_check(rs_lcm_type_t type, const void *data, int len, char *err, size
     if (!fingerprint(&r, __roadscan_track_list_t_get_hash())) return false;
     skip(&r, 8);
     str(&r);
-    skip(&r, 8 + 8 + 1 + 4); /* frame_seq t_frame truncated num_alive */
+    skip(&r, 8 + 8 + 1 + 1 + 4); /* frame_seq t_frame truncated site_valid num_alive */
     const int32_t num = i32(&r);
     array(&r, num, size_track());
     return done(&r);

@@ -310,6 +310,9 @@ static void track_to_wire(const rs_track_t *t, double t_frame, roadscan_track_t 
   w->position_cov[0] = (float)t->P[0][0];
   w->position_cov[1] = (float)t->P[0][1];
   w->position_cov[2] = (float)t->P[1][1];
+  memcpy(w->site_position, t->site, sizeof w->site_position);
+  memcpy(w->site_velocity, t->site_v, sizeof w->site_velocity);
+  w->site_heading = t->site_heading;
 }
 
 void rs_publish_fill_tracks(rs_publish_t *p, const rs_frame_meta_t *m, const rs_track_list_t *tl, int64_t utime,
@@ -319,6 +322,7 @@ void rs_publish_fill_tracks(rs_publish_t *p, const rs_frame_meta_t *m, const rs_
   msg->sensor_id = p->sensor_id;
   msg->frame_seq = (int64_t)m->seq;
   msg->t_frame = usec(m->t_last);
+  msg->site_valid = tl->site_valid;
   const uint32_t count = tl->count < RS_TRACK_MAX ? tl->count : RS_TRACK_MAX;
   uint32_t n = 0, alive = 0; /* lost tracks (kept for re-acquisition) are not published */
   for (uint32_t i = 0; i < count; i++) alive += tl->track[i].state != RS_TRACK_LOST;

@@ -53,6 +53,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
+  tr->have_pose = false;
   tr->cfg = *cfg;
   tr->next_id = 1;
   tr->last_t = 0;
@@ -97,6 +98,37 @@ int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, cha
   for (size_t k = 0; k < sizeof knobs / sizeof knobs[0] && used < n; k++)
     used += (size_t)snprintf(err + used, n - used, " %s", knobs[k].name);
   return RS_E_INVAL;
+}
+
+void rs_track_set_pose(rs_tracker_t *tr, const rs_pose_t *pose) {
+  tr->have_pose = pose != NULL;
+  tr->list.site_valid = tr->have_pose;
+  if (!pose) return;
+  const double cr = cos(pose->roll), sr = sin(pose->roll), cp = cos(pose->pitch), sp = sin(pose->pitch);
+  const double cy = cos(pose->yaw), sy = sin(pose->yaw);
+  const double r[9] = {cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr,
+                       sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr,
+                       -sp,     cp * sr,                cp * cr}; /* R = Rz(yaw) Ry(pitch) Rx(roll), as objects.h */
+  memcpy(tr->rot, r, sizeof r);
+  tr->trans[0] = pose->x;
+  tr->trans[1] = pose->y;
+  tr->trans[2] = pose->z;
+}
+
+/* the site-frame state of every track (positions with the box's bottom as z; velocities and headings
+ * turned by the rotation, on the site's ground plane) */
+static void site_states(rs_tracker_t *tr) {
+  for (uint32_t i = 0; i < tr->list.count; i++) {
+    rs_track_t *t = &tr->list.track[i];
+    const double p[3] = {t->x[0], t->x[1], t->z_min};
+    for (int a = 0; a < 3; a++)
+      t->site[a] = (float)(tr->rot[3 * a] * p[0] + tr->rot[3 * a + 1] * p[1] + tr->rot[3 * a + 2] * p[2] + tr->trans[a]);
+    const double vx = tr->rot[0] * t->x[2] + tr->rot[1] * t->x[3], vy = tr->rot[3] * t->x[2] + tr->rot[4] * t->x[3];
+    t->site_v[0] = (float)vx;
+    t->site_v[1] = (float)vy;
+    const double hx = tr->rot[0] * t->hcos + tr->rot[1] * t->hsin, hy = tr->rot[3] * t->hcos + tr->rot[4] * t->hsin;
+    t->site_heading = (float)atan2(hy, hx);
+  }
 }
 
 const char *rs_track_state_name(rs_track_state_t s) {
@@ -865,4 +897,5 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     L->object_track[k] = t->id;
     tr->n.born++;
   }
+  if (tr->have_pose) site_states(tr);
 }

@@ -129,6 +129,7 @@ typedef struct {
   double distance_seen;      /* the same up to the last update */
   uint32_t hits, misses;     /* frames with and without an object */
   uint32_t points;           /* returns of the last object */
+  float site[3], site_v[2], site_heading; /* position, velocity and heading in the site frame (with a pose) */
   int32_t object;            /* index in this frame's object list, -1 none */
   bool held;                 /* shares a cluster with another track this frame */
 } rs_track_t;
@@ -143,6 +144,7 @@ typedef struct {
 
 typedef struct {
   double t;                  /* the frame's time (its last packet) */
+  bool site_valid;           /* tracks carry their site-frame state (rs_track_set_pose) */
   uint32_t count;            /* tracks in track[] (tentative, confirmed and coasting) */
   rs_track_t track[RS_TRACK_MAX];
   uint32_t ended;            /* end events of this frame */
@@ -186,6 +188,8 @@ typedef struct {
   double tpos[RS_TRACK_MAX][2];
   long tcell[RS_TRACK_MAX][2];
   double vmax;                         /* the fastest track's speed this frame */
+  bool have_pose;
+  double rot[9], trans[3];             /* sensor -> site (rs_pose_t's convention) */
   uint16_t near[RS_TRACK_MAX];
 } rs_tracker_t;
 
@@ -196,6 +200,9 @@ void rs_track_cfg_default(rs_track_cfg_t *c);
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n);
 /* RS_E_INVAL for a parameter out of range. */
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg);
+/* The sensor's pose in the site (NULL: none): from then on every track also
+ * carries its position, velocity and heading in the site frame. */
+void rs_track_set_pose(rs_tracker_t *tr, const rs_pose_t *pose);
 /* One frame: its objects and its time (s, capture clock). */
 void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_frame);
 const char *rs_track_state_name(rs_track_state_t s);
