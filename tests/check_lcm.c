@@ -492,6 +492,35 @@ START_TEST(t_listener_rejects_garbage) {
   crash[20] = 'x';
   lcm_eventlog_event_t cev = {n++, 1700000000000010LL, 14, 21, (char *)RS_PUB_DEFAULT_STATS, crash};
   ck_assert_int_eq(lcm_eventlog_write_event(log, &cev), 0);
+  /* a track list, the same with a forged track count, counts of one line */
+  static rs_track_list_t tl;
+  memset(&tl, 0, sizeof tl);
+  tl.count = 1;
+  tl.track[0].id = 7;
+  tl.track[0].state = RS_TRACK_CONFIRMED;
+  roadscan_track_list_t tm;
+  rs_publish_fill_tracks(&pub, &meta, &tl, 1, &tm);
+  int tlen = roadscan_track_list_t_encode(buf, 0, (int)sizeof buf, &tm);
+  lcm_eventlog_event_t tev = {n++, 1700000000000011LL, 15, tlen, (char *)RS_PUB_DEFAULT_TRACKS, buf};
+  ck_assert_int_eq(lcm_eventlog_write_event(log, &tev), 0);
+  static uint8_t forged[4096];
+  memcpy(forged, buf, (size_t)tlen);
+  const int at_num = tlen - (int)(__roadscan_track_t_encoded_array_size(&tm.tracks[0], 1)) - 4;
+  forged[at_num] = 0x7f;
+  lcm_eventlog_event_t fev = {n++, 1700000000000012LL, 15, tlen, (char *)RS_PUB_DEFAULT_TRACKS, forged};
+  ck_assert_int_eq(lcm_eventlog_write_event(log, &fev), 0);
+  roadscan_count_line_t cl;
+  memset(&cl, 0, sizeof cl);
+  cl.name = "east";
+  cl.forward[3] = 2;
+  roadscan_counts_t cm;
+  memset(&cm, 0, sizeof cm);
+  cm.sensor_id = "north";
+  cm.num_lines = 1;
+  cm.lines = &cl;
+  int clen = roadscan_counts_t_encode(buf, 0, (int)sizeof buf, &cm);
+  lcm_eventlog_event_t cnv = {n++, 1700000000000013LL, 15, clen, (char *)RS_PUB_DEFAULT_COUNTS, buf};
+  ck_assert_int_eq(lcm_eventlog_write_event(log, &cnv), 0);
   lcm_eventlog_destroy(log);
   rs_publish_deinit(&pub);
   char cmd[1024];
@@ -505,6 +534,13 @@ START_TEST(t_listener_rejects_garbage) {
   ck_assert_ptr_nonnull(strstr(out, "\"frame_seq\":0,"));
   ck_assert_ptr_nonnull(strstr(out, "\"frame_seq\":5,"));
   ck_assert_ptr_nonnull(strstr(out, "{\"sensor_id\":\"gate \\\"north\\\" \\\\ 2\","));
+  /* with --tracks and --counts: the track list and the counts printed, the forged list refused */
+  snprintf(cmd, sizeof cmd, "./roadscan-listen --log %s --tracks --counts", path);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "track lists 1, track ends 0, counts 1"));
+  ck_assert_ptr_nonnull(strstr(out, "track     7 confirmed"));
+  ck_assert_ptr_nonnull(strstr(out, "line east forward 2, backward 0"));
+  ck_assert_ptr_nonnull(strstr(out, "is not a roadscan track list (the message ends inside a field"));
 }
 END_TEST
 

@@ -31,7 +31,7 @@ static void on_signal(int sig) {
 static struct {
   bool json, stats, quiet;
   long count, delay_ms;
-  uint64_t lists, stats_msgs, malformed, gaps, objects;
+  uint64_t lists, stats_msgs, malformed, gaps, objects, track_lists, track_ends, counts;
   double t0, t_last;
   struct {
     char id[RS_PUB_NAME_MAX];
@@ -226,6 +226,98 @@ static void on_stats(const lcm_recv_buf_t *rbuf, const char *channel, void *user
   roadscan_frame_stats_t_decode_cleanup(&s);
 }
 
+/* track lists, track ends and counts (--tracks, --counts): checked, decoded, printed */
+static void on_tracks(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
+  (void)user;
+  char why[RS_ERRMSG_SIZE] = "it does not decode";
+  const bool ends = strstr(channel, "END") != NULL;
+  const rs_lcm_type_t type = ends ? RS_LCM_TRACK_END : RS_LCM_TRACK_LIST;
+  if (!rs_lcm_check(type, rbuf->data, (int)rbuf->data_size, why, sizeof why)) {
+    L.malformed++;
+    fprintf(stderr, "roadscan-listen: %s: a message of %u bytes is not a roadscan %s (%s); ignored\n", channel,
+            rbuf->data_size, ends ? "track end" : "track list", why);
+    return;
+  }
+  if (ends) {
+    roadscan_track_end_t e;
+    if (roadscan_track_end_t_decode(rbuf->data, 0, (int)rbuf->data_size, &e) < 0) return;
+    L.track_ends++;
+    if (!L.quiet) {
+      if (L.json)
+        printf("{\"track_end\":true,\"sensor_id\":\"%s\",\"id\":%d,\"class_id\":%d,\"duration\":%.2f,\"distance\":%.2f,"
+               "\"mean_speed\":%.2f,\"max_speed\":%.2f}\n",
+               js(e.sensor_id), e.id, e.class_id, (double)e.duration, (double)e.distance, (double)e.mean_speed,
+               (double)e.max_speed);
+      else
+        printf("%s track %d ended: class %d, %.1f s, %.1f m, mean %.1f m/s, max %.1f m/s\n", e.sensor_id, e.id,
+               e.class_id, (double)e.duration, (double)e.distance, (double)e.mean_speed, (double)e.max_speed);
+      fflush(stdout);
+    }
+    roadscan_track_end_t_decode_cleanup(&e);
+    return;
+  }
+  roadscan_track_list_t m;
+  if (roadscan_track_list_t_decode(rbuf->data, 0, (int)rbuf->data_size, &m) < 0) return;
+  L.track_lists++;
+  if (!L.quiet) {
+    if (L.json) {
+      printf("{\"tracks\":true,\"sensor_id\":\"%s\",\"frame_seq\":%" PRId64 ",\"num_alive\":%d,\"list\":[", js(m.sensor_id),
+             m.frame_seq, m.num_alive);
+      for (int i = 0; i < m.num_tracks; i++) {
+        const roadscan_track_t *t = &m.tracks[i];
+        printf("%s{\"id\":%d,\"state\":%d,\"class_id\":%d,\"x\":%.2f,\"y\":%.2f,\"vx\":%.2f,\"vy\":%.2f,"
+               "\"speed\":%.2f,\"heading\":%.4f}",
+               i ? "," : "", t->id, t->state, t->class_id, (double)t->position[0], (double)t->position[1],
+               (double)t->velocity[0], (double)t->velocity[1], (double)t->speed, (double)t->heading);
+      }
+      printf("]}\n");
+    } else {
+      printf("%s frame %" PRId64 ": %d tracks\n", m.sensor_id, m.frame_seq, m.num_tracks);
+      for (int i = 0; i < m.num_tracks; i++) {
+        const roadscan_track_t *t = &m.tracks[i];
+        if (t->state == 0) continue; /* tentative */
+        printf("  track %5d %-9s class %d at (%8.2f, %8.2f) %5.1f m/s heading %6.1f deg\n", t->id,
+               t->state == 1 ? "confirmed" : "coasting", t->class_id, (double)t->position[0], (double)t->position[1],
+               (double)t->speed, (double)t->heading * 180.0 / M_PI);
+      }
+    }
+    fflush(stdout);
+  }
+  roadscan_track_list_t_decode_cleanup(&m);
+}
+
+static void on_counts(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
+  (void)user;
+  char why[RS_ERRMSG_SIZE] = "it does not decode";
+  if (!rs_lcm_check(RS_LCM_COUNTS, rbuf->data, (int)rbuf->data_size, why, sizeof why)) {
+    L.malformed++;
+    fprintf(stderr, "roadscan-listen: %s: a message of %u bytes is not roadscan counts (%s); ignored\n", channel,
+            rbuf->data_size, why);
+    return;
+  }
+  roadscan_counts_t c;
+  if (roadscan_counts_t_decode(rbuf->data, 0, (int)rbuf->data_size, &c) < 0) return;
+  L.counts++;
+  if (!L.quiet) {
+    for (int l = 0; l < c.num_lines; l++) {
+      int fwd = 0, bwd = 0;
+      for (int k = 0; k < 6; k++) {
+        fwd += c.lines[l].forward[k];
+        bwd += c.lines[l].backward[k];
+      }
+      if (L.json)
+        printf("{\"counts\":true,\"sensor_id\":\"%s\",\"t_start\":%" PRId64 ",\"t_end\":%" PRId64
+               ",\"line\":\"%s\",\"forward\":%d,\"backward\":%d}\n",
+               js(c.sensor_id), c.t_start, c.t_end, js(c.lines[l].name), fwd, bwd);
+      else
+        printf("%s counts %.1f-%.1f s: line %s forward %d, backward %d\n", c.sensor_id, (double)c.t_start * 1e-6,
+               (double)c.t_end * 1e-6, c.lines[l].name, fwd, bwd);
+    }
+    fflush(stdout);
+  }
+  roadscan_counts_t_decode_cleanup(&c);
+}
+
 static void usage(FILE *out) {
   fprintf(out,
           "usage: roadscan-listen [options]\n"
@@ -234,6 +326,9 @@ static void usage(FILE *out) {
           "  --log FILE           read an LCM log (lcm-logger) instead, as fast as possible\n"
           "  --channel NAME       object lists (default %s)\n"
           "  --stats [NAME]       also print the frame statistics (channel default %s)\n"
+          "  --tracks [NAME]      also print the track lists and ended tracks (NAME, NAME_ENDS... default\n"
+          "                       ROADSCAN_TRACKS and ROADSCAN_TRACK_ENDS)\n"
+          "  --counts [NAME]      also print the counts per interval (default ROADSCAN_COUNTS)\n"
           "  --json               one JSON object per line and message\n"
           "  --count N            exit after N object lists\n"
           "  --timeout S          exit after S seconds with no message (default: wait)\n"
@@ -246,11 +341,13 @@ static void usage(FILE *out) {
 }
 
 int main(int argc, char **argv) {
-  enum { O_URL = 256, O_LOG, O_CHANNEL, O_STATS, O_JSON, O_COUNT, O_TIMEOUT, O_DELAY, O_QUIET, O_HELP };
+  enum { O_URL = 256, O_LOG, O_CHANNEL, O_STATS, O_TRACKS, O_COUNTS, O_JSON, O_COUNT, O_TIMEOUT, O_DELAY, O_QUIET, O_HELP };
   static const struct option opts[] = {{"url", required_argument, NULL, O_URL},
                                        {"log", required_argument, NULL, O_LOG},
                                        {"channel", required_argument, NULL, O_CHANNEL},
                                        {"stats", optional_argument, NULL, O_STATS},
+                                       {"tracks", optional_argument, NULL, O_TRACKS},
+                                       {"counts", optional_argument, NULL, O_COUNTS},
                                        {"json", no_argument, NULL, O_JSON},
                                        {"count", required_argument, NULL, O_COUNT},
                                        {"timeout", required_argument, NULL, O_TIMEOUT},
@@ -258,7 +355,8 @@ int main(int argc, char **argv) {
                                        {"quiet", no_argument, NULL, O_QUIET},
                                        {"help", no_argument, NULL, O_HELP},
                                        {NULL, 0, NULL, 0}};
-  const char *url = RS_PUB_DEFAULT_URL, *channel = RS_PUB_DEFAULT_CHANNEL, *stats = NULL, *log = NULL;
+  const char *url = RS_PUB_DEFAULT_URL, *channel = RS_PUB_DEFAULT_CHANNEL, *stats = NULL, *log = NULL, *tracks = NULL,
+             *counts = NULL;
   double timeout = 0;
   char err[RS_ERRMSG_SIZE], logurl[4200];
   int c;
@@ -268,6 +366,8 @@ int main(int argc, char **argv) {
     case O_LOG: log = optarg; break;
     case O_CHANNEL: channel = optarg; break;
     case O_STATS: stats = optarg ? optarg : RS_PUB_DEFAULT_STATS; break;
+    case O_TRACKS: tracks = optarg ? optarg : RS_PUB_DEFAULT_TRACKS; break;
+    case O_COUNTS: counts = optarg ? optarg : RS_PUB_DEFAULT_COUNTS; break;
     case O_JSON: L.json = true; break;
     case O_QUIET: L.quiet = true; break;
     case O_COUNT:
@@ -303,6 +403,13 @@ int main(int argc, char **argv) {
   }
   lcm_subscription_t *sub = lcm_subscribe(lcm, channel, on_list, NULL);
   lcm_subscription_t *ssub = stats ? lcm_subscribe(lcm, stats, on_stats, NULL) : NULL;
+  char ends_channel[256];
+  snprintf(ends_channel, sizeof ends_channel, "%s", tracks && strcmp(tracks, RS_PUB_DEFAULT_TRACKS) != 0 ? tracks : "");
+  if (ends_channel[0]) strncat(ends_channel, "_ENDS", sizeof ends_channel - strlen(ends_channel) - 1);
+  lcm_subscription_t *tsub = tracks ? lcm_subscribe(lcm, tracks, on_tracks, NULL) : NULL;
+  lcm_subscription_t *esub =
+      tracks ? lcm_subscribe(lcm, ends_channel[0] ? ends_channel : RS_PUB_DEFAULT_TRACK_ENDS, on_tracks, NULL) : NULL;
+  lcm_subscription_t *csub = counts ? lcm_subscribe(lcm, counts, on_counts, NULL) : NULL;
   struct sigaction sa;
   memset(&sa, 0, sizeof sa);
   sa.sa_handler = on_signal;
@@ -320,12 +427,15 @@ int main(int argc, char **argv) {
   }
   lcm_unsubscribe(lcm, sub);
   if (ssub) lcm_unsubscribe(lcm, ssub);
+  if (tsub) lcm_unsubscribe(lcm, tsub);
+  if (esub) lcm_unsubscribe(lcm, esub);
+  if (csub) lcm_unsubscribe(lcm, csub);
   lcm_destroy(lcm);
   double rate = L.lists > 1 && L.t_last > L.t0 ? (double)(L.lists - 1) / (L.t_last - L.t0) : 0.0;
   fprintf(stderr,
           "roadscan-listen: lists %" PRIu64 ", objects %" PRIu64 ", gaps %" PRIu64 ", stats %" PRIu64
-          ", malformed %" PRIu64 ", rate %.2f/s\n",
-          L.lists, L.objects, L.gaps, L.stats_msgs, L.malformed, rate);
+          ", malformed %" PRIu64 ", rate %.2f/s; track lists %" PRIu64 ", track ends %" PRIu64 ", counts %" PRIu64 "\n",
+          L.lists, L.objects, L.gaps, L.stats_msgs, L.malformed, rate, L.track_lists, L.track_ends, L.counts);
   return L.lists > 0 ? 0 : 1;
 bad:
   fprintf(stderr, "roadscan-listen: %s\n", err);
