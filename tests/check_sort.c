@@ -1,4 +1,5 @@
 /* check_sort - the processing thread's heapsort against glibc's qsort. */
+#include "roadscan/util/assign.h"
 #include "roadscan/util/sort.h"
 #include "testutil.h"
 
@@ -48,10 +49,49 @@ START_TEST(t_matches_qsort) {
 }
 END_TEST
 
+/* the optimal assignment against every permutation, on random 6 x 6 matrices */
+static double best_by_brute_force(const double *c, int n, int row, unsigned used, double acc) {
+  if (row == n) return acc;
+  double best = 1e300;
+  for (int j = 0; j < n; j++) {
+    if (used & (1u << j)) continue;
+    const double v = best_by_brute_force(c, n, row + 1, used | (1u << j), acc + c[row * n + j]);
+    if (v < best) best = v;
+  }
+  return best;
+}
+
+START_TEST(t_assignment_is_optimal) {
+  uint64_t rng = 12345;
+  for (int trial = 0; trial < 200; trial++) {
+    const int n = 1 + trial % 6;
+    double c[36];
+    for (int i = 0; i < n * n; i++) {
+      rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+      c[i] = (double)((rng >> 33) % 1000) - (trial % 2 ? 500.0 : 0.0);
+    }
+    int a[6], iw[14];
+    double w[21];
+    unsigned char used[7];
+    rs_assign_min(c, n, (size_t)n, a, w, iw, used);
+    double sum = 0;
+    unsigned cols = 0;
+    for (int i = 0; i < n; i++) {
+      ck_assert(a[i] >= 0 && a[i] < n);
+      ck_assert(!(cols & (1u << a[i]))); /* a permutation */
+      cols |= 1u << a[i];
+      sum += c[i * n + a[i]];
+    }
+    ck_assert_double_eq(sum, best_by_brute_force(c, n, 0, 0, 0.0));
+  }
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("sort");
   TCase *tc = tcase_create("core");
   tcase_add_test(tc, t_matches_qsort);
+  tcase_add_test(tc, t_assignment_is_optimal);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

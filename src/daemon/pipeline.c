@@ -45,6 +45,17 @@ static void undo_init(rs_pipeline_t *p) {
   p->labels_open = false;
 }
 
+/* a CSV sink with its header; false with input_err naming the option */
+static bool open_csv(rs_pipeline_t *p, FILE **f, const char *path, const char *option, const char *header) {
+  *f = fopen(path, "w");
+  if (*f == NULL) {
+    snprintf(p->input_err, sizeof p->input_err, "%s %s: cannot write", option, path);
+    return false;
+  }
+  fprintf(*f, "%s\n", header);
+  return true;
+}
+
 int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *slots, int nslots) {
   memset(p, 0, sizeof *p);
   p->cfg = *cfg;
@@ -93,23 +104,10 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
     return rc;
   }
   /* last, so that no failure above leaves them allocated */
-  if (cfg->tracks_out) {
-    p->tracks_out = fopen(cfg->tracks_out, "w");
-    if (p->tracks_out == NULL) {
-      snprintf(p->input_err, sizeof p->input_err, "--tracks-out %s: cannot write", cfg->tracks_out);
-      undo_init(p);
-      return RS_E_IO;
-    }
-    fprintf(p->tracks_out, "%s\n", rs_pipeline_tracks_header());
-  }
-  if (cfg->counts_out) {
-    p->counts_out = fopen(cfg->counts_out, "w");
-    if (p->counts_out == NULL) {
-      snprintf(p->input_err, sizeof p->input_err, "--counts-out %s: cannot write", cfg->counts_out);
-      undo_init(p);
-      return RS_E_IO;
-    }
-    fprintf(p->counts_out, "%s\n", rs_pipeline_counts_header());
+  if ((cfg->tracks_out && !open_csv(p, &p->tracks_out, cfg->tracks_out, "--tracks-out", rs_pipeline_tracks_header())) ||
+      (cfg->counts_out && !open_csv(p, &p->counts_out, cfg->counts_out, "--counts-out", rs_pipeline_counts_header()))) {
+    undo_init(p);
+    return RS_E_IO;
   }
   if (p->labels_open) {
     p->label_buf = malloc(sizeof *p->label_buf * RS_LABELS_FRAME_MAX);

@@ -1,6 +1,7 @@
 /* eval.c - point-label metrics (tools only). */
 #include "roadscan/offline/eval.h"
 
+#include "roadscan/util/assign.h"
 #include "roadscan/util/error.h"
 
 #include <math.h>
@@ -442,40 +443,6 @@ static void mot_frame(rs_eval_t *e, rs_mot_t *m) {
   }
 }
 
-/* Hungarian algorithm, minimising an n x n cost (row-major); a[row] = column */
-static void hungarian_dense(const double *cost, int n, int *a, double *u, double *v, double *minv, int *p, int *way,
-                            char *used) {
-  for (int j = 0; j <= n; j++) u[j] = v[j] = 0, p[j] = 0, way[j] = 0;
-  for (int i = 1; i <= n; i++) {
-    p[0] = i;
-    int j0 = 0;
-    for (int j = 0; j <= n; j++) minv[j] = INFINITY, used[j] = 0;
-    do {
-      used[j0] = 1;
-      int i0 = p[j0], j1 = 0;
-      double delta = INFINITY;
-      for (int j = 1; j <= n; j++) {
-        if (used[j]) continue;
-        double cur = cost[(size_t)(i0 - 1) * n + (j - 1)] - u[i0] - v[j];
-        if (cur < minv[j]) minv[j] = cur, way[j] = j0;
-        if (minv[j] < delta) delta = minv[j], j1 = j;
-      }
-      for (int j = 0; j <= n; j++) {
-        if (used[j]) u[p[j]] += delta, v[j] -= delta;
-        else minv[j] -= delta;
-      }
-      j0 = j1;
-    } while (p[j0] != 0);
-    do {
-      int j1 = way[j0];
-      p[j0] = p[j1];
-      j0 = j1;
-    } while (j0);
-  }
-  for (int j = 1; j <= n; j++)
-    if (p[j] > 0) a[p[j] - 1] = j - 1;
-}
-
 static uint32_t uf_find(uint32_t *c, uint32_t i) {
   while (c[i] != i) {
     c[i] = c[c[i]];
@@ -545,9 +512,8 @@ static int idtp(rs_mot_t *m, uint64_t *out) {
       const mot_co_t *q = &m->co[(uint32_t)keys[k]];
       cost[(size_t)loc[q->g] * n + loc[m->ngt + q->h]] = -(double)q->n;
     }
-    int *asg = as, *p = as + n + 1, *way = as + 2 * (n + 1);
-    for (int i = 0; i < n; i++) asg[i] = -1;
-    hungarian_dense(cost, n, asg, w, w + n + 1, w + 2 * (n + 1), p, way, used);
+    int *asg = as;
+    rs_assign_min(cost, n, (size_t)n, asg, w, as + n + 1, (unsigned char *)used);
     for (int i = 0; i < n; i++)
       if (asg[i] >= 0) *out += (uint64_t)llround(-cost[(size_t)i * n + asg[i]]);
     free(cost);

@@ -71,13 +71,13 @@ int rs_count_init(rs_counter_t *c, const rs_count_line_t *lines, int nlines, con
   c->interval_s = interval_s;
   c->cur.t_start = c->cur.t_end = -1.0;
   if (pose) {
-    /* the ground-plane part of site = Rz(yaw) Ry(pitch) Rx(roll) p + t */
-    const double cr = cos(pose->roll), sr = sin(pose->roll), cp = cos(pose->pitch), sp = sin(pose->pitch);
-    const double cy = cos(pose->yaw), sy = sin(pose->yaw);
-    c->rot[0] = cy * cp;
-    c->rot[1] = cy * sp * sr - sy * cr;
-    c->rot[2] = sy * cp;
-    c->rot[3] = sy * sp * sr + cy * cr;
+    /* the ground-plane part of site = R p + t */
+    double r[9];
+    rs_pose_rotation(pose, r);
+    c->rot[0] = r[0];
+    c->rot[1] = r[1];
+    c->rot[2] = r[3];
+    c->rot[3] = r[4];
     c->trans[0] = pose->x;
     c->trans[1] = pose->y;
     c->have_pose = true;

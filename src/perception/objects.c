@@ -15,17 +15,22 @@
 
 #define PI 3.14159265358979323846
 
+void rs_pose_rotation(const rs_pose_t *pose, double r[9]) {
+  const double cr = cos(pose->roll), sr = sin(pose->roll), cp = cos(pose->pitch), sp = sin(pose->pitch);
+  const double cy = cos(pose->yaw), sy = sin(pose->yaw);
+  const double m[9] = {cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr,
+                       sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr,
+                       -sp,     cp * sr,                cp * cr};
+  memcpy(r, m, sizeof m);
+}
+
 void rs_objects_init(rs_objects_t *o, const rs_pose_t *pose) {
   memset(o->stamp, 0xff, sizeof o->stamp);
   o->trig_cols = 0;
   o->have_pose = pose != NULL;
   if (!pose) return;
-  double cr = cos(pose->roll), sr = sin(pose->roll), cp = cos(pose->pitch), sp = sin(pose->pitch);
-  double cy = cos(pose->yaw), sy = sin(pose->yaw);
-  /* R = Rz(yaw) Ry(pitch) Rx(roll), row-major */
-  const double r[9] = {cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr,
-                       sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr,
-                       -sp,     cp * sr,                cp * cr};
+  double r[9];
+  rs_pose_rotation(pose, r);
   for (int i = 0; i < 9; i++) o->rot[i] = (float)r[i];
   o->trans[0] = (float)pose->x;
   o->trans[1] = (float)pose->y;

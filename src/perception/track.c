@@ -8,6 +8,7 @@
  * Every loop is bounded by RS_TRACK_MAX, RS_OBJ_MAX or the edge capacity. */
 #include "roadscan/perception/track.h"
 
+#include "roadscan/util/assign.h"
 #include "roadscan/util/error.h"
 #include "roadscan/util/sort.h"
 
@@ -104,12 +105,7 @@ void rs_track_set_pose(rs_tracker_t *tr, const rs_pose_t *pose) {
   tr->have_pose = pose != NULL;
   tr->list.site_valid = tr->have_pose;
   if (!pose) return;
-  const double cr = cos(pose->roll), sr = sin(pose->roll), cp = cos(pose->pitch), sp = sin(pose->pitch);
-  const double cy = cos(pose->yaw), sy = sin(pose->yaw);
-  const double r[9] = {cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr,
-                       sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr,
-                       -sp,     cp * sr,                cp * cr}; /* R = Rz(yaw) Ry(pitch) Rx(roll), as objects.h */
-  memcpy(tr->rot, r, sizeof r);
+  rs_pose_rotation(pose, tr->rot);
   tr->trans[0] = pose->x;
   tr->trans[1] = pose->y;
   tr->trans[2] = pose->z;
@@ -350,45 +346,6 @@ static uint32_t tracks_near(rs_tracker_t *tr, double x, double y, double r) {
 }
 
 /* ---- assignment ------------------------------------------------------------ */
-/* Hungarian algorithm (shortest augmenting paths with potentials) on an
- * n x n matrix; a[i] = column of row i. O(n^3), n <= RS_TRACK_GROUP_MAX. */
-static void hungarian(double (*cost)[RS_TRACK_GROUP_MAX], int n, int *a) {
-  double u[RS_TRACK_GROUP_MAX + 1], v[RS_TRACK_GROUP_MAX + 1], minv[RS_TRACK_GROUP_MAX + 1];
-  int p[RS_TRACK_GROUP_MAX + 1], way[RS_TRACK_GROUP_MAX + 1];
-  bool used[RS_TRACK_GROUP_MAX + 1];
-  for (int j = 0; j <= n; j++) u[j] = v[j] = 0, p[j] = 0, way[j] = 0;
-  for (int i = 1; i <= n; i++) {
-    p[0] = i;
-    int j0 = 0;
-    for (int j = 0; j <= n; j++) minv[j] = INFINITY, used[j] = false;
-    for (int guard = 0; guard <= n + 1; guard++) { /* at most n + 1 steps */
-      used[j0] = true;
-      int i0 = p[j0], j1 = 0;
-      double delta = INFINITY;
-      for (int j = 1; j <= n; j++) {
-        if (used[j]) continue;
-        double cur = cost[i0 - 1][j - 1] - u[i0] - v[j];
-        if (cur < minv[j]) minv[j] = cur, way[j] = j0;
-        if (minv[j] < delta) delta = minv[j], j1 = j;
-      }
-      for (int j = 0; j <= n; j++) {
-        if (used[j]) u[p[j]] += delta, v[j] -= delta;
-        else minv[j] -= delta;
-      }
-      j0 = j1;
-      if (p[j0] == 0) break;
-    }
-    for (int guard = 0; guard <= n && j0; guard++) {
-      int j1 = way[j0];
-      p[j0] = p[j1];
-      j0 = j1;
-    }
-  }
-  for (int i = 0; i < n; i++) a[i] = -1;
-  for (int j = 1; j <= n; j++)
-    if (p[j] > 0) a[p[j] - 1] = j - 1;
-}
-
 static int cmp_edge(const void *x, const void *y) {
   const rs_track_edge_t *p = x, *q = y;
   if (p->c != q->c) return p->c < q->c ? -1 : 1;
@@ -469,8 +426,10 @@ static void assign(rs_tracker_t *tr, uint32_t nobj) {
       while (tr->go[b] != tr->gedge[e].o) b++;
       tr->cost[a][b] = tr->gedge[e].c;
     }
-    int as[RS_TRACK_GROUP_MAX];
-    hungarian(tr->cost, n, as);
+    int as[RS_TRACK_GROUP_MAX], iwork[2 * (RS_TRACK_GROUP_MAX + 1)];
+    double work[3 * (RS_TRACK_GROUP_MAX + 1)];
+    unsigned char used[RS_TRACK_GROUP_MAX + 1];
+    rs_assign_min(&tr->cost[0][0], n, RS_TRACK_GROUP_MAX, as, work, iwork, used);
     for (int i = 0; i < ntg; i++) {
       if (as[i] < 0 || as[i] >= nog || tr->cost[i][as[i]] >= BIG) continue;
       rs_track_t *t = &tr->list.track[tr->gt[i]];

@@ -101,6 +101,8 @@ typedef struct {
 _Static_assert(RS_OBJ_MAX <= UINT16_MAX, "object index fits in uint16_t");
 
 void rs_objects_init(rs_objects_t *o, const rs_pose_t *pose /* NULL: no site frame */);
+/* The pose's rotation R = Rz(yaw) Ry(pitch) Rx(roll), row-major (site = R p + t). */
+void rs_pose_rotation(const rs_pose_t *pose, double r[9]);
 /* Fills `out` from the labels of `s` (layer 0 and 1), scanning the map. */
 void rs_objects_extract(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen, rs_object_list_t *out);
 /* The same from the list of object cells the clustering made (rs_cluster_t's
