@@ -11,6 +11,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* the subtraction's run-time rules: the defaults (main), changed by a test where it says so */
+static rs_bg_rules_t rules;
+
 START_TEST(t_dbscan1d) {
   /* two dense groups and a stray value */
   const int32_t v[] = {100, 101, 102, 103, 150, 300, 301, 302};
@@ -265,7 +268,7 @@ START_TEST(t_learn_short) {
   slot.range[4 * COLS + 29] = 25.1f;
   slot.range[0 * COLS + 60] = 25.0f; /* in front of the wall: foreground */
   rs_bg_counts_t c = {0};
-  rs_bg_subtract(&model, &slot, &c);
+  rs_bg_subtract(&model, &rules, &slot, &c);
   ck_assert_int_eq(slot.label[0 * COLS + 50], RS_LABEL_BACKGROUND);
   ck_assert_int_eq(slot.label[4 * COLS + 30], RS_LABEL_NOISE);
   ck_assert_uint_eq(c.beyond, 2);
@@ -274,10 +277,10 @@ START_TEST(t_learn_short) {
   ck_assert_int_eq(slot.label[4 * COLS + 29], RS_LABEL_NOISE);
   ck_assert_int_eq(slot.label[0 * COLS + 60], RS_LABEL_NOISE);
   slot.range[4 * COLS + 30] = 25.4f; /* 0.4 m behind it, under 0.3 m + margins: background */
-  rs_bg_subtract(&model, &slot, &c);
+  rs_bg_subtract(&model, &rules, &slot, &c);
   ck_assert_int_eq(slot.label[4 * COLS + 30], RS_LABEL_BACKGROUND);
   model.far_seen[4 * COLS + 30] = 60; /* seen more often: the empty cell beside it takes its surface */
-  rs_bg_subtract(&model, &slot, &c);
+  rs_bg_subtract(&model, &rules, &slot, &c);
   ck_assert_int_eq(slot.label[4 * COLS + 29], RS_LABEL_BACKGROUND);
   rs_bg_model_free(&model);
   /* three frames: a cell that returned once has a surface */
@@ -312,7 +315,7 @@ START_TEST(t_subtract) {
   slot.range[RS_MAX_CELLS + 1 * COLS + 3] = 20.0f; /* layer 1 (dual): the wall */
   static uint32_t beyond[ROWS * COLS];
   rs_bg_counts_t c = {.beyond_cells = beyond};
-  rs_bg_subtract(&model, &slot, &c);
+  rs_bg_subtract(&model, &rules, &slot, &c);
   ck_assert_uint_eq(c.background, 3);
   ck_assert_uint_eq(c.foreground, 1);
   ck_assert_uint_eq(c.beyond, 1);
@@ -323,9 +326,9 @@ START_TEST(t_subtract) {
   ck_assert_int_eq(slot.label[0 * COLS + 5], 0); /* no return: untouched */
   ck_assert_uint_eq(beyond[4], 1);
   /* with beyond_static off, it is foreground (still counted) */
-  model.beyond_static = false;
+  rules.beyond_static = false;
   memset(&c, 0, sizeof c);
-  rs_bg_subtract(&model, &slot, &c);
+  rs_bg_subtract(&model, &rules, &slot, &c);
   ck_assert_int_eq(slot.label[0 * COLS + 4], 2);
   ck_assert_uint_eq(c.beyond, 1);
   rs_bg_model_free(&model);
@@ -342,15 +345,15 @@ static void set_cell(rs_bg_model_t *m, int row, int col, int n, const uint16_t *
 }
 
 /* labels of a return of 15 m in each of the probe cells, with a given see_through */
-static void see_through_probe(rs_bg_model_t *m, int see, uint16_t out[4]) {
+static void see_through_probe(const rs_bg_model_t *m, int see, uint16_t out[4]) {
   static const int probe[4][2] = {{0, 5}, {1, 5}, {2, 0}, {3, 5}};
-  m->see_through = see;
+  rules.see_through = see;
   memset(&slot, 0, sizeof slot);
   slot.meta.rows = ROWS;
   slot.meta.cols = COLS;
   for (int i = 0; i < 4; i++) slot.range[probe[i][0] * COLS + probe[i][1]] = 15.0f;
   rs_bg_counts_t c = {0};
-  rs_bg_subtract(m, &slot, &c);
+  rs_bg_subtract(m, &rules, &slot, &c);
   ck_assert_uint_eq(c.background + c.foreground, 4);
   for (int i = 0; i < 4; i++) out[i] = slot.label[probe[i][0] * COLS + probe[i][1]];
 }
@@ -361,7 +364,9 @@ static void see_through_probe(rs_bg_model_t *m, int see, uint16_t out[4]) {
 START_TEST(t_subtract_see_through) {
   rs_bg_model_t m;
   ck_assert_int_eq(rs_bg_model_alloc(&m, RS_MODEL_VLP16, ROWS, COLS), RS_OK);
-  ck_assert_int_eq(m.see_through, RS_BG_SEE_THROUGH);
+  rs_bg_rules_t dr;
+  rs_bg_rules_default(&dr);
+  ck_assert_int_eq(dr.see_through, RS_BG_SEE_THROUGH);
   const uint16_t two[4] = {900, 1000, 2000, 2100}, one[2] = {2000, 2100}, leaf[2] = {1490, 1510};
   set_cell(&m, 0, 5, 2, two);
   set_cell(&m, 0, 4, 1, leaf);
@@ -489,6 +494,7 @@ START_TEST(t_percentile_and_reservoir) {
 END_TEST
 
 int main(void) {
+  rs_bg_rules_default(&rules);
   Suite *s = suite_create("background");
   TCase *tc = tcase_create("core");
   tcase_set_timeout(tc, 120);

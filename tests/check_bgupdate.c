@@ -128,7 +128,7 @@ START_TEST(t_reject) {
   ck_assert_ptr_nonnull(strstr(u.reason, "explains"));
   ck_assert(rs_bg_is_static(rs_bgu_model(&u), 0, 5, 20.0f)); /* the model in use stays */
   /* the check itself */
-  ck_assert_double_gt(rs_bgu_explained(rs_bgu_model(&u), &u.store), 0.99);
+  ck_assert_double_gt(rs_bgu_explained(rs_bgu_model(&u), &u.cfg.rules, &u.store), 0.99);
   rs_bgu_deinit(&u);
 }
 END_TEST

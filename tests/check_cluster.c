@@ -135,8 +135,8 @@ START_TEST(t_cap_overflow) {
     for (int c = 0; c < 300; c++) put(r, c, 5.0f + 2.0f * (float)((r * 300 + c) % 97));
   rs_cluster_cfg_t cfg;
   rs_cluster_cfg_default(&cfg);
-  cfg.min_pts = 1;
-  cfg.eps = 0.5f;
+  cfg.fspc.min_pts = 1;
+  cfg.fspc.eps = 0.5f;
   rs_cluster_init(&cl, &cfg, &sensor);
   rs_cluster_stats_t st;
   rs_cluster_run(&cl, &slot, &st);
@@ -158,10 +158,10 @@ START_TEST(t_fspc_equals_dbscan) {
   rs_cluster_cfg_t cfg;
   rs_cluster_cfg_default(&cfg);
   cfg.method = RS_CLUSTER_FSPC;
-  cfg.win_h = 1;
-  cfg.win_w = 31;
-  cfg.eps = 1.2f;
-  cfg.min_pts = 15;
+  cfg.fspc.win_h = 1;
+  cfg.fspc.win_w = 31;
+  cfg.fspc.eps = 1.2f;
+  cfg.fspc.min_pts = 15;
   rs_cluster_init(&cl, &cfg, &sensor);
   rs_cluster_stats_t a, b;
   rs_cluster_run(&cl, &slot, &a);
@@ -232,11 +232,11 @@ START_TEST(t_adaptive_far_pairs) {
   ck_assert_int_eq(lab(18, 1002), lab(18, 1000));
   ck_assert_int_eq(lab(18, 1100), 2);
   ck_assert_int_eq(lab(18, 1300), 2);
-  cfg.adapt_min_half_w = 1; /* the window no longer reaches over the missing return */
+  cfg.adaptive.min_half_w = 1; /* the window no longer reaches over the missing return */
   run_adaptive(&cfg, &st);
   ck_assert_uint_eq(st.clusters, 1);
   ck_assert_int_eq(lab(18, 1000), 2);
-  cfg.adapt_sparse_min_pts = 3; /* and pairs are not enough */
+  cfg.adaptive.sparse_min_pts = 3; /* and pairs are not enough */
   run_adaptive(&cfg, &st);
   ck_assert_uint_eq(st.clusters, 0);
 }
@@ -259,11 +259,11 @@ START_TEST(t_adaptive_border_eps) {
   ck_assert_int_eq(lab(17, 506), lab(17, 505));
   ck_assert_int_ne(lab(17, 606), lab(17, 605));
   ck_assert_int_ge(lab(17, 606), 3);
-  cfg.adapt_border_eps = 1.0f;
+  cfg.adaptive.border_eps = 1.0f;
   run_adaptive(&cfg, &st);
   ck_assert_uint_eq(st.clusters, 3);
   ck_assert_int_eq(lab(17, 506), 2);
-  cfg.adapt_border_eps = 0.5f;
+  cfg.adaptive.border_eps = 0.5f;
   ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &vlp32c), RS_E_INVAL);
 }
 END_TEST
@@ -281,7 +281,7 @@ static void see_through_scene(int seed_surfaces, bool with_counts, rs_cluster_st
   rs_cluster_cfg_t cfg;
   rs_cluster_cfg_default(&cfg);
   cfg.method = RS_CLUSTER_FSPC_ADAPTIVE;
-  cfg.adapt_seed_surfaces = seed_surfaces;
+  cfg.adaptive.seed_surfaces = seed_surfaces;
   ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &sensor), RS_OK);
   cl.bg_surfaces = with_counts ? surfaces : NULL;
   clear_map(1820);
@@ -318,10 +318,16 @@ START_TEST(t_dual_layer_and_config) {
   ck_assert_int_eq(slot.label[RS_MAX_CELLS + 6 * COLS + 16], 2);
   rs_cluster_cfg_t cfg;
   rs_cluster_cfg_default(&cfg);
-  cfg.win_w = 10;
+  cfg.fspc.win_w = 10;
   ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &sensor), RS_E_INVAL);
-  cfg.win_w = 11;
-  cfg.eps = 0;
+  cfg.fspc.win_w = 11;
+  cfg.fspc.eps = 0;
+  ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &sensor), RS_E_INVAL);
+  cfg.fspc.eps = 1.8f;
+  cfg.adaptive.win_h = 4; /* each method's own parameters are checked */
+  ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &sensor), RS_E_INVAL);
+  cfg.adaptive.win_h = 5;
+  cfg.dbscan.min_pts = 0;
   ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &sensor), RS_E_INVAL);
   ck_assert_int_eq(rs_cluster_method_from_name("fspc-adaptive"), RS_CLUSTER_FSPC_ADAPTIVE);
   ck_assert_int_eq(rs_cluster_method_from_name("kmeans"), -1);
@@ -344,7 +350,7 @@ START_TEST(t_dual_layer_method_eps) {
     rs_cluster_cfg_t cfg;
     rs_cluster_cfg_default(&cfg);
     cfg.method = ms[k];
-    cfg.dbscan_eps = 1.0f;
+    cfg.dbscan.eps = 1.0f;
     ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &sensor), RS_OK);
     rs_cluster_stats_t st;
     rs_cluster_run(&cl, &slot, &st);
@@ -358,6 +364,42 @@ START_TEST(t_dual_layer_method_eps) {
     for (uint32_t m = 0; m < cl.nmembers; m++) ck_assert_int_ge(slot.label[cl.members[m]], 3);
     ck_assert_uint_eq(cl.members[55], RS_MAX_CELLS + 5 * COLS + 12);
   }
+}
+END_TEST
+
+/* --eps, --min-pts and --window reach the chosen method's own parameters, and only those */
+START_TEST(t_method_setters) {
+  rs_cluster_cfg_t c, d;
+  rs_cluster_cfg_default(&c);
+  d = c;
+  c.method = RS_CLUSTER_DBSCAN;
+  ck_assert(rs_cluster_cfg_set_eps(&c, 0.5f));
+  ck_assert(rs_cluster_cfg_set_min_pts(&c, 7));
+  ck_assert(!rs_cluster_cfg_set_window(&c, 3, 3));
+  ck_assert_float_eq(c.dbscan.eps, 0.5f);
+  ck_assert_int_eq(c.dbscan.min_pts, 7);
+  ck_assert_float_eq(c.fspc.eps, d.fspc.eps);
+  ck_assert_float_eq(c.ccl.eps, d.ccl.eps);
+  ck_assert_float_eq(c.adaptive.eps_max, d.adaptive.eps_max);
+  c.method = RS_CLUSTER_FSPC_ADAPTIVE;
+  ck_assert(rs_cluster_cfg_set_eps(&c, 3.0f));
+  ck_assert(rs_cluster_cfg_set_window(&c, 7, 15));
+  ck_assert(rs_cluster_cfg_set_min_pts(&c, 20));
+  ck_assert_float_eq(c.adaptive.eps_max, 3.0f);
+  ck_assert_int_eq(c.adaptive.win_w, 15);
+  ck_assert_int_eq(c.adaptive.max_min_pts, 20);
+  ck_assert_int_eq(c.fspc.win_w, d.fspc.win_w);
+  ck_assert_int_eq(c.fspc.min_pts, d.fspc.min_pts);
+  c.method = RS_CLUSTER_CCL;
+  ck_assert(!rs_cluster_cfg_set_min_pts(&c, 3));
+  ck_assert(rs_cluster_cfg_set_eps(&c, 0.7f));
+  ck_assert_float_eq(c.ccl.eps, 0.7f);
+  c.method = RS_CLUSTER_NONE;
+  ck_assert(!rs_cluster_cfg_set_eps(&c, 1.0f));
+  c.method = RS_CLUSTER_FSPC;
+  ck_assert(rs_cluster_cfg_set_window(&c, 3, 9));
+  ck_assert_int_eq(c.fspc.win_h, 3);
+  ck_assert_int_eq(c.adaptive.win_w, 15);
 }
 END_TEST
 
@@ -379,6 +421,7 @@ int main(void) {
   tcase_add_test(tc, t_see_through_cells_do_not_seed);
   tcase_add_test(tc, t_dual_layer_and_config);
   tcase_add_test(tc, t_dual_layer_method_eps);
+  tcase_add_test(tc, t_method_setters);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

@@ -498,11 +498,11 @@ START_TEST(t_tracks_outputs) {
   ck_assert_int_eq(tu_exec(cmd, &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "--tracks-out needs tracking"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --track-set coast_s=100", &out), 2);
-  ck_assert_ptr_nonnull(strstr(out, "coast_s: '100' is not a number from 0.01 to 60"));
+  ck_assert_ptr_nonnull(strstr(out, "tracking parameter coast_s: 100 is out of range (0.01 to 60)"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --track-set nonsense", &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "is not NAME=VALUE"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --labels-tracks some", &out), 2);
-  ck_assert_ptr_nonnull(strstr(out, "'some' is not all or confirmed"));
+  ck_assert_ptr_nonnull(strstr(out, "--labels-tracks: 'some' is not one of all, confirmed"));
 }
 END_TEST
 

@@ -182,6 +182,56 @@ START_TEST(t_paced_replay_of_a_broken_clock) {
 }
 END_TEST
 
+/* roadscan-export frames the points as the daemon does: a packet repeated 10 packets later and one
+ * delivered half a turn late change nothing in its output (both are left out, as the assembler
+ * leaves them out), where a roll-over rule of its own wrote their points again */
+START_TEST(t_export_frames_as_the_daemon) {
+  setup();
+  static long at[4096], n[4096];
+  const int k = records(clean, clean_len, at, n, 4096);
+  ck_assert_int_gt(k, 200);
+  const char *path = tu_tmp("faults-export.pcap");
+  FILE *f = fopen(path, "wb");
+  ck_assert_ptr_nonnull(f);
+  fwrite(clean, 1, 24, f);
+  int data = 0, dup = -1, late = -1, extra = 0;
+  for (int i = 0; i < k; i++) {
+    fwrite(clean + at[i] - 16, 1, (size_t)(16 + n[i]), f);
+    if (n[i] != 1248) continue; /* data packets only (42 + 1206 bytes) */
+    data++;
+    if (data == 20) dup = i;
+    if (data == 60) late = i;
+    if (data == 30 || data == 98) { /* the packet of data 20, ten later; that of data 60, 38 later */
+      const int j = data == 30 ? dup : late;
+      fwrite(clean + at[j] - 16, 1, (size_t)(16 + n[j]), f);
+      extra++;
+    }
+  }
+  fclose(f);
+  ck_assert_int_eq(extra, 2);
+  char cmd[2048];
+  const char *out;
+  char clean_csv[600], bad_csv[600];
+  snprintf(clean_csv, sizeof clean_csv, "%s", tu_tmp("faults-export-clean.csv"));
+  snprintf(bad_csv, sizeof bad_csv, "%s", tu_tmp("faults-export-bad.csv"));
+  snprintf(cmd, sizeof cmd, "./roadscan-export %s --frame all --csv -o %s", cap, clean_csv);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  snprintf(cmd, sizeof cmd, "./roadscan-export %s --frame all --csv -o %s", path, bad_csv);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  long a_len, b_len;
+  uint8_t *a = slurp(clean_csv, &a_len), *b = slurp(bad_csv, &b_len);
+  ck_assert_int_eq(a_len, b_len);
+  ck_assert(memcmp(a, b, (size_t)a_len) == 0);
+  free(a);
+  free(b);
+  /* and the daemon took the same frames */
+  long frames, points;
+  ck_assert_int_eq(run_daemon(path, "--fast --quiet", &frames, &points, &out), 0);
+  ck_assert_int_eq(frames, clean_frames);
+  ck_assert_int_eq(points, clean_points);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("faults");
   TCase *tc = tcase_create("programs");
@@ -189,6 +239,7 @@ int main(void) {
   tcase_add_test(tc, t_cut_at_many_offsets);
   tcase_add_test(tc, t_corrupt_bytes);
   tcase_add_test(tc, t_paced_replay_of_a_broken_clock);
+  tcase_add_test(tc, t_export_frames_as_the_daemon);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

@@ -205,7 +205,7 @@ START_TEST(t_roundtrip) {
         ck_assert_float_eq_tol(p->distance, raw * s.dist_res_m, 1e-3);
         ck_assert_int_eq(p->intensity, enc.intensity[p->block][p->channel]);
         ck_assert_int_eq(p->block_azimuth, enc.block_azimuth[p->block]);
-        int bank = vls ? rs_vls128_bank_of_block(p->block, dual) : 0, laser;
+        int bank = rs_layout_bank(s.info, dual, p->block), laser;
         float t;
         rs_sensor_record(&s, bank, p->channel, &laser, &t);
         ck_assert_int_eq(p->laser, laser);
@@ -301,9 +301,35 @@ START_TEST(t_detect) {
 }
 END_TEST
 
+/* the layout rules against the manuals' tables, written out by hand */
+START_TEST(t_layout_rules) {
+  const rs_model_info_t *vls = rs_model_info(RS_MODEL_VLS128), *vlp = rs_model_info(RS_MODEL_VLP16),
+                        *hdl = rs_model_info(RS_MODEL_HDL32E);
+  static const int vls_bank[12] = {0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3}, vls_group[12] = {0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2};
+  static const int vls_dual_bank[12] = {0, 0, 1, 1, 2, 2, 3, 3, 0, 0, 0, 0};
+  ck_assert_int_eq(rs_layout_blocks(vls, false), 12);
+  ck_assert_int_eq(rs_layout_blocks(vls, true), 8);
+  ck_assert_int_eq(rs_layout_groups(vls, false), 3);
+  ck_assert_int_eq(rs_layout_groups(vls, true), 1);
+  for (int b = 0; b < 12; b++) {
+    ck_assert_int_eq(rs_layout_bank(vls, false, b), vls_bank[b]);
+    ck_assert_int_eq(rs_layout_group(vls, false, b), vls_group[b]);
+    ck_assert_int_eq(rs_layout_bank(vls, true, b), vls_dual_bank[b]);
+    if (b < 8) ck_assert_int_eq(rs_layout_group(vls, true, b), 0);
+    ck_assert_int_eq(rs_layout_bank(vlp, false, b), 0);
+    ck_assert_int_eq(rs_layout_group(vlp, false, b), b);
+    ck_assert_int_eq(rs_layout_group(hdl, true, b), b / 2);
+  }
+  ck_assert_int_eq(rs_layout_blocks(vlp, true), 12);
+  ck_assert_int_eq(rs_layout_groups(vlp, false), 12);
+  ck_assert_int_eq(rs_layout_groups(hdl, true), 6);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("packet");
   TCase *tc = tcase_create("core");
+  tcase_add_test(tc, t_layout_rules);
   tcase_add_test(tc, t_vlp16_point);
   tcase_add_test(tc, t_hdl32_vlp32c_vls128);
   tcase_add_test(tc, t_dual);

@@ -10,16 +10,16 @@
 #include "roadscan/perception/objects.h"
 #include "roadscan/perception/proc.h"
 #include "roadscan/output/publish.h"
-#include "roadscan/util/config.h"
+#include "roadscan/util/opts.h"
 #include "roadscan/util/error.h"
 #include "roadscan/frame/frame.h"
+#include "roadscan/frame/framer.h"
 #include "roadscan/capture/net.h"
 #include "roadscan/capture/stream.h"
 #include "roadscan/sim/synth.h"
 #include "roadscan/util/timing.h"
 #include "roadscan/perception/track.h"
 
-#include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -158,37 +158,50 @@ static void print_stages(void) {
          median_us(ST_FSPC) / median_us(ST_CCL), median_us(ST_FSPC_ADAPTIVE) / median_us(ST_FSPC));
 }
 
-/* One pass over the packets: decode + assemble; returns points decoded. */
-static uint64_t run_pass(const rs_sensor_t *s, const pkts_t *p, rs_asm_t *a, int *cur, uint64_t *frames,
+/* One pass over the packets: decode, then the framer the daemon's tools share (assembly, slot swap,
+ * rate feedback; with a model every finished frame runs the stages); returns points decoded. */
+typedef struct {
+  bool timed;
+  uint64_t frames;
+  int64_t frame_ns, stage_ns;
+} pass_t;
+static rs_framer_t bench_framer;
+
+static void on_bench_frame(void *user, rs_slot_t *slot) {
+  pass_t *ps = user;
+  ps->frames++;
+  if (ps->timed) rs_timing_add(&t_frame, ps->frame_ns);
+  ps->frame_ns = 0;
+  if (sg.with_model) {
+    const int64_t a = rs_now_ns();
+    frame_stages(slot);
+    ps->stage_ns += rs_now_ns() - a;
+  }
+}
+
+static uint64_t run_pass(const rs_sensor_t *s, const pkts_t *p, const rs_asm_cfg_t *acfg, uint64_t *frames,
                          bool timed) {
+  pass_t ps = {.timed = timed};
+  rs_framer_t *f = &bench_framer;
+  rs_framer_start(f, acfg, s, slots, on_bench_frame, &ps);
   uint64_t points = 0;
-  int64_t frame_ns = 0;
   for (size_t i = 0; i < p->n; i++) {
-    int64_t t0 = rs_now_ns();
-    if (rs_packet_decode(s, p->data + i * RS_PAYLOAD_SIZE, RS_PAYLOAD_SIZE, a->rate, &pkt) != RS_OK) continue;
-    int64_t t1 = rs_now_ns();
+    const int64_t t0 = rs_now_ns();
+    if (rs_packet_decode(s, p->data + i * RS_PAYLOAD_SIZE, RS_PAYLOAD_SIZE, f->as.rate, &pkt) != RS_OK) continue;
+    const int64_t t1 = rs_now_ns();
+    ps.stage_ns = 0;
+    rs_framer_feed(f, &pkt, (uint32_t)i, p->ts[i]);
+    const int64_t t_asm = rs_now_ns() - t1 - ps.stage_ns; /* the stages are timed apart */
     sg.dec_ns += t1 - t0;
-    for (int k = 0; k <= RS_BLOCKS; k++) {
-      if (rs_asm_feed(a, &slots[*cur], &pkt, (uint32_t)i, p->ts[i]) == RS_ASM_CONSUMED) break;
-      (*frames)++;
-      if (timed) rs_timing_add(&t_frame, frame_ns);
-      frame_ns = 0;
-      if (sg.with_model) {
-        sg.asm_ns += rs_now_ns() - t1;
-        frame_stages(&slots[*cur]);
-        t1 = rs_now_ns();
-      }
-      *cur ^= 1;
-    }
-    int64_t t2 = rs_now_ns();
-    sg.asm_ns += t2 - t1;
+    sg.asm_ns += t_asm;
     points += pkt.n_points;
-    frame_ns += t2 - t0;
+    ps.frame_ns += t1 - t0 + t_asm;
     if (timed) {
       rs_timing_add(&t_decode, t1 - t0);
-      rs_timing_add(&t_assemble, t2 - t1);
+      rs_timing_add(&t_assemble, t_asm);
     }
   }
+  *frames += ps.frames;
   return points;
 }
 
@@ -252,8 +265,7 @@ static int tracker_bench(int n, double seconds) {
 }
 
 static double packet_rate(const rs_model_info_t *mi, bool dual) {
-  int groups = mi->blocks_per_cycle > 1 ? (dual ? 1 : 3) : (dual ? 6 : 12);
-  return 1e6 / (groups * rs_model_group_us(mi));
+  return 1e6 / (rs_layout_groups(mi, dual) * rs_model_group_us(mi));
 }
 
 static int synthetic(double seconds) {
@@ -275,14 +287,11 @@ static int synthetic(double seconds) {
         rs_packet_encode(s.info, &enc, buf);
         if (push(&p, buf, rs_synth_time(&cfg, k)) != 0) return 1;
       }
-      rs_asm_t a;
-      rs_asm_cfg_t acfg = {.default_hz = 10.0};
-      rs_asm_init(&a, &acfg, &s);
-      int cur = 0;
+      const rs_asm_cfg_t acfg = {.default_hz = 10.0};
       uint64_t frames = 0, points = 0, packets = 0;
       int64_t t0 = rs_now_ns(), elapsed = 0;
       while (elapsed < (int64_t)(seconds * 1e9)) {
-        points += run_pass(&s, &p, &a, &cur, &frames, false);
+        points += run_pass(&s, &p, &acfg, &frames, false);
         packets += p.n;
         elapsed = rs_now_ns() - t0;
       }
@@ -368,11 +377,8 @@ static int capture(const char *path, rs_model_t force, int repeat) {
   uint64_t frames = 0, points = 0;
   int64_t t0 = rs_now_ns();
   for (int r = 0; r < repeat; r++) {
-    rs_asm_t a;
-    rs_asm_cfg_t acfg = {.default_hz = 10.0, .columns = sg.with_model ? bgm.cols : 0};
-    rs_asm_init(&a, &acfg, &s);
-    int cur = 0;
-    points += run_pass(&s, &p, &a, &cur, &frames, true);
+    const rs_asm_cfg_t acfg = {.default_hz = 10.0, .columns = sg.with_model ? bgm.cols : 0};
+    points += run_pass(&s, &p, &acfg, &frames, true);
   }
   if (sg.with_model) {
     print_stages();
@@ -396,84 +402,86 @@ static int capture(const char *path, rs_model_t force, int repeat) {
   return 0;
 }
 
+/* Everything the options set. */
+typedef struct {
+  double seconds;
+  int repeat, tracker_n, best_of, method;
+  const char *model_path, *csv_path;
+  rs_model_t force;
+} settings_t;
+static settings_t st;
+static rs_opts_t opts;
+
+#define T settings_t
+static const rs_opt_t table[] = {
+    RS_OPT_DBL_("seconds", "S", T, seconds, 0.05, 60.0,
+                "synthetic packets: seconds of each model (the tracker alone: at least 10; 30 by default)"),
+    {.type = RS_OPT_INT, .name = "tracker", .arg = "N", .off = offsetof(T, tracker_n), .lo = 1, .hi = RS_TRACK_MAX,
+     .flags = RS_OPT_NODEF, .help = "the tracker alone on N synthetic objects"},
+    {.type = RS_OPT_MODEL, .name = "sensor", .arg = "NAME", .off = offsetof(T, force),
+     .def = "detected from the packets", .help = "a capture's sensor model"},
+    RS_OPT_INT_("repeat", "N", T, repeat, 1, 1000, "passes over a capture (decode + assembly)"),
+    RS_OPT_STR_("model", "MODEL", T, model_path,
+                "a background model of the capture's site: every frame runs the daemon's stages as roadscand "
+                "runs them (background, clustering, objects, tracks, the LCM encoding), then FSPC, FSPC-adaptive, "
+                "DBSCAN and CCL alone on the same frame; median, p99 and max per stage and their ratios"),
+    {.type = RS_OPT_CHOICE, .name = "cluster", .arg = "METHOD", .off = offsetof(T, method),
+     .choices = "fspc|fspc-adaptive|dbscan|ccl", .help = "with --model: the daemon's clustering method"},
+    RS_OPT_STR_("csv", "FILE", T, csv_path, "with --model: the per-frame rows"),
+    RS_OPT_INT_("best-of", "N", T, best_of, 1, 100,
+                "with --model: each clustering method runs N times per frame and the fastest counts (steadier "
+                "figures on a shared machine)"),
+};
+#undef T
+
+static const rs_opts_spec_t spec = {
+    .prog = "roadscan-bench",
+    .summary = "how fast decoding, frame assembly and every processing stage run",
+    .synopsis = "[--seconds S]\n--tracker N [--seconds S]\nCAPTURE [--sensor NAME] [--repeat N]\n"
+                "CAPTURE --model MODEL [--cluster METHOD] [--csv FILE] [--best-of N]",
+    .about = "Without a capture: synthetic packets of every model, decoded and assembled flat out on one core. "
+             "With a capture: its data packets, decoded and assembled --repeat times. With --model: the stages "
+             "of roadscand on every frame of the capture, timed with CLOCK_MONOTONIC. With --tracker: the "
+             "tracker's update on N synthetic objects.",
+    .epilog = "Exit status: 0 done, 1 the capture could not be read, 2 bad usage.",
+    .opts = table,
+    .n = (int)(sizeof table / sizeof table[0]),
+};
+
 int main(int argc, char **argv) {
-  enum { O_SECONDS = 256, O_MODEL, O_SENSOR, O_CSV, O_REPEAT, O_BEST, O_CLUSTER, O_TRACKER, O_HELP };
-  static const struct option opts[] = {{"seconds", required_argument, NULL, O_SECONDS},
-                                       {"model", required_argument, NULL, O_MODEL},
-                                       {"sensor", required_argument, NULL, O_SENSOR},
-                                       {"csv", required_argument, NULL, O_CSV},
-                                       {"repeat", required_argument, NULL, O_REPEAT},
-                                       {"best-of", required_argument, NULL, O_BEST},
-                                       {"cluster", required_argument, NULL, O_CLUSTER},
-                                       {"tracker", required_argument, NULL, O_TRACKER},
-                                       {"help", no_argument, NULL, O_HELP},
-                                       {NULL, 0, NULL, 0}};
-  double seconds = 1.0;
-  long repeat = 5;
-  sg.best_of = 1;
-  sg.method = RS_CLUSTER_FSPC_ADAPTIVE;
-  long tracker_n = 0;
-  rs_model_t force = RS_MODEL_UNKNOWN;
+  st = (settings_t){.seconds = 1.0, .repeat = 5, .best_of = 1, .method = RS_CLUSTER_FSPC_ADAPTIVE - 1};
   char err[RS_ERRMSG_SIZE];
-  int c;
-  while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
-    switch (c) {
-    case O_SECONDS:
-      if (rs_cfg_double("--seconds", optarg, 0.05, 60.0, &seconds, err, sizeof err)) goto bad;
-      break;
-    case O_REPEAT:
-      if (rs_cfg_long("--repeat", optarg, 1, 1000, &repeat, err, sizeof err)) goto bad;
-      break;
-    case O_TRACKER:
-      if (rs_cfg_long("--tracker", optarg, 1, RS_TRACK_MAX, &tracker_n, err, sizeof err)) goto bad;
-      break;
-    case O_CLUSTER: {
-      int m = rs_cluster_method_from_name(optarg);
-      if (m <= 0) {
-        snprintf(err, sizeof err, "--cluster %s: not fspc, fspc-adaptive, dbscan or ccl", optarg);
-        goto bad;
-      }
-      sg.method = (rs_cluster_method_t)m;
-      break;
-    }
-    case O_BEST: {
-      long b;
-      if (rs_cfg_long("--best-of", optarg, 1, 100, &b, err, sizeof err)) goto bad;
-      sg.best_of = (int)b;
-      break;
-    }
-    case O_MODEL:
-      if (rs_bg_load(&bgm, optarg, err, sizeof err) != RS_OK) goto bad;
-      sg.with_model = true;
-      break;
-    case O_CSV:
-      sg.csv = fopen(optarg, "w");
-      if (sg.csv == NULL) {
-        snprintf(err, sizeof err, "--csv %s: cannot write", optarg);
-        goto bad;
-      }
-      break;
-    case O_SENSOR:
-      if (rs_cfg_model("--sensor", optarg, &force, err, sizeof err)) goto bad;
-      break;
-    case O_HELP:
-      printf("usage: roadscan-bench [--seconds S]   (synthetic packets of every model: decode + assembly)\n"
-             "       roadscan-bench --tracker N [--seconds S]   (the tracker alone on N synthetic objects)\n"
-             "       roadscan-bench CAPTURE [--sensor NAME] [--repeat N]   (decode + assembly)\n"
-             "       roadscan-bench CAPTURE --model MODEL [--cluster METHOD] [--csv FILE] [--best-of N]\n"
-             "         every frame: the daemon's stages as roadscand runs them (background, --cluster\n"
-             "         METHOD: fspc-adaptive by default, objects, the LCM encoding) and the stage ratio;\n"
-             "         then FSPC, FSPC-adaptive, DBSCAN and CCL alone on the same frame;\n"
-             "         median, p99, max per stage and the ratios; --csv writes the per-frame rows;\n"
-             "         --best-of N runs each clustering method N times per frame and counts the\n"
-             "         fastest (steadier figures on a shared machine; default 1)\n");
-      return 0;
-    default: return 2;
+  if (rs_opts_init(&opts, &spec, &st) != RS_OK) {
+    fprintf(stderr, "roadscan-bench: %s\n", opts.err);
+    return 2;
+  }
+  int first;
+  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &first);
+  if (pr == RS_OPTS_EXIT) return 0;
+  if (pr == RS_OPTS_ERROR) {
+    snprintf(err, sizeof err, "%s", opts.err);
+    goto bad;
+  }
+  sg.best_of = st.best_of;
+  sg.method = (rs_cluster_method_t)(st.method + 1); /* the choices start at fspc */
+  if (st.model_path) {
+    if (rs_bg_load(&bgm, st.model_path, err, sizeof err) != RS_OK) goto bad;
+    sg.with_model = true;
+  }
+  if (st.csv_path) {
+    sg.csv = fopen(st.csv_path, "w");
+    if (sg.csv == NULL) {
+      snprintf(err, sizeof err, "--csv %s: cannot write", st.csv_path);
+      goto bad;
     }
   }
-  if (tracker_n > 0) return tracker_bench((int)tracker_n, seconds < 10 ? 30.0 : seconds);
-  if (optind < argc) {
-    int rc = capture(argv[optind], force, (int)repeat);
+  if (st.tracker_n > 0) return tracker_bench(st.tracker_n, st.seconds < 10 ? 30.0 : st.seconds);
+  if (first + 1 < argc) {
+    snprintf(err, sizeof err, "one capture at most (see --help)");
+    goto bad;
+  }
+  if (first < argc) {
+    int rc = capture(argv[first], st.force, st.repeat);
     if (sg.csv && fclose(sg.csv) != 0) rc = 1;
     return rc;
   }
@@ -481,7 +489,7 @@ int main(int argc, char **argv) {
     snprintf(err, sizeof err, "--model needs a CAPTURE");
     goto bad;
   }
-  return synthetic(seconds);
+  return synthetic(st.seconds);
 bad:
   fprintf(stderr, "roadscan-bench: %s\n", err);
   return 2;

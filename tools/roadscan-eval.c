@@ -16,7 +16,7 @@
 #include "roadscan/output/labels.h"
 #include "roadscan/capture/stream.h"
 
-#include <getopt.h>
+#include "roadscan/util/opts.h"
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -613,78 +613,98 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
   }
 }
 
-int main(int argc, char **argv) {
-  static const struct option opts[] = {{"json", no_argument, NULL, 'j'},
-                                       {"objects", required_argument, NULL, 'o'},
-                                       {"diagnose", no_argument, NULL, 'd'},
-                                       {"model", required_argument, NULL, 'm'},
-                                       {"tracking", no_argument, NULL, 't'},
-                                       {"mot-dump", required_argument, NULL, 'M'},
-                                       {"truth-states", required_argument, NULL, 'S'},
-                                       {"tracks", required_argument, NULL, 'T'},
-                                       {"counts", required_argument, NULL, 'C'},
-                                       {"count-line", required_argument, NULL, 'L'},
-                                       {"help", no_argument, NULL, 'h'},
-                                       {NULL, 0, NULL, 0}};
-  bool json = false;
-  const char *objects_path = NULL, *model_path = NULL, *dump_path = NULL, *states_path = NULL, *tracks_path = NULL,
-             *counts_path = NULL;
-  bool diagnose = false, tracking = false;
-  int o;
-  while ((o = getopt_long(argc, argv, "", opts, NULL)) != -1) {
-    if (o == 'j') json = true;
-    else if (o == 'o') objects_path = optarg;
-    else if (o == 'd') diagnose = true;
-    else if (o == 'm') model_path = optarg;
-    else if (o == 't') tracking = true;
-    else if (o == 'M') dump_path = optarg;
-    else if (o == 'S') states_path = optarg;
-    else if (o == 'T') tracks_path = optarg;
-    else if (o == 'C') counts_path = optarg;
-    else if (o == 'L') {
-      char lerr[RS_ERRMSG_SIZE];
-      if (nclines == RS_COUNT_LINES || rs_count_parse_line(optarg, &clines[nclines], lerr, sizeof lerr) != RS_OK) {
-        fprintf(stderr, "roadscan-eval: %s\n", nclines == RS_COUNT_LINES ? "too many --count-line" : lerr);
-        return 2;
-      }
-      nclines++;
-    }
-    else if (o == 'h') {
-      printf("usage: roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE] [--diagnose [--model BG]]\n"
-             "       roadscan-eval --tracking CAPTURE TRUTH PRED [--json] [--mot-dump FILE]\n"
-             "                     [--truth-states S --tracks T [--counts C --count-line \"NAME X1 Y1 X2 Y2\" ...]]\n"
-             "Point-label files as in specs/point-labels.md; metrics as in the FSPC paper's Table 3.\n"
-             "  --tracking      also the tracking metrics of PRED's labels (roadscand --labels-out with\n"
-             "                  tracking on: 2 + the track id): MOTA, MOTP, IDF1, id switches,\n"
-             "                  fragmentations, mostly tracked / lost (true instances of >= %d returns\n"
-             "                  and tracks match in a frame when their returns overlap with IoU > 0.5);\n"
-             "                  with --json only these, as one JSON object\n"
-             "  --mot-dump FILE with --tracking: every frame's true and predicted instances and overlaps\n"
-             "                  (CSV frame,truth,pred,iou; a 0 id marks presence alone), for py-motmetrics\n"
-             "  --truth-states S --tracks T  with --tracking: roadscan-sim --truth-states and roadscand\n"
-             "                  --tracks-out of the same run: the speed and position error of confirmed tracks\n"
-             "                  against their matched object's true state at the track's time (RMSE; vehicles\n"
-             "                  within 80 m and all), and how long after an object's first frame of >= %d\n"
-             "                  returns a confirmed track matches it\n"
-             "  --counts C --count-line L  roadscand --counts-out with the same --count-line (sensor frame, no\n"
-             "                  --pose): per line and direction the crossings counted against the true ones\n"
-             "                  (every road user of the states once per line) and the relative error\n"
-             "  --objects FILE  CSV frame,instance,points,x,y,z: the centroid (sensor frame) of every true\n"
-             "                  instance of at least %d returns in every frame\n"
-             "  --diagnose      where the missed object returns are: in objects with no clustered return\n"
-             "                  (by size), or beside a clustered return of their object (by range difference);\n"
-             "                  merged instances (with another object or not, by range)\n"
-             "  --model BG      with --diagnose: returns predicted as objects by the number of static\n"
-             "                  surfaces of their cell in the background model; the false ones by truth\n"
-             "                  class, place against their cell's surfaces, and range\n",
-             RS_EVAL_MIN_INSTANCE, RS_EVAL_MIN_INSTANCE, RS_EVAL_MIN_INSTANCE);
-      return 0;
-    } else {
-      return 2;
-    }
+static int add_count_line(void *t, const char *key, const char *v, char *err, size_t n) {
+  (void)t;
+  if (nclines == RS_COUNT_LINES) {
+    snprintf(err, n, "%s: at most %d lines", key, RS_COUNT_LINES);
+    return RS_E_INVAL;
   }
-  if (argc - optind != 3) {
-    fprintf(stderr, "usage: roadscan-eval CAPTURE TRUTH PRED [--json] [--objects FILE] [--diagnose [--model BG]]\n");
+  if (rs_count_parse_line(v, &clines[nclines], err, n) != RS_OK) return RS_E_INVAL;
+  nclines++;
+  return RS_OK;
+}
+
+/* Everything the options set. */
+typedef struct {
+  bool json, diagnose, tracking;
+  const char *objects_path, *model_path, *dump_path, *states_path, *tracks_path, *counts_path;
+  int lines; /* count lines: kept in clines */
+} settings_t;
+static settings_t st;
+static rs_opts_t opts;
+
+#define T settings_t
+static const rs_opt_t table[] = {
+    RS_OPT_FLAG_("json", T, json, "one JSON object instead of the text report"),
+    RS_OPT_HEAD("", "Tracking"),
+    RS_OPT_FLAG_("tracking", T, tracking,
+                 "also the tracking metrics of PRED's labels (roadscand --labels-out with tracking on: 2 + the "
+                 "track id): MOTA, MOTP, IDF1, id switches, fragmentations, mostly tracked / lost; with --json "
+                 "only these"),
+    RS_OPT_STR_("mot-dump", "FILE", T, dump_path,
+                "with --tracking: every frame's true and predicted instances and overlaps (CSV frame,truth,pred,"
+                "iou; a 0 id marks presence alone), for py-motmetrics"),
+    RS_OPT_STR_("truth-states", "S", T, states_path,
+                "with --tracking and --tracks: roadscan-sim --truth-states of the same run: the speed and position "
+                "error of confirmed tracks against their matched object's true state at the track's time (RMSE; "
+                "vehicles within 80 m and all), and how long after an object's first frame a confirmed track "
+                "matches it"),
+    RS_OPT_STR_("tracks", "T", T, tracks_path, "with --truth-states: roadscand --tracks-out of the same run"),
+    RS_OPT_STR_("counts", "C", T, counts_path,
+                "with --truth-states and --count-line: roadscand --counts-out with the same lines (sensor frame, "
+                "no --pose): per line and direction the crossings counted against the true ones (every road user "
+                "of the states once per line) and the relative error"),
+    {.type = RS_OPT_FUNC, .name = "count-line", .arg = "\"NAME X1 Y1 X2 Y2\"", .off = offsetof(T, lines),
+     .fn = add_count_line, .flags = RS_OPT_REPEAT, .help = "a counting line, as roadscand's"},
+    RS_OPT_HEAD("", "Diagnosis"),
+    RS_OPT_STR_("objects", "FILE", T, objects_path,
+                "CSV frame,instance,points,x,y,z: the centroid (sensor frame) of every true instance in every "
+                "frame"),
+    RS_OPT_FLAG_("diagnose", T, diagnose,
+                 "where the missed object returns are: in objects with no clustered return (by size), or beside "
+                 "a clustered return of their object (by range difference); merged instances (with another "
+                 "object or not, by range)"),
+    RS_OPT_STR_("model", "BG", T, model_path,
+                "with --diagnose: returns predicted as objects by the number of static surfaces of their cell in "
+                "the background model; the false ones by truth class, place against their cell's surfaces, and "
+                "range"),
+};
+#undef T
+
+int main(int argc, char **argv) {
+  char about[600];
+  snprintf(about, sizeof about,
+           "Point-label files as in specs/point-labels.md; metrics as in the FSPC paper's Table 3. Instances "
+           "count from %d returns; a true instance and a track match in a frame when their returns overlap with "
+           "IoU > 0.5.",
+           RS_EVAL_MIN_INSTANCE);
+  const rs_opts_spec_t spec = {
+      .prog = "roadscan-eval",
+      .summary = "score a pipeline's point labels (and tracks, and counts) against the ground truth",
+      .synopsis = "CAPTURE TRUTH PRED [--json] [--objects FILE] [--diagnose [--model BG]]\n"
+                  "--tracking CAPTURE TRUTH PRED [--json] [--mot-dump FILE]\n"
+                  "--tracking CAPTURE TRUTH PRED --truth-states S --tracks T [--counts C --count-line L ...]",
+      .about = about,
+      .epilog = "Exit status: 0 scored, 1 a file could not be read or does not fit the capture, 2 bad usage.",
+      .opts = table,
+      .n = (int)(sizeof table / sizeof table[0]),
+  };
+  if (rs_opts_init(&opts, &spec, &st) != RS_OK) {
+    fprintf(stderr, "roadscan-eval: %s\n", opts.err);
+    return 2;
+  }
+  int optind_ = 0;
+  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &optind_);
+  if (pr == RS_OPTS_EXIT) return 0;
+  if (pr == RS_OPTS_ERROR) {
+    fprintf(stderr, "roadscan-eval: %s\n", opts.err);
+    return 2;
+  }
+  const bool json = st.json, diagnose = st.diagnose, tracking = st.tracking;
+  const char *objects_path = st.objects_path, *model_path = st.model_path, *dump_path = st.dump_path,
+             *states_path = st.states_path, *tracks_path = st.tracks_path, *counts_path = st.counts_path;
+  if (argc - optind_ != 3) {
+    fprintf(stderr, "roadscan-eval: give CAPTURE TRUTH PRED (see --help)\n");
     return 2;
   }
   if ((counts_path || nclines) && !(counts_path && nclines && states_path)) {
@@ -726,7 +746,7 @@ int main(int argc, char **argv) {
   c.s[0].role = "truth";
   c.s[1].role = "prediction";
   for (int i = 0; i < 2; i++) {
-    if (rs_labels_open(&c.s[i].rd, argv[optind + 1 + i], UINT32_MAX) != RS_OK) {
+    if (rs_labels_open(&c.s[i].rd, argv[optind_ + 1 + i], UINT32_MAX) != RS_OK) {
       fprintf(stderr, "roadscan-eval: %s labels: %s\n", c.s[i].role, c.s[i].rd.err);
       return 1;
     }
@@ -770,7 +790,7 @@ int main(int argc, char **argv) {
   rs_stream_cfg_t scfg = {.log = stderr};
   rs_stream_init(&stream, &scfg);
   char rerr[RS_ERRMSG_SIZE];
-  int rc = rs_stream_replay_file(&stream, argv[optind], on_packet, &c, &c.failed, rerr, sizeof rerr);
+  int rc = rs_stream_replay_file(&stream, argv[optind_], on_packet, &c, &c.failed, rerr, sizeof rerr);
   if (rc != RS_OK && !c.failed) {
     fprintf(stderr, "roadscan-eval: %s\n", rerr);
     if (rc != RS_E_TRUNCATED) return 1;

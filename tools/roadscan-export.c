@@ -1,15 +1,17 @@
 /* roadscan-export - write the decoded points of one frame as PCD or CSV.
  *
- * Single-threaded tool: reads the capture flat out through the same stream
- * decoder as the daemon and cuts frames with the same roll-over rule, so
- * frame N here is frame N of the daemon's --frames-out. */
+ * Single-threaded tool: reads the capture flat out through the framer the
+ * daemon's tools share (stream decoder + frame assembler) and takes every
+ * packet's points with the frame the assembler gave each block, so frame N
+ * here is frame N of the daemon's --frames-out. */
 #include "roadscan/sensor/calib.h"
 #include "roadscan/util/config.h"
+#include "roadscan/util/opts.h"
 #include "roadscan/util/error.h"
 #include "roadscan/frame/frame.h"
 #include "roadscan/capture/stream.h"
+#include "roadscan/frame/framer.h"
 
-#include <getopt.h>
 #include <math.h>
 #include <limits.h>
 #include <stdio.h>
@@ -18,131 +20,136 @@
 
 typedef struct {
   uint64_t want;         /* UINT64_MAX: every frame (--frame all) */
-  uint64_t frame;        /* frame of the current block */
-  int cut_cd;
-  int32_t last_rel;
+  uint64_t frame;        /* the last frame that took returns */
   rs_point_t *pts;
   uint32_t *fr;          /* frame of each point */
   size_t n, cap;
-  bool done, oom;
+  bool oom;
 } export_t;
 
-static rs_stream_t stream;
+static rs_framer_t framer;
+static rs_slot_t slots[2];
 static rs_calib_t calib;
 
-static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double ts) {
+/* every packet as the daemon's assembler framed it: its points go to the frame of their block */
+static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, const uint64_t *block_seq) {
   (void)index;
-  (void)ts;
   export_t *e = user;
-  if (e->done) return;
-  /* a packet behind the previous one (out of order) stays in the current frame */
-  int32_t rel0 = ((int32_t)pkt->block_azimuth[0] - e->cut_cd + 36000) % 36000;
-  bool behind = e->last_rel >= 0 && rel0 < e->last_rel && e->last_rel - rel0 <= 18000;
-  int pi = 0;
-  for (int b = 0; b < pkt->blocks; b++) {
-    if (!behind && rs_frame_rollover(e->cut_cd, &e->last_rel, pkt->block_azimuth[b])) e->frame++;
-    if (e->want != UINT64_MAX && e->frame > e->want) {
-      e->done = true;
-      return;
+  for (int pi = 0; pi < pkt->n_points && !framer.stop; pi++) {
+    const uint64_t seq = block_seq[pkt->points[pi].block];
+    if (seq == RS_ASM_DROPPED) continue; /* a duplicate, or a late packet: not in any frame */
+    if (e->want != UINT64_MAX && seq > e->want) {
+      framer.stop = true;
+      break;
     }
-    for (; pi < pkt->n_points && pkt->points[pi].block == b; pi++) {
-      if (e->want != UINT64_MAX && e->frame != e->want) continue;
-      if (e->n == e->cap) {
-        size_t nc = e->cap ? e->cap * 2 : 65536;
-        rs_point_t *np = realloc(e->pts, nc * sizeof *np);
-        if (np) e->pts = np;
-        uint32_t *nf = np ? realloc(e->fr, nc * sizeof *nf) : NULL;
-        if (nf == NULL) {
-          e->oom = e->done = true;
-          return;
-        }
-        e->fr = nf;
-        e->cap = nc;
+    e->frame = seq;
+    if (e->want != UINT64_MAX && seq != e->want) continue;
+    if (e->n == e->cap) {
+      size_t nc = e->cap ? e->cap * 2 : 65536;
+      rs_point_t *np = realloc(e->pts, nc * sizeof *np);
+      if (np) e->pts = np;
+      uint32_t *nf = np ? realloc(e->fr, nc * sizeof *nf) : NULL;
+      if (nf == NULL) {
+        e->oom = framer.stop = true;
+        return;
       }
-      e->fr[e->n] = (uint32_t)e->frame;
-      e->pts[e->n++] = pkt->points[pi];
+      e->fr = nf;
+      e->cap = nc;
     }
+    e->fr[e->n] = (uint32_t)seq;
+    e->pts[e->n++] = pkt->points[pi];
   }
 }
 
-static void usage(FILE *out) {
-  fprintf(out,
-          "usage: roadscan-export CAPTURE --frame N -o OUT.pcd [--csv] [options]\n"
-          "  --frame N            frame number (0 = the partial frame before the first roll-over);\n"
-          "                       'all': every point of the capture, with its frame (CSV column 'frame')\n"
-          "  -o, --output FILE    output file (PCD v0.7 ASCII, or CSV with --csv)\n"
-          "  --csv                write CSV instead of PCD\n"
-          "  --model NAME         force the sensor model (%s)\n"
-          "  --calibration FILE   per-unit calibration (ROS velodyne YAML)\n"
-          "  --port N             data port (default 2368)\n"
-          "  --cut-azimuth DEG    frame boundary azimuth (default 0)\n"
-          "Fields: x y z (m, sensor frame: +X right, +Y forward, +Z up) intensity ring (row by\n"
-          "elevation, 0 = lowest) azimuth (deg, clockwise from +Y) distance (m) return_type\n"
-          "(0 strongest, 1 last, 2 dual-last, 3 dual-strongest, 4 dual-second, 5 dual-same).\n",
-          rs_model_names());
+static int parse_frame(void *t, const char *key, const char *v, char *err, size_t n) {
+  long l;
+  if (strcmp(v, "all") == 0) l = LONG_MAX;
+  else if (rs_cfg_long(key, v, 0, 100000000L, &l, err, n) != RS_OK) return RS_E_INVAL;
+  *(long *)t = l;
+  return RS_OK;
 }
+
+/* Everything the options set. */
+typedef struct {
+  long frame;
+  const char *out_path, *calib_path;
+  bool csv;
+  int port;
+  rs_model_t model;
+  double cut;
+} settings_t;
+static settings_t st;
+static rs_opts_t opts;
+
+#define T settings_t
+static const rs_opt_t table[] = {
+    {.type = RS_OPT_FUNC, .name = "frame", .arg = "N", .off = offsetof(T, frame), .fn = parse_frame,
+     .help = "frame number (0 = the partial frame before the first roll-over, as the daemon's --frames-out); "
+             "'all': every point of the capture, with its frame (CSV column 'frame')"},
+    {.type = RS_OPT_STR, .name = "output", .short_name = 'o', .arg = "FILE", .off = offsetof(T, out_path),
+     .help = "output file (PCD v0.7 ASCII, or CSV with --csv)"},
+    RS_OPT_FLAG_("csv", T, csv, "write CSV instead of PCD"),
+    {.type = RS_OPT_MODEL, .name = "model", .arg = "NAME", .off = offsetof(T, model),
+     .def = "detected from the packets", .help = "force the sensor model"},
+    RS_OPT_STR_("calibration", "FILE", T, calib_path, "per-unit calibration (ROS velodyne YAML)"),
+    RS_OPT_INT_("port", "N", T, port, 1, 65535, "data port"),
+    RS_OPT_DBL_("cut-azimuth", "DEG", T, cut, 0.0, 359.99, "frame boundary azimuth"),
+};
+#undef T
+
+static const rs_opts_spec_t spec = {
+    .prog = "roadscan-export",
+    .summary = "write the decoded points of one frame (or of all) as PCD or CSV",
+    .synopsis = "CAPTURE --frame N -o OUT.pcd [--csv] [options]",
+    .about = "The capture is read flat out through the daemon's decoder and frame assembler, so frame N here is "
+             "frame N of roadscand --frames-out; duplicated and late packets are left out as the daemon leaves "
+             "them out.\n\nFields: x y z (m, sensor frame: +X right, +Y forward, +Z up) intensity ring (row by "
+             "elevation, 0 = lowest) azimuth (deg, clockwise from +Y) distance (m) return_type (0 strongest, "
+             "1 last, 2 dual-last, 3 dual-strongest, 4 dual-second, 5 dual-same).",
+    .epilog = "Exit status: 0 written, 1 the capture or a file could not be read or written, or no such frame, "
+              "2 bad usage.",
+    .opts = table,
+    .n = (int)(sizeof table / sizeof table[0]),
+};
 
 int main(int argc, char **argv) {
-  enum { O_FRAME = 256, O_CSV, O_MODEL, O_CALIB, O_PORT, O_CUT, O_HELP };
-  static const struct option opts[] = {{"frame", required_argument, NULL, O_FRAME},
-                                       {"output", required_argument, NULL, 'o'},
-                                       {"csv", no_argument, NULL, O_CSV},
-                                       {"model", required_argument, NULL, O_MODEL},
-                                       {"calibration", required_argument, NULL, O_CALIB},
-                                       {"port", required_argument, NULL, O_PORT},
-                                       {"cut-azimuth", required_argument, NULL, O_CUT},
-                                       {"help", no_argument, NULL, O_HELP},
-                                       {NULL, 0, NULL, 0}};
-  const char *out_path = NULL, *calib_path = NULL;
-  long frame = -1, l;
-  double cut = 0.0;
-  bool csv = false;
+  st = (settings_t){.frame = -1, .port = RS_DEFAULT_DATA_PORT};
   char err[RS_ERRMSG_SIZE];
-  rs_stream_cfg_t scfg;
-  memset(&scfg, 0, sizeof scfg);
-  scfg.log = stderr;
-  int c;
-  while ((c = getopt_long(argc, argv, "o:", opts, NULL)) != -1) {
-    switch (c) {
-    case O_FRAME:
-      if (strcmp(optarg, "all") == 0) frame = LONG_MAX;
-      else if (rs_cfg_long("--frame", optarg, 0, 100000000L, &frame, err, sizeof err)) goto bad;
-      break;
-    case 'o': out_path = optarg; break;
-    case O_CSV: csv = true; break;
-    case O_MODEL:
-      if (rs_cfg_model("--model", optarg, &scfg.force_model, err, sizeof err)) goto bad;
-      break;
-    case O_CALIB: calib_path = optarg; break;
-    case O_PORT:
-      if (rs_cfg_long("--port", optarg, 1, 65535, &l, err, sizeof err)) goto bad;
-      scfg.data_port = (uint16_t)l;
-      break;
-    case O_CUT:
-      if (rs_cfg_double("--cut-azimuth", optarg, 0.0, 359.99, &cut, err, sizeof err)) goto bad;
-      break;
-    case O_HELP: usage(stdout); return 0;
-    default: usage(stderr); return 2;
-    }
-  }
-  if (optind + 1 != argc || frame < 0 || out_path == NULL) {
-    usage(stderr);
+  if (rs_opts_init(&opts, &spec, &st) != RS_OK) {
+    fprintf(stderr, "roadscan-export: %s\n", opts.err);
     return 2;
   }
-  if (calib_path) {
-    if (rs_calib_load_yaml(calib_path, &calib, err, sizeof err) != RS_OK) {
+  int first;
+  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &first);
+  if (pr == RS_OPTS_EXIT) return 0;
+  if (pr == RS_OPTS_ERROR) {
+    snprintf(err, sizeof err, "%s", opts.err);
+    goto bad;
+  }
+  if (first + 1 != argc || st.frame < 0 || st.out_path == NULL) {
+    snprintf(err, sizeof err, "give one CAPTURE, --frame N and -o FILE (see --help)");
+    goto bad;
+  }
+  const char *out_path = st.out_path;
+  const long frame = st.frame;
+  const bool csv = st.csv;
+  rs_stream_cfg_t scfg = {.log = stderr, .force_model = st.model, .data_port = (uint16_t)st.port};
+  if (st.calib_path) {
+    if (rs_calib_load_yaml(st.calib_path, &calib, err, sizeof err) != RS_OK) {
       fprintf(stderr, "roadscan-export: %s\n", err);
       return 1;
     }
     scfg.calib = &calib;
   }
-  if (rs_stream_init(&stream, &scfg) != RS_OK) {
-    fprintf(stderr, "roadscan-export: %s\n", stream.err);
+  const rs_asm_cfg_t acfg = {.default_hz = 10.0, .cut_deg = st.cut};
+  const bool all = frame == LONG_MAX;
+  export_t e = {.want = all ? UINT64_MAX : (uint64_t)frame};
+  if (rs_framer_init(&framer, &scfg, &acfg, slots, NULL, &e) != RS_OK) {
+    fprintf(stderr, "roadscan-export: %s\n", framer.stream.err);
     return 1;
   }
-  const bool all = frame == LONG_MAX;
-  export_t e = {.want = all ? UINT64_MAX : (uint64_t)frame, .cut_cd = (int)lround(cut * 100.0) % 36000, .last_rel = -1};
-  int rc = rs_stream_replay_file(&stream, argv[optind], on_packet, &e, &e.done, err, sizeof err);
+  framer.on_packet = on_packet;
+  int rc = rs_framer_replay_file(&framer, argv[first], err, sizeof err);
   if (rc == RS_E_NOENT || rc == RS_E_FORMAT || rc == RS_E_LINKTYPE || rc == RS_E_CALIB) {
     fprintf(stderr, "roadscan-export: %s\n", err);
     return 1;
@@ -152,7 +159,7 @@ int main(int argc, char **argv) {
     fprintf(stderr, "roadscan-export: out of memory\n");
     return 1;
   }
-  if (!all && (e.frame < e.want || (e.n == 0 && !e.done))) {
+  if (!all && e.n == 0) {
     fprintf(stderr, "roadscan-export: the capture has %llu frames (0..%llu); frame %ld does not exist\n",
             (unsigned long long)(e.frame + 1), (unsigned long long)e.frame, frame);
     free(e.pts);

@@ -9,11 +9,10 @@
 #include "roadscan/perception/background.h"
 #include "roadscan/perception/bgupdate.h"
 #include "roadscan/sensor/calib.h"
-#include "roadscan/util/config.h"
+#include "roadscan/util/opts.h"
 #include "roadscan/frame/framer.h"
 #include "roadscan/util/timing.h"
 
-#include <getopt.h>
 #include <png.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -125,114 +124,96 @@ static int write_png(const rs_bg_model_t *m, const char *path) {
   return ok ? RS_OK : RS_E_IO;
 }
 
-static void usage(FILE *out) {
-  fprintf(out,
-          "usage: roadscan-learn CAPTURE -o MODEL [options]\n"
-          "       roadscan-learn --info MODEL [--image OUT.png]\n"
-          "  -o, --output MODEL     the model file to write\n"
-          "  --frames N             frames sampled at random over the capture (default 1000)\n"
-          "  --seconds S            learn from the complete frames of the first S seconds only\n"
-          "  --seed S               sampling seed (default 1)\n"
-          "  --method M             dbscan (default) or percentile (the common baseline)\n"
-          "  --percentile P         percentile method: background at this percentile (default 50)\n"
-          "  --tolerance M          percentile method: minus this many metres (default 0.3)\n"
-          "  --min-pts-floor N      DBSCAN minPts floor (default 10; minPts = max(floor, 1%% of samples))\n"
-          "  --chain-gap M          clusters of a cell less than M metres apart are judged as one surface\n"
-          "                         (default 0.20, 0 = off)\n"
-          "  --support on|off       a nearer cluster that a neighbouring cell sees as static in half\n"
-          "                         its frames or more is static too (edges; default on)\n"
-          "  --connect M            a surface reaches half-way to the one beside it in the row when\n"
-          "                         they are less than max(M, 5 %% of the range) apart (default 0.5, 0 = off)\n"
-          "  --model NAME           force the sensor model (%s)\n"
-          "  --calibration FILE     per-unit calibration (ROS velodyne YAML)\n"
-          "  --columns N            azimuth bins (default: from the measured rate, as the daemon)\n"
-          "  --image OUT.png        draw the model as a range image\n"
-          "  --info MODEL           print a model's summary\n",
-          rs_model_names());
-}
+/* Everything the options set. */
+typedef struct {
+  const char *out, *image, *info, *calib_path;
+  int max_frames, seed, columns, method;
+  double seconds;
+  rs_bg_params_t params;
+  rs_model_t force_model;
+} settings_t;
+static settings_t st;
+static rs_opts_t opts;
+
+#define T settings_t
+static const rs_opt_t table[] = {
+    RS_OPT_HEAD("", "Learning"),
+    {.type = RS_OPT_STR, .name = "output", .short_name = 'o', .arg = "MODEL", .off = offsetof(T, out),
+     .help = "the model file to write"},
+    RS_OPT_INT_("frames", "N", T, max_frames, 10, 100000, "frames sampled at random over the capture"),
+    {.type = RS_OPT_DOUBLE, .name = "seconds", .arg = "S", .off = offsetof(T, seconds), .lo = 0.05, .hi = 1e6,
+     .def = "the whole capture", .help = "learn from the complete frames of the first S seconds only"},
+    RS_OPT_INT_("seed", "S", T, seed, 0, 2147483647.0, "sampling seed"),
+    {.type = RS_OPT_CHOICE, .name = "method", .arg = "M", .off = offsetof(T, method), .choices = "dbscan|percentile",
+     .help = "per-cell DBSCAN (the paper's static-scene construction) or the per-cell percentile (the common "
+             "baseline)"},
+    RS_OPT_DBL_("percentile", "P", T, params.percentile, 1, 100, "percentile method: background at this percentile"),
+    RS_OPT_DBL_("tolerance", "M", T, params.percentile_tol, 0, 10, "percentile method: minus this many metres"),
+    RS_OPT_INT_("min-pts-floor", "N", T, params.min_pts_floor, 2, 100000,
+                "DBSCAN minPts floor (minPts = max(floor, 1 % of samples))"),
+    RS_OPT_DBL_("chain-gap", "M", T, params.chain_gap, 0, 5,
+                "clusters of a cell less than M metres apart are judged as one surface (0 = off)"),
+    {.type = RS_OPT_BOOL, .name = "support", .arg = "on|off", .off = offsetof(T, params.support),
+     .help = "a nearer cluster that a neighbouring cell sees as static in half its frames or more is static too "
+             "(edges)"},
+    RS_OPT_DBL_("connect", "M", T, params.connect_min, 0, 10,
+                "a surface reaches half-way to the one beside it in the row when they are less than max(M, 5 % of "
+                "the range) apart (0 = off)"),
+    RS_OPT_HEAD("", "Sensor"),
+    {.type = RS_OPT_MODEL, .name = "model", .arg = "NAME", .off = offsetof(T, force_model),
+     .def = "detected from the packets", .help = "force the sensor model"},
+    RS_OPT_STR_("calibration", "FILE", T, calib_path, "per-unit calibration (ROS velodyne YAML)"),
+    {.type = RS_OPT_INT, .name = "columns", .arg = "N", .off = offsetof(T, columns), .lo = RS_MIN_COLS,
+     .hi = RS_MAX_COLS, .def = "from the measured rate, as the daemon", .help = "azimuth bins"},
+    RS_OPT_HEAD("", "Models"),
+    RS_OPT_STR_("image", "OUT.png", T, image,
+                "draw the model as a range image (a row per laser; grey: the farthest surface, green: several)"),
+    RS_OPT_STR_("info", "MODEL", T, info, "print a model's summary"),
+};
+#undef T
+
+static const rs_opts_spec_t spec = {
+    .prog = "roadscan-learn",
+    .summary = "learn the static scene of a site from a capture",
+    .synopsis = "CAPTURE -o MODEL [options]\n--info MODEL [--image OUT.png]",
+    .about = "One pass over the capture through the daemon's decoder and frame assembler; complete frames are "
+             "sampled uniformly at random, then every (laser, azimuth) cell is clustered over the ranges seen in "
+             "it (docs/background.md). The model file is checksummed; roadscand --background loads it.",
+    .epilog = "Exit status: 0 written, 1 the capture or a file could not be read or written, 2 bad usage.",
+    .opts = table,
+    .n = (int)(sizeof table / sizeof table[0]),
+};
 
 int main(int argc, char **argv) {
-  enum { O_SUPPORT = 200, O_CONNECT, O_FRAMES = 256, O_SECONDS, O_SEED, O_METHOD, O_PCT, O_TOL, O_FLOOR, O_MODEL, O_CALIB, O_COLS, O_IMAGE, O_INFO, O_HELP, O_CHAIN };
-  static const struct option opts[] = {
-      {"output", required_argument, NULL, 'o'},         {"frames", required_argument, NULL, O_FRAMES},
-      {"seconds", required_argument, NULL, O_SECONDS},
-      {"support", required_argument, NULL, O_SUPPORT},  {"connect", required_argument, NULL, O_CONNECT},
-      {"seed", required_argument, NULL, O_SEED},        {"method", required_argument, NULL, O_METHOD},
-      {"percentile", required_argument, NULL, O_PCT},   {"tolerance", required_argument, NULL, O_TOL},
-      {"min-pts-floor", required_argument, NULL, O_FLOOR}, {"model", required_argument, NULL, O_MODEL},
-      {"calibration", required_argument, NULL, O_CALIB}, {"columns", required_argument, NULL, O_COLS},
-      {"image", required_argument, NULL, O_IMAGE},      {"info", required_argument, NULL, O_INFO},
-      {"chain-gap", required_argument, NULL, O_CHAIN},  {"help", no_argument, NULL, O_HELP},
-      {NULL, 0, NULL, 0}};
-  const char *out = NULL, *image = NULL, *info = NULL, *calib_path = NULL;
   static learn_t L;
-  L.max_frames = 1000;
-  L.seed = 1;
-  L.acfg.default_hz = 10.0;
-  rs_bg_params_t params;
-  rs_bg_params_default(&params);
-  rs_stream_cfg_t scfg = {.log = stderr};
+  rs_bg_params_default(&st.params);
+  st.max_frames = 1000;
+  st.seed = 1;
+  st.method = st.params.method == RS_BG_PERCENTILE;
   char err[RS_ERRMSG_SIZE];
-  long lv;
-  int c;
-  while ((c = getopt_long(argc, argv, "o:", opts, NULL)) != -1) {
-    switch (c) {
-    case 'o': out = optarg; break;
-    case O_FRAMES:
-      if (rs_cfg_long("--frames", optarg, 10, 100000, &lv, err, sizeof err)) goto bad;
-      L.max_frames = (int)lv;
-      break;
-    case O_SUPPORT:
-      if (rs_cfg_bool("--support", optarg, &params.support, err, sizeof err)) goto bad;
-      break;
-    case O_CONNECT:
-      if (rs_cfg_double("--connect", optarg, 0, 10, &params.connect_min, err, sizeof err)) goto bad;
-      break;
-    case O_SECONDS:
-      if (rs_cfg_double("--seconds", optarg, 0.05, 1e6, &L.seconds, err, sizeof err)) goto bad;
-      break;
-    case O_SEED:
-      if (rs_cfg_long("--seed", optarg, 0, 2147483647L, &lv, err, sizeof err)) goto bad;
-      L.seed = (uint64_t)lv;
-      break;
-    case O_METHOD:
-      if (strcmp(optarg, "dbscan") == 0) params.method = RS_BG_DBSCAN;
-      else if (strcmp(optarg, "percentile") == 0) params.method = RS_BG_PERCENTILE;
-      else {
-        snprintf(err, sizeof err, "--method: '%s' is not dbscan or percentile", optarg);
-        goto bad;
-      }
-      break;
-    case O_PCT:
-      if (rs_cfg_double("--percentile", optarg, 1, 100, &params.percentile, err, sizeof err)) goto bad;
-      break;
-    case O_TOL:
-      if (rs_cfg_double("--tolerance", optarg, 0, 10, &params.percentile_tol, err, sizeof err)) goto bad;
-      break;
-    case O_CHAIN:
-      if (rs_cfg_double("--chain-gap", optarg, 0, 5, &params.chain_gap, err, sizeof err)) goto bad;
-      break;
-    case O_FLOOR:
-      if (rs_cfg_long("--min-pts-floor", optarg, 2, 100000, &lv, err, sizeof err)) goto bad;
-      params.min_pts_floor = (int)lv;
-      break;
-    case O_MODEL:
-      if (rs_cfg_model("--model", optarg, &scfg.force_model, err, sizeof err)) goto bad;
-      break;
-    case O_CALIB: calib_path = optarg; break;
-    case O_COLS:
-      if (rs_cfg_long("--columns", optarg, RS_MIN_COLS, RS_MAX_COLS, &lv, err, sizeof err)) goto bad;
-      L.acfg.columns = (int)lv;
-      break;
-    case O_IMAGE: image = optarg; break;
-    case O_INFO: info = optarg; break;
-    case O_HELP: usage(stdout); return 0;
-    default: usage(stderr); return 2;
-    }
+  if (rs_opts_init(&opts, &spec, &st) != RS_OK) {
+    fprintf(stderr, "roadscan-learn: %s\n", opts.err);
+    return 2;
   }
+  int first = 0;
+  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &first);
+  if (pr == RS_OPTS_EXIT) return 0;
+  if (pr == RS_OPTS_ERROR) {
+    snprintf(err, sizeof err, "%s", opts.err);
+    goto bad;
+  }
+  const char *out = st.out, *image = st.image, *info = st.info, *calib_path = st.calib_path;
+  rs_bg_params_t params = st.params;
+  params.method = st.method == 1 ? RS_BG_PERCENTILE : RS_BG_DBSCAN;
+  L.max_frames = st.max_frames;
+  L.seed = (uint64_t)st.seed;
+  L.seconds = st.seconds;
+  L.acfg.default_hz = 10.0;
+  L.acfg.columns = st.columns;
+  rs_stream_cfg_t scfg = {.log = stderr, .force_model = st.force_model};
   rs_bg_model_t m;
   if (info) {
-    if (optind < argc) {
+    if (first < argc) {
       snprintf(err, sizeof err, "--info takes no capture");
       goto bad;
     }
@@ -249,9 +230,9 @@ int main(int argc, char **argv) {
     rs_bg_model_free(&m);
     return rc;
   }
-  if (optind + 1 != argc || out == NULL) {
-    usage(stderr);
-    return 2;
+  if (first + 1 != argc || out == NULL) {
+    snprintf(err, sizeof err, "give one capture and -o MODEL (see --help)");
+    goto bad;
   }
   if (calib_path) {
     if (rs_calib_load_yaml(calib_path, &calib, err, sizeof err) != RS_OK) {
@@ -265,11 +246,11 @@ int main(int argc, char **argv) {
     return 1;
   }
   int64_t t0 = rs_now_ns();
-  int rc = rs_framer_replay_file(&framer, argv[optind], err, sizeof err);
+  int rc = rs_framer_replay_file(&framer, argv[first], err, sizeof err);
   if (rc != RS_OK) fprintf(stderr, "roadscan-learn: %s\n", err);
   if (rc == RS_E_NOENT || rc == RS_E_FORMAT || rc == RS_E_LINKTYPE || rc == RS_E_CALIB) return 1;
   if (L.rc != RS_OK || !L.lr_ready || L.lr.nframes < 2) {
-    fprintf(stderr, "roadscan-learn: %s: %s\n", argv[optind],
+    fprintf(stderr, "roadscan-learn: %s: %s\n", argv[first],
             L.rc != RS_OK ? rs_strerror(L.rc) : "fewer than 2 complete frames: nothing to learn from");
     return 1;
   }

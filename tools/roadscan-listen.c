@@ -4,12 +4,11 @@
  * (fingerprint, object count against its size) before decoding it, prints a
  * table or one JSON line, and tracks the rate and the frame numbers missed
  * (gaps) per sensor id. Reads a live URL or an LCM log file (--log). */
-#include "roadscan/util/config.h"
+#include "roadscan/util/opts.h"
 #include "roadscan/util/error.h"
 #include "roadscan/output/lcmcheck.h"
 #include "roadscan/output/publish.h"
 
-#include <getopt.h>
 #include <inttypes.h>
 #include <lcm/lcm.h>
 #include <math.h>
@@ -318,75 +317,79 @@ static void on_counts(const lcm_recv_buf_t *rbuf, const char *channel, void *use
   roadscan_counts_t_decode_cleanup(&c);
 }
 
-static void usage(FILE *out) {
-  fprintf(out,
-          "usage: roadscan-listen [options]\n"
-          "Prints the object lists roadscand publishes over LCM.\n"
-          "  --url URL            LCM provider (default %s)\n"
-          "  --log FILE           read an LCM log (lcm-logger) instead, as fast as possible\n"
-          "  --channel NAME       object lists (default %s)\n"
-          "  --stats [NAME]       also print the frame statistics (channel default %s)\n"
-          "  --tracks [NAME]      also print the track lists and ended tracks (NAME, NAME_ENDS... default\n"
-          "                       ROADSCAN_TRACKS and ROADSCAN_TRACK_ENDS)\n"
-          "  --counts [NAME]      also print the counts per interval (default ROADSCAN_COUNTS)\n"
-          "  --json               one JSON object per line and message\n"
-          "  --count N            exit after N object lists\n"
-          "  --timeout S          exit after S seconds with no message (default: wait)\n"
-          "  --delay-ms MS        sleep after each list (to try a consumer that falls behind)\n"
-          "  --quiet              print only the final counts\n"
-          "At the end (signal, --count, --timeout, end of the log) it prints on stderr:\n"
-          "  lists N, objects N, gaps N (frames missed), stats N, malformed N, rate R/s\n"
-          "Exit status: 0, 1 when no list was received, 2 bad usage.\n",
-          RS_PUB_DEFAULT_URL, RS_PUB_DEFAULT_CHANNEL, RS_PUB_DEFAULT_STATS);
-}
+/* Everything the options set. */
+typedef struct {
+  const char *url, *channel, *stats, *log, *tracks, *counts;
+  double timeout;
+  int count, delay_ms;
+  bool json, quiet;
+} settings_t;
+static settings_t st;
+static rs_opts_t opts;
+
+#define T settings_t
+static const rs_opt_t table[] = {
+    {.type = RS_OPT_STR, .name = "url", .arg = "URL", .off = offsetof(T, url), .help = "LCM provider"},
+    RS_OPT_STR_("log", "FILE", T, log, "read an LCM log (lcm-logger) instead, as fast as possible"),
+    RS_OPT_STR_("channel", "NAME", T, channel, "object lists"),
+    {.type = RS_OPT_STR, .name = "stats", .arg = "NAME", .off = offsetof(T, stats), .implied = RS_PUB_DEFAULT_STATS,
+     .def = "off; NAME: " RS_PUB_DEFAULT_STATS, .help = "also print the frame statistics"},
+    {.type = RS_OPT_STR, .name = "tracks", .arg = "NAME", .off = offsetof(T, tracks),
+     .implied = RS_PUB_DEFAULT_TRACKS, .def = "off; NAME: " RS_PUB_DEFAULT_TRACKS,
+     .help = "also print the track lists and the ended tracks (on NAME_ENDS, " RS_PUB_DEFAULT_TRACK_ENDS
+             " for the default NAME)"},
+    {.type = RS_OPT_STR, .name = "counts", .arg = "NAME", .off = offsetof(T, counts),
+     .implied = RS_PUB_DEFAULT_COUNTS, .def = "off; NAME: " RS_PUB_DEFAULT_COUNTS,
+     .help = "also print the counts per interval"},
+    RS_OPT_FLAG_("json", T, json, "one JSON object per line and message"),
+    {.type = RS_OPT_INT, .name = "count", .arg = "N", .off = offsetof(T, count), .lo = 1, .hi = 1000000000,
+     .def = "no limit", .help = "exit after N object lists"},
+    {.type = RS_OPT_DOUBLE, .name = "timeout", .arg = "S", .off = offsetof(T, timeout), .lo = 0.01, .hi = 1e6,
+     .def = "wait", .help = "exit after S seconds with no message"},
+    RS_OPT_INT_("delay-ms", "MS", T, delay_ms, 0, 60000,
+                "sleep after each list (to try a consumer that falls behind)"),
+    RS_OPT_FLAG_("quiet", T, quiet, "print only the final counts"),
+};
+#undef T
+
+static const rs_opts_spec_t spec = {
+    .prog = "roadscan-listen",
+    .summary = "print the object lists, track lists, counts and statistics roadscand publishes over LCM",
+    .synopsis = "[options]",
+    .about = "Every message is checked before it is decoded (a hostile or truncated one is counted as malformed "
+             "and skipped). At the end (signal, --count, --timeout, end of the log) it prints on stderr: lists N, "
+             "objects N, gaps N (frames missed), stats N, malformed N, rate R/s, and the track lists, track ends "
+             "and counts received.",
+    .epilog = "Exit status: 0, 1 when no list was received, 2 bad usage.",
+    .opts = table,
+    .n = (int)(sizeof table / sizeof table[0]),
+};
 
 int main(int argc, char **argv) {
-  enum { O_URL = 256, O_LOG, O_CHANNEL, O_STATS, O_TRACKS, O_COUNTS, O_JSON, O_COUNT, O_TIMEOUT, O_DELAY, O_QUIET, O_HELP };
-  static const struct option opts[] = {{"url", required_argument, NULL, O_URL},
-                                       {"log", required_argument, NULL, O_LOG},
-                                       {"channel", required_argument, NULL, O_CHANNEL},
-                                       {"stats", optional_argument, NULL, O_STATS},
-                                       {"tracks", optional_argument, NULL, O_TRACKS},
-                                       {"counts", optional_argument, NULL, O_COUNTS},
-                                       {"json", no_argument, NULL, O_JSON},
-                                       {"count", required_argument, NULL, O_COUNT},
-                                       {"timeout", required_argument, NULL, O_TIMEOUT},
-                                       {"delay-ms", required_argument, NULL, O_DELAY},
-                                       {"quiet", no_argument, NULL, O_QUIET},
-                                       {"help", no_argument, NULL, O_HELP},
-                                       {NULL, 0, NULL, 0}};
-  const char *url = RS_PUB_DEFAULT_URL, *channel = RS_PUB_DEFAULT_CHANNEL, *stats = NULL, *log = NULL, *tracks = NULL,
-             *counts = NULL;
-  double timeout = 0;
+  st = (settings_t){.url = RS_PUB_DEFAULT_URL, .channel = RS_PUB_DEFAULT_CHANNEL};
   char err[RS_ERRMSG_SIZE], logurl[4200];
-  int c;
-  while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
-    switch (c) {
-    case O_URL: url = optarg; break;
-    case O_LOG: log = optarg; break;
-    case O_CHANNEL: channel = optarg; break;
-    case O_STATS: stats = optarg ? optarg : RS_PUB_DEFAULT_STATS; break;
-    case O_TRACKS: tracks = optarg ? optarg : RS_PUB_DEFAULT_TRACKS; break;
-    case O_COUNTS: counts = optarg ? optarg : RS_PUB_DEFAULT_COUNTS; break;
-    case O_JSON: L.json = true; break;
-    case O_QUIET: L.quiet = true; break;
-    case O_COUNT:
-      if (rs_cfg_long("--count", optarg, 1, 1000000000L, &L.count, err, sizeof err)) goto bad;
-      break;
-    case O_TIMEOUT:
-      if (rs_cfg_double("--timeout", optarg, 0.01, 1e6, &timeout, err, sizeof err)) goto bad;
-      break;
-    case O_DELAY:
-      if (rs_cfg_long("--delay-ms", optarg, 0, 60000, &L.delay_ms, err, sizeof err)) goto bad;
-      break;
-    case O_HELP: usage(stdout); return 0;
-    default: usage(stderr); return 2;
-    }
+  if (rs_opts_init(&opts, &spec, &st) != RS_OK) {
+    fprintf(stderr, "roadscan-listen: %s\n", opts.err);
+    return 2;
   }
-  if (optind < argc) {
-    snprintf(err, sizeof err, "unexpected argument '%s'", argv[optind]);
+  int first;
+  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &first);
+  if (pr == RS_OPTS_EXIT) return 0;
+  if (pr == RS_OPTS_ERROR) {
+    snprintf(err, sizeof err, "%s", opts.err);
     goto bad;
   }
+  if (first < argc) {
+    snprintf(err, sizeof err, "unexpected argument '%s'", argv[first]);
+    goto bad;
+  }
+  const char *url = st.url, *channel = st.channel, *stats = st.stats, *log = st.log, *tracks = st.tracks,
+             *counts = st.counts;
+  const double timeout = st.timeout;
+  L.json = st.json;
+  L.quiet = st.quiet;
+  L.count = st.count;
+  L.delay_ms = st.delay_ms;
   if (log) {
     if (access(log, R_OK) != 0) {
       snprintf(err, sizeof err, "--log %s: cannot read", log);

@@ -15,11 +15,10 @@
 #include "render-font.h"
 #include "roadscan/perception/background.h"
 #include "roadscan/perception/cluster.h"
-#include "roadscan/util/config.h"
+#include "roadscan/util/opts.h"
 #include "roadscan/frame/framer.h"
 #include "roadscan/output/labels.h"
 
-#include <getopt.h>
 #include <math.h>
 #include <png.h>
 #include <stdio.h>
@@ -114,77 +113,76 @@ static void label_rgb(uint16_t label, float r, double max_r, bool have_labels, u
   else cluster_rgb(label - RS_LABEL_FIRST_OBJECT + 1, rgb);
 }
 
-static void usage(FILE *out) {
-  fprintf(out, "usage: roadscan-render CAPTURE --frame N -o OUT.png [options]\n"
-               "  --frame N            frame number (as roadscand's --frames-out; 0 = the partial first one)\n"
-               "  -o, --output FILE    the picture (PNG): range image above, bird's-eye view below\n"
-               "  --background MODEL   subtract this static scene (roadscan-learn); without one every return\n"
-               "                       is drawn grey by range\n"
-               "  --cluster METHOD     fspc-adaptive (default), fspc, dbscan, ccl, none\n"
-               "  --labels FILE        take the labels from a point-label file instead (roadscand --labels-out,\n"
-               "                       roadscan-sim --labels: any pipeline's, or the truth)\n"
-               "  --range M            bird's-eye view half-width in metres (default 50)\n"
-               "  --model NAME         force the sensor model\n"
-               "Colours: background grey (nearer is lighter), noise (foreground in no cluster) red, each\n"
-               "cluster its own colour, no return black.\n");
-}
+/* Everything the options set. */
+typedef struct {
+  int frame, method;
+  const char *out, *bg_path, *labels_path;
+  double half;
+  rs_model_t model;
+} settings_t;
+static settings_t st;
+static rs_opts_t opts;
+
+#define T settings_t
+static const rs_opt_t table[] = {
+    {.type = RS_OPT_INT, .name = "frame", .arg = "N", .off = offsetof(T, frame), .lo = 0, .hi = 100000000,
+     .flags = RS_OPT_NODEF, .help = "frame number (as roadscand's --frames-out; 0 = the partial first one)"},
+    {.type = RS_OPT_STR, .name = "output", .short_name = 'o', .arg = "FILE", .off = offsetof(T, out),
+     .help = "the picture (PNG): range image above, bird's-eye view below"},
+    RS_OPT_STR_("background", "MODEL", T, bg_path,
+                "subtract this static scene (roadscan-learn); without one every return is drawn grey by range"),
+    {.type = RS_OPT_CHOICE, .name = "cluster", .arg = "METHOD", .off = offsetof(T, method),
+     .choices = "none|fspc|fspc-adaptive|dbscan|ccl", .help = "clustering of the foreground"},
+    RS_OPT_STR_("labels", "FILE", T, labels_path,
+                "take the labels from a point-label file instead (roadscand --labels-out, roadscan-sim --labels: "
+                "any pipeline's, or the truth)"),
+    RS_OPT_DBL_("range", "M", T, half, 2.0, 500.0, "bird's-eye view half-width in metres"),
+    {.type = RS_OPT_MODEL, .name = "model", .arg = "NAME", .off = offsetof(T, model),
+     .def = "detected from the packets", .help = "force the sensor model"},
+};
+#undef T
+
+static const rs_opts_spec_t spec = {
+    .prog = "roadscan-render",
+    .summary = "draw one frame: its range image and a bird's-eye view, coloured by label",
+    .synopsis = "CAPTURE --frame N -o OUT.png [options]",
+    .about = "Colours: background grey (nearer is lighter), noise (foreground in no cluster) red, each cluster its "
+             "own colour, no return black.",
+    .epilog = "Exit status: 0 drawn, 1 a file could not be read or written, or no such frame, 2 bad usage.",
+    .opts = table,
+    .n = (int)(sizeof table / sizeof table[0]),
+};
 
 int main(int argc, char **argv) {
-  enum { O_FRAME = 256, O_BG, O_CLUSTER, O_RANGE, O_MODEL, O_LABELS, O_HELP };
-  static const struct option opts[] = {{"frame", required_argument, NULL, O_FRAME},
-                                       {"output", required_argument, NULL, 'o'},
-                                       {"background", required_argument, NULL, O_BG},
-                                       {"cluster", required_argument, NULL, O_CLUSTER},
-                                       {"range", required_argument, NULL, O_RANGE},
-                                       {"model", required_argument, NULL, O_MODEL},
-                                       {"labels", required_argument, NULL, O_LABELS},
-                                       {"help", no_argument, NULL, O_HELP},
-                                       {NULL, 0, NULL, 0}};
-  long frame_no = -1;
-  const char *out = NULL, *bg_path = NULL, *labels_path = NULL;
-  double half = 50.0;
+  st = (settings_t){.frame = -1, .method = RS_CLUSTER_FSPC_ADAPTIVE, .half = 50.0};
   char err[RS_ERRMSG_SIZE];
-  rs_cluster_cfg_t ccfg;
-  rs_cluster_cfg_default(&ccfg);
-  ccfg.method = RS_CLUSTER_FSPC_ADAPTIVE;
-  rs_stream_cfg_t scfg = {.log = NULL};
-  int c;
-  while ((c = getopt_long(argc, argv, "o:", opts, NULL)) != -1) {
-    switch (c) {
-    case O_FRAME:
-      if (rs_cfg_long("--frame", optarg, 0, 100000000L, &frame_no, err, sizeof err)) goto bad;
-      break;
-    case 'o': out = optarg; break;
-    case O_BG: bg_path = optarg; break;
-    case O_LABELS: labels_path = optarg; break;
-    case O_CLUSTER: {
-      int m = rs_cluster_method_from_name(optarg);
-      if (m < 0) {
-        snprintf(err, sizeof err, "--cluster: '%s' is not fspc, fspc-adaptive, dbscan, ccl or none", optarg);
-        goto bad;
-      }
-      ccfg.method = (rs_cluster_method_t)m;
-      break;
-    }
-    case O_RANGE:
-      if (rs_cfg_double("--range", optarg, 2.0, 500.0, &half, err, sizeof err)) goto bad;
-      break;
-    case O_MODEL:
-      if (rs_cfg_model("--model", optarg, &scfg.force_model, err, sizeof err)) goto bad;
-      break;
-    case O_HELP: usage(stdout); return 0;
-    default: usage(stderr); return 2;
-    }
-  }
-  if (optind + 1 != argc || frame_no < 0 || out == NULL) {
-    usage(stderr);
+  if (rs_opts_init(&opts, &spec, &st) != RS_OK) {
+    fprintf(stderr, "roadscan-render: %s\n", opts.err);
     return 2;
   }
+  int first;
+  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &first);
+  if (pr == RS_OPTS_EXIT) return 0;
+  if (pr == RS_OPTS_ERROR) {
+    snprintf(err, sizeof err, "%s", opts.err);
+    goto bad;
+  }
+  if (first + 1 != argc || st.frame < 0 || st.out == NULL) {
+    snprintf(err, sizeof err, "give one CAPTURE, --frame N and -o FILE (see --help)");
+    goto bad;
+  }
+  const long frame_no = st.frame;
+  const char *out = st.out, *bg_path = st.bg_path, *labels_path = st.labels_path;
+  const double half = st.half;
+  rs_cluster_cfg_t ccfg;
+  rs_cluster_cfg_default(&ccfg);
+  ccfg.method = (rs_cluster_method_t)st.method;
+  rs_stream_cfg_t scfg = {.log = NULL, .force_model = st.model};
   if (bg_path && labels_path) {
     snprintf(err, sizeof err, "--background and --labels exclude each other");
     goto bad;
   }
-  const char *capture = argv[optind];
+  const char *capture = argv[first];
   static rs_bg_model_t model;
   bool have_model = false;
   rs_asm_cfg_t acfg = {.default_hz = 10.0};
@@ -269,7 +267,9 @@ int main(int argc, char **argv) {
       }
     have_model = true; /* labels to draw */
   } else if (have_model) {
-    rs_bg_subtract(&model, &frame, &bc);
+    rs_bg_rules_t rules; /* the daemon's defaults */
+    rs_bg_rules_default(&rules);
+    rs_bg_subtract(&model, &rules, &frame, &bc);
     if (ccfg.method != RS_CLUSTER_NONE) {
       if (rs_cluster_init(&cluster, &ccfg, sensor) != RS_OK) {
         fprintf(stderr, "roadscan-render: bad clustering parameters\n");

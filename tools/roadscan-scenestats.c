@@ -7,11 +7,10 @@
  * most --max-frames) are measured (scenestats.h) and printed as one column
  * of a Markdown table. docs/simulator.md puts the real captures next to the
  * simulator's this way (scripts/sim-vs-real.sh). Single-threaded tool. */
-#include "roadscan/util/config.h"
+#include "roadscan/util/opts.h"
 #include "roadscan/frame/framer.h"
 #include "roadscan/offline/scenestats.h"
 
-#include <getopt.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -45,14 +44,6 @@ static void on_frame(void *user, rs_slot_t *s) {
     c->ready = true;
   }
   rs_sstats_add(&c->fr, s);
-}
-
-static void usage(FILE *out) {
-  fprintf(out, "usage: roadscan-scenestats CAPTURE[@FROM-TO] ... [--max-frames N] [--names A,B,...]\n"
-               "  CAPTURE@FROM-TO      complete frames FROM to TO only (1 = the first complete frame)\n"
-               "  --max-frames N       at most N frames of each capture (default 600)\n"
-               "  --names A,B,...      column names (default: the file names)\n"
-               "Prints a Markdown table: one column per capture (see docs/simulator.md).\n");
 }
 
 static void row(const char *name, const rs_sstats_t *st, int n, double (*get)(const rs_sstats_t *, int), int band,
@@ -107,36 +98,59 @@ static double g_flat_cm(const rs_sstats_t *s, int b) { return 100.0 * g_flat_sd(
 static double g_sd_cm(const rs_sstats_t *s, int b) { return 100.0 * g_noise_sd(s, b); }
 static double g_p99_cm(const rs_sstats_t *s, int b) { return 100.0 * g_dev_p99(s, b); }
 
+/* Everything the options set. */
+typedef struct {
+  int max_frames;
+  const char *names;
+} settings_t;
+static settings_t settings = {.max_frames = 600};
+static rs_opts_t opts;
+
+static const rs_opt_t table[] = {
+    RS_OPT_INT_("max-frames", "N", settings_t, max_frames, 2, 100000, "at most N frames of each capture"),
+    {.type = RS_OPT_STR, .name = "names", .arg = "A,B,...", .off = offsetof(settings_t, names),
+     .def = "the file names", .help = "column names"},
+};
+
+static const rs_opts_spec_t spec = {
+    .prog = "roadscan-scenestats",
+    .summary = "the static-scene statistics of captures, side by side",
+    .synopsis = "CAPTURE[@FROM-TO] ... [--max-frames N] [--names A,B,...]",
+    .about = "Each capture goes through the daemon's decoder and frame assembler; its complete frames FROM to TO "
+             "(CAPTURE@FROM-TO; 1 = the first complete frame; default all, at most --max-frames) are measured and "
+             "printed as one column of a Markdown table, up to 8 captures (docs/simulator.md puts the real "
+             "captures next to the simulator's this way).",
+    .epilog = "Exit status: 0 printed, 1 a capture could not be read, 2 bad usage.",
+    .opts = table,
+    .n = (int)(sizeof table / sizeof table[0]),
+};
+
 int main(int argc, char **argv) {
-  enum { O_MAX = 256, O_NAMES, O_HELP };
-  static const struct option opts[] = {{"max-frames", required_argument, NULL, O_MAX},
-                                       {"names", required_argument, NULL, O_NAMES},
-                                       {"help", no_argument, NULL, O_HELP},
-                                       {NULL, 0, NULL, 0}};
-  long max_frames = 600;
-  char *names = NULL, err[RS_ERRMSG_SIZE];
-  int c;
-  while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
-    switch (c) {
-    case O_MAX:
-      if (rs_cfg_long("--max-frames", optarg, 2, 100000, &max_frames, err, sizeof err)) goto bad;
-      break;
-    case O_NAMES: names = optarg; break;
-    case O_HELP: usage(stdout); return 0;
-    default: usage(stderr); return 2;
-    }
-  }
-  const int n = argc - optind;
-  if (n < 1 || n > MAX_INPUTS) {
-    usage(stderr);
+  char err[RS_ERRMSG_SIZE], names[1024] = "";
+  if (rs_opts_init(&opts, &spec, &settings) != RS_OK) {
+    fprintf(stderr, "roadscan-scenestats: %s\n", opts.err);
     return 2;
+  }
+  int optind_ = 0;
+  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &optind_);
+  if (pr == RS_OPTS_EXIT) return 0;
+  if (pr == RS_OPTS_ERROR) {
+    snprintf(err, sizeof err, "%s", opts.err);
+    goto bad;
+  }
+  const long max_frames = settings.max_frames;
+  if (settings.names) snprintf(names, sizeof names, "%s", settings.names);
+  const int n = argc - optind_;
+  if (n < 1 || n > MAX_INPUTS) {
+    snprintf(err, sizeof err, "give 1 to %d captures (see --help)", MAX_INPUTS);
+    goto bad;
   }
   static rs_sstats_t st[MAX_INPUTS];
   const char *label[MAX_INPUTS];
-  char *save = NULL, *tok = names ? strtok_r(names, ",", &save) : NULL;
+  char *save = NULL, *tok = names[0] ? strtok_r(names, ",", &save) : NULL;
   for (int i = 0; i < n; i++) {
     char path[1024];
-    snprintf(path, sizeof path, "%s", argv[optind + i]);
+    snprintf(path, sizeof path, "%s", argv[optind_ + i]);
     static collect_t col;
     memset(&col, 0, sizeof col);
     col.from = 1;
@@ -153,7 +167,7 @@ int main(int argc, char **argv) {
       }
       if (col.to && col.to - col.from + 1 < col.max_frames) col.max_frames = (int)(col.to - col.from + 1);
     }
-    label[i] = tok ? tok : argv[optind + i];
+    label[i] = tok ? tok : argv[optind_ + i];
     tok = tok ? strtok_r(NULL, ",", &save) : NULL;
     rs_stream_cfg_t scfg = {.log = NULL};
     rs_asm_cfg_t acfg = {.default_hz = 10.0};

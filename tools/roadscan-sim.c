@@ -5,7 +5,7 @@
  * Single-threaded tool. The firing timing, block layout and azimuths are
  * those the decoder reads back (round-trip tested); every ray is cast
  * through the scene at the true azimuth of its firing. */
-#include "roadscan/util/config.h"
+#include "roadscan/util/opts.h"
 #include "roadscan/util/error.h"
 #include "roadscan/output/labels.h"
 #include "roadscan/capture/net.h"
@@ -14,8 +14,6 @@
 #include "roadscan/sim/scene.h"
 #include "roadscan/util/timing.h"
 
-#include <getopt.h>
-#include <ini.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -27,148 +25,136 @@ static rs_encode_t enc;
 static uint8_t payload[RS_PAYLOAD_SIZE];
 static uint32_t turn_points[MAX_TURNS];
 
-typedef struct {
-  rs_scene_cfg_t *cfg;
-  char err[RS_ERRMSG_SIZE];
-  int line;
-} ini_ctx_t;
-
-static int on_ini(void *user, const char *section, const char *name, const char *value) {
-  ini_ctx_t *c = user;
-  (void)section;
-  char e[RS_ERRMSG_SIZE];
-  if (rs_scene_set(c->cfg, name, value, e, sizeof e) != RS_OK) {
-    snprintf(c->err, sizeof c->err, "%s", e);
-    return 0;
-  }
-  return 1;
-}
-
 static int cmp_u32(const void *a, const void *b) {
   uint32_t x = *(const uint32_t *)a, y = *(const uint32_t *)b;
   return (x > y) - (x < y);
 }
 
-static void usage(FILE *out) {
-  fprintf(out,
-          "usage: roadscan-sim --sensor NAME -o OUT.pcap --labels OUT.csv [options]\n"
-          "  --sensor NAME          %s (default VLP-32C)\n"
-          "  --scenario NAME        light, rush, far, storm (default light)\n"
-          "  --scenario-file FILE   key = value lines overriding the preset (INI)\n"
-          "  --set KEY=VALUE        one scene knob (repeatable); keys:\n"
-          "                         %s\n"
-          "  --seconds S            capture length (default 10)\n"
-          "  --hz HZ                rotation rate: 5, 10 or 20 (default 10)\n"
-          "  --return-mode MODE     strongest, last or dual (default strongest)\n"
-          "  --seed N               random seed (default 1)\n"
-          "  --start-time T         capture time of the first packet, s since 1970 (default 1700000000)\n"
-          "  -o, --output FILE      the capture (pcap, Ethernet)\n"
-          "  --labels FILE          ground truth: labels 2 (foliage, spurious) and 3+ (object ids)\n"
-          "  --truth-states FILE    every road user's true state at the start of every turn (CSV t,id,class,\n"
-          "                         x,y,vx,vy,heading,length,width,height; sensor frame, capture time)\n",
-          rs_model_names(), rs_scene_keys());
+#define MAX_SETS 64
+typedef struct {
+  rs_model_t model;
+  const char *scenario, *sfile, *out, *labels, *states_path;
+  char sets[MAX_SETS][128]; /* --set KEY=VALUE, applied after the preset and the scenario file */
+  int nsets;
+  double seconds, t0;
+  int hz_i, mode_i, seed;
+} settings_t;
+static settings_t st;
+static rs_opts_t opts;
+static const double hz_of[] = {5.0, 10.0, 20.0};
+static const uint8_t mode_of[] = {RS_MODE_STRONGEST, RS_MODE_LAST, RS_MODE_DUAL};
+
+static int check_scenario(void *t, const char *key, const char *v, char *err, size_t n) {
+  (void)t;
+  rs_scene_cfg_t c;
+  if (rs_scene_preset(v, &c)) return RS_OK;
+  snprintf(err, n, "%s: unknown scenario '%s' (light, rush, far, storm)", key, v);
+  return RS_E_INVAL;
 }
 
-int main(int argc, char **argv) {
-  enum { O_SENSOR = 256, O_SCEN, O_SFILE, O_SET, O_SECONDS, O_HZ, O_MODE, O_SEED, O_LABELS, O_START, O_STATES, O_HELP };
-  static const struct option opts[] = {
-      {"sensor", required_argument, NULL, O_SENSOR},      {"model", required_argument, NULL, O_SENSOR},
-      {"scenario", required_argument, NULL, O_SCEN},      {"scenario-file", required_argument, NULL, O_SFILE},
-      {"set", required_argument, NULL, O_SET},            {"seconds", required_argument, NULL, O_SECONDS},
-      {"hz", required_argument, NULL, O_HZ},              {"return-mode", required_argument, NULL, O_MODE},
-      {"seed", required_argument, NULL, O_SEED},          {"output", required_argument, NULL, 'o'},
-      {"labels", required_argument, NULL, O_LABELS},      {"start-time", required_argument, NULL, O_START},
-      {"truth-states", required_argument, NULL, O_STATES}, {"help", no_argument, NULL, O_HELP},
-      {NULL, 0, NULL, 0}};
-  rs_model_t model = RS_MODEL_VLP32C;
-  const char *scenario = "light", *sfile = NULL, *out = NULL, *labels = NULL, *states_path = NULL;
-  const char *sets[64];
-  int nsets = 0;
-  double seconds = 10.0, hz = 10.0, t0 = 1700000000.0;
-  long seed = 1;
-  uint8_t mode = RS_MODE_STRONGEST;
-  char err[RS_ERRMSG_SIZE];
-  int c;
-  while ((c = getopt_long(argc, argv, "o:", opts, NULL)) != -1) {
-    switch (c) {
-    case O_SENSOR:
-      if (rs_cfg_model("--sensor", optarg, &model, err, sizeof err)) goto bad;
-      break;
-    case O_SCEN: scenario = optarg; break;
-    case O_SFILE: sfile = optarg; break;
-    case O_SET:
-      if (nsets == 64) {
-        snprintf(err, sizeof err, "--set: at most 64");
-        goto bad;
-      }
-      sets[nsets++] = optarg;
-      break;
-    case O_SECONDS:
-      if (rs_cfg_double("--seconds", optarg, 0.1, 7200.0, &seconds, err, sizeof err)) goto bad;
-      break;
-    case O_HZ:
-      if (rs_cfg_double("--hz", optarg, 5.0, 20.0, &hz, err, sizeof err)) goto bad;
-      if (hz != 5.0 && hz != 10.0 && hz != 20.0) {
-        snprintf(err, sizeof err, "--hz: %s is not 5, 10 or 20", optarg);
-        goto bad;
-      }
-      break;
-    case O_MODE:
-      if (strcmp(optarg, "strongest") == 0) mode = RS_MODE_STRONGEST;
-      else if (strcmp(optarg, "last") == 0) mode = RS_MODE_LAST;
-      else if (strcmp(optarg, "dual") == 0) mode = RS_MODE_DUAL;
-      else {
-        snprintf(err, sizeof err, "--return-mode: '%s' is not strongest, last or dual", optarg);
-        goto bad;
-      }
-      break;
-    case O_SEED:
-      if (rs_cfg_long("--seed", optarg, 0, 2147483647L, &seed, err, sizeof err)) goto bad;
-      break;
-    case O_START:
-      if (rs_cfg_double("--start-time", optarg, 0.0, 4e9, &t0, err, sizeof err)) goto bad;
-      break;
-    case 'o': out = optarg; break;
-    case O_LABELS: labels = optarg; break;
-    case O_STATES: states_path = optarg; break;
-    case O_HELP: usage(stdout); return 0;
-    default: usage(stderr); return 2;
-    }
+static int add_set(void *t, const char *key, const char *v, char *err, size_t n) {
+  settings_t *s = (settings_t *)(void *)((char *)t - offsetof(settings_t, sets));
+  const char *eq = strchr(v, '=');
+  if (eq == NULL || eq == v || strlen(v) >= sizeof s->sets[0]) {
+    snprintf(err, n, "%s: '%s' is not KEY=VALUE", key, v);
+    return RS_E_INVAL;
   }
-  if (optind < argc) {
-    snprintf(err, sizeof err, "unexpected argument '%s'", argv[optind]);
+  if (s->nsets == MAX_SETS) {
+    snprintf(err, n, "%s: at most %d", key, MAX_SETS);
+    return RS_E_INVAL;
+  }
+  snprintf(s->sets[s->nsets++], sizeof s->sets[0], "%s", v);
+  return RS_OK;
+}
+
+#define T settings_t
+static const rs_opt_t table[] = {
+    {.type = RS_OPT_MODEL, .name = "sensor", .arg = "NAME", .off = offsetof(T, model), .help = "the sensor"},
+    {.type = RS_OPT_MODEL, .name = "model", .arg = "NAME", .off = offsetof(T, model), .flags = RS_OPT_NODEF,
+     .help = "the same as --sensor"},
+    {.type = RS_OPT_STR, .name = "scenario", .arg = "NAME", .off = offsetof(T, scenario), .fn = check_scenario,
+     .help = "light, rush, far or storm (docs/simulator.md)"},
+    RS_OPT_STR_("scenario-file", "FILE", T, sfile, "KEY = VALUE lines (the --set keys) overriding the preset"),
+    {.type = RS_OPT_FUNC, .name = "set", .arg = "KEY=VALUE", .off = offsetof(T, sets), .fn = add_set,
+     .flags = RS_OPT_REPEAT, .help = "one scene knob, after the scenario file (the keys are listed above)"},
+    RS_OPT_DBL_("seconds", "S", T, seconds, 0.1, 7200.0, "capture length"),
+    {.type = RS_OPT_CHOICE, .name = "hz", .arg = "HZ", .off = offsetof(T, hz_i), .choices = "5|10|20",
+     .help = "rotation rate"},
+    {.type = RS_OPT_CHOICE, .name = "return-mode", .arg = "MODE", .off = offsetof(T, mode_i),
+     .choices = "strongest|last|dual", .help = "which returns the sensor reports"},
+    RS_OPT_INT_("seed", "N", T, seed, 0, 2147483647.0, "random seed (the traffic; the site has site_seed)"),
+    RS_OPT_DBL_("start-time", "T", T, t0, 0.0, 4e9, "capture time of the first packet, s since 1970"),
+    {.type = RS_OPT_STR, .name = "output", .short_name = 'o', .arg = "FILE", .off = offsetof(T, out),
+     .help = "the capture (pcap, Ethernet)"},
+    RS_OPT_STR_("labels", "FILE", T, labels, "ground truth: labels 2 (foliage, spurious) and 3+ (object ids)"),
+    RS_OPT_STR_("truth-states", "FILE", T, states_path,
+                "every road user's true state at the start of every turn (CSV t,id,class,x,y,vx,vy,heading,"
+                "length,width,height; sensor frame, capture time)"),
+};
+#undef T
+
+int main(int argc, char **argv) {
+  st = (settings_t){.model = RS_MODEL_VLP32C, .scenario = "light", .seconds = 10.0, .t0 = 1700000000.0,
+                    .hz_i = 1, .mode_i = 0, .seed = 1};
+  int nk;
+  const rs_opt_t *knobs = rs_scene_knobs(&nk);
+  char keys[1024], about[1400];
+  rs_opt_names(knobs, nk, keys, sizeof keys);
+  snprintf(about, sizeof about,
+           "Deterministic for a given --seed. The firing timing, block layout and azimuths are those the decoder "
+           "reads back; every ray is cast through the scene at the true azimuth of its firing.\n\nScene knobs "
+           "(--set, --scenario-file): %s.",
+           keys);
+  const rs_opts_spec_t spec = {
+      .prog = "roadscan-sim",
+      .summary = "a signalised intersection seen by a roadside Velodyne: a pcap of genuine sensor packets and "
+                 "the per-point ground truth",
+      .synopsis = "--sensor NAME -o OUT.pcap --labels OUT.csv [options]",
+      .about = about,
+      .epilog = "Exit status: 0 written, 1 cannot write or read a file, 2 bad usage.",
+      .opts = table,
+      .n = (int)(sizeof table / sizeof table[0]),
+  };
+  char err[RS_ERRMSG_SIZE];
+  if (rs_opts_init(&opts, &spec, &st) != RS_OK) {
+    fprintf(stderr, "roadscan-sim: %s\n", opts.err);
+    return 2;
+  }
+  int first;
+  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &first);
+  if (pr == RS_OPTS_EXIT) return 0;
+  if (pr == RS_OPTS_ERROR) {
+    snprintf(err, sizeof err, "%s", opts.err);
     goto bad;
   }
-  if (out == NULL || labels == NULL) {
+  if (first < argc) {
+    snprintf(err, sizeof err, "unexpected argument '%s'", argv[first]);
+    goto bad;
+  }
+  if (st.out == NULL || st.labels == NULL) {
     snprintf(err, sizeof err, "-o OUT.pcap and --labels OUT.csv are required");
     goto bad;
   }
+  const rs_model_t model = st.model;
+  const char *scenario = st.scenario, *out = st.out, *labels = st.labels, *states_path = st.states_path;
+  const double seconds = st.seconds, hz = hz_of[st.hz_i], t0 = st.t0;
+  const long seed = st.seed;
+  const uint8_t mode = mode_of[st.mode_i];
   rs_scene_cfg_t scfg;
-  if (!rs_scene_preset(scenario, &scfg)) {
-    snprintf(err, sizeof err, "--scenario: unknown scenario '%s' (light, rush, far, storm)", scenario);
-    goto bad;
-  }
-  if (sfile) {
-    ini_ctx_t ctx = {.cfg = &scfg};
-    int rc = ini_parse(sfile, on_ini, &ctx);
-    if (rc < 0) {
-      fprintf(stderr, "roadscan-sim: --scenario-file %s: cannot read\n", sfile);
-      return 1;
-    }
-    if (rc > 0) {
-      fprintf(stderr, "roadscan-sim: %s:%d: %s\n", sfile, rc, ctx.err[0] ? ctx.err : "syntax error");
+  rs_scene_preset(scenario, &scfg);
+  if (st.sfile) {
+    /* the scenario file: the scene knobs as keys, outside any section */
+    static rs_opts_t sopts;
+    const rs_opts_spec_t sspec = {.prog = "--scenario-file", .summary = "scene knobs", .opts = knobs, .n = nk};
+    if (rs_opts_init(&sopts, &sspec, &scfg) != RS_OK || rs_opts_read_file(&sopts, st.sfile) != RS_OK) {
+      fprintf(stderr, "roadscan-sim: %s\n", sopts.err);
       return 1;
     }
   }
-  for (int i = 0; i < nsets; i++) {
-    char key[64];
-    const char *eq = strchr(sets[i], '=');
-    if (eq == NULL || eq == sets[i] || (size_t)(eq - sets[i]) >= sizeof key) {
-      snprintf(err, sizeof err, "--set: '%s' is not KEY=VALUE", sets[i]);
-      goto bad;
-    }
-    memcpy(key, sets[i], (size_t)(eq - sets[i]));
-    key[eq - sets[i]] = '\0';
+  for (int i = 0; i < st.nsets; i++) {
+    char key[128];
+    const char *eq = strchr(st.sets[i], '=');
+    snprintf(key, sizeof key, "%.*s", (int)(eq - st.sets[i]), st.sets[i]);
     char e[RS_ERRMSG_SIZE / 2];
     if (rs_scene_set(&scfg, key, eq + 1, e, sizeof e) != RS_OK) {
       snprintf(err, sizeof err, "--set: %s", e);
@@ -212,9 +198,9 @@ int main(int argc, char **argv) {
     fprintf(states, "t,id,class,x,y,vx,vy,heading,length,width,height\n");
   }
 
-  const bool dual = mode == RS_MODE_DUAL, vls = mi->blocks_per_cycle > 1;
-  const int nb = vls && dual ? 8 : RS_BLOCKS;
-  const int groups = vls ? (dual ? 1 : 3) : (dual ? 6 : 12);
+  const bool dual = mode == RS_MODE_DUAL;
+  const int nb = rs_layout_blocks(mi, dual);
+  const int groups = rs_layout_groups(mi, dual);
   const double group_us = rs_model_group_us(mi), packet_us = groups * group_us;
   const double deg_per_us = hz * 360.0 / 1e6;
   const uint64_t npackets = (uint64_t)(seconds * 1e6 / packet_us);
@@ -260,11 +246,11 @@ int main(int argc, char **argv) {
     enc.mode_byte = mode;
     enc.timestamp_us = (uint32_t)fmod(t0 * 1e6 + t_pkt, 3600e6);
     for (int b = 0; b < RS_BLOCKS; b++) {
-      int g = vls ? (dual ? 0 : b / 4) : (dual ? b / 2 : b);
+      const int g = rs_layout_group(mi, dual, b < nb ? b : nb - 1);
       double azg = az0 + rate * g * group_us;
       enc.block_azimuth[b] = (uint16_t)((long)llround(fmod(azg, 360.0) * 100.0) % 36000);
       if (b >= nb) continue;
-      int bank = vls ? rs_vls128_bank_of_block(b, dual) : 0;
+      const int bank = rs_layout_bank(mi, dual, b);
       bool odd = dual && (b % 2 == 1);
       if (!odd) {
         for (int ch = 0; ch < RS_RECORDS; ch++) {

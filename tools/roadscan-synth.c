@@ -1,57 +1,69 @@
 /* roadscan-synth - write a synthetic Velodyne capture (a sensor 2 m above
  * flat ground inside an irregular round wall), for trying the tools without
  * a sensor. No ground truth: that is the scene simulator's job. */
-#include "roadscan/util/config.h"
+#include "roadscan/util/opts.h"
 #include "roadscan/util/error.h"
 #include "roadscan/capture/net.h"
 #include "roadscan/sim/synth.h"
 
-#include <getopt.h>
 #include <stdio.h>
 #include <string.h>
 
+/* Everything the options set. */
+typedef struct {
+  rs_synth_cfg_t cfg;
+  const char *out;
+  int mode_i;
+} settings_t;
+static settings_t st;
+static rs_opts_t opts;
+static const uint8_t mode_of[] = {RS_MODE_STRONGEST, RS_MODE_LAST, RS_MODE_DUAL};
+
+#define T settings_t
+static const rs_opt_t table[] = {
+    {.type = RS_OPT_STR, .name = "output", .short_name = 'o', .arg = "FILE", .off = offsetof(T, out),
+     .help = "the capture (pcap, Ethernet)"},
+    {.type = RS_OPT_MODEL, .name = "model", .arg = "NAME", .off = offsetof(T, cfg.model), .help = "the sensor"},
+    RS_OPT_DBL_("seconds", "S", T, cfg.seconds, 0.01, 3600.0, "capture length"),
+    RS_OPT_DBL_("hz", "HZ", T, cfg.hz, 5.0, 20.0, "rotation rate"),
+    {.type = RS_OPT_CHOICE, .name = "mode", .arg = "MODE", .off = offsetof(T, mode_i),
+     .choices = "strongest|last|dual", .help = "return mode"},
+};
+#undef T
+
+static const rs_opts_spec_t spec = {
+    .prog = "roadscan-synth",
+    .summary = "write a synthetic Velodyne capture, for trying the tools without a sensor",
+    .synopsis = "-o OUT.pcap [--model NAME] [--seconds S] [--hz HZ] [--mode MODE]",
+    .about = "A sensor 2 m above flat ground inside an irregular round wall, with position packets. No ground "
+             "truth: roadscan-sim writes captures of a simulated intersection with their truth.",
+    .epilog = "Exit status: 0 written, 1 cannot write, 2 bad usage.",
+    .opts = table,
+    .n = (int)(sizeof table / sizeof table[0]),
+};
+
 int main(int argc, char **argv) {
-  enum { O_MODEL = 256, O_SECONDS, O_HZ, O_MODE, O_HELP };
-  static const struct option opts[] = {{"output", required_argument, NULL, 'o'},
-                                       {"model", required_argument, NULL, O_MODEL},
-                                       {"seconds", required_argument, NULL, O_SECONDS},
-                                       {"hz", required_argument, NULL, O_HZ},
-                                       {"mode", required_argument, NULL, O_MODE},
-                                       {"help", no_argument, NULL, O_HELP},
-                                       {NULL, 0, NULL, 0}};
-  rs_synth_cfg_t cfg = {.model = RS_MODEL_VLP16, .mode = RS_MODE_STRONGEST, .hz = 10.0, .seconds = 2.0,
-                        .t0 = 1700000000.0, .linktype = RS_LINK_ETHERNET, .position_every = 50};
-  const char *out = NULL;
+  st.cfg = (rs_synth_cfg_t){.model = RS_MODEL_VLP16, .mode = RS_MODE_STRONGEST, .hz = 10.0, .seconds = 2.0,
+                            .t0 = 1700000000.0, .linktype = RS_LINK_ETHERNET, .position_every = 50};
   char err[RS_ERRMSG_SIZE];
-  int c;
-  while ((c = getopt_long(argc, argv, "o:", opts, NULL)) != -1) {
-    switch (c) {
-    case 'o': out = optarg; break;
-    case O_MODEL:
-      if (rs_cfg_model("--model", optarg, &cfg.model, err, sizeof err)) goto bad;
-      break;
-    case O_SECONDS:
-      if (rs_cfg_double("--seconds", optarg, 0.01, 3600.0, &cfg.seconds, err, sizeof err)) goto bad;
-      break;
-    case O_HZ:
-      if (rs_cfg_double("--hz", optarg, 5.0, 20.0, &cfg.hz, err, sizeof err)) goto bad;
-      break;
-    case O_MODE:
-      if (strcmp(optarg, "strongest") == 0) cfg.mode = RS_MODE_STRONGEST;
-      else if (strcmp(optarg, "last") == 0) cfg.mode = RS_MODE_LAST;
-      else if (strcmp(optarg, "dual") == 0) cfg.mode = RS_MODE_DUAL;
-      else {
-        snprintf(err, sizeof err, "--mode: '%s' is not strongest, last or dual", optarg);
-        goto bad;
-      }
-      break;
-    case O_HELP:
-      printf("usage: roadscan-synth -o OUT.pcap [--model NAME] [--seconds S] [--hz HZ] [--mode strongest|last|dual]\n"
-             "models: %s\n", rs_model_names());
-      return 0;
-    default: return 2;
-    }
+  if (rs_opts_init(&opts, &spec, &st) != RS_OK) {
+    fprintf(stderr, "roadscan-synth: %s\n", opts.err);
+    return 2;
   }
+  int first;
+  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &first);
+  if (pr == RS_OPTS_EXIT) return 0;
+  if (pr == RS_OPTS_ERROR) {
+    snprintf(err, sizeof err, "%s", opts.err);
+    goto bad;
+  }
+  if (first < argc) {
+    snprintf(err, sizeof err, "unexpected argument '%s'", argv[first]);
+    goto bad;
+  }
+  const char *out = st.out;
+  rs_synth_cfg_t cfg = st.cfg;
+  cfg.mode = mode_of[st.mode_i];
   if (out == NULL) {
     snprintf(err, sizeof err, "-o OUT.pcap is required");
     goto bad;

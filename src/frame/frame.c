@@ -205,6 +205,7 @@ rs_asm_result_t rs_asm_feed(rs_asm_t *a, rs_slot_t *slot, const rs_packet_t *pkt
   const bool resuming = a->resume_block >= 0;
   bool behind = false;
   if (!resuming) {
+    for (int b = 0; b < RS_BLOCKS; b++) a->block_seq[b] = RS_ASM_DROPPED;
     if (seen_before(a, pkt)) {
       slot->meta.duplicates++;
       a->duplicates++;
@@ -272,6 +273,7 @@ rs_asm_result_t rs_asm_feed(rs_asm_t *a, rs_slot_t *slot, const rs_packet_t *pkt
       a->missing_packets += a->pending_missing;
       a->pending_missing = 0;
     }
+    a->block_seq[b] = slot->meta.seq;
     while (pi < pkt->n_points && pkt->points[pi].block == b) write_point(a, slot, &pkt->points[pi++], index);
   }
   a->counted_packet = false;

@@ -58,10 +58,10 @@ int rs_bg_model_alloc(rs_bg_model_t *m, rs_model_t model, int rows, int cols) {
     return RS_E_NOMEM;
   }
   rs_bg_params_default(&m->params);
-  m->see_through = RS_BG_SEE_THROUGH;
-  m->beyond_static = true;
   return RS_OK;
 }
+
+void rs_bg_rules_default(rs_bg_rules_t *r) { *r = (rs_bg_rules_t){.see_through = RS_BG_SEE_THROUGH, .beyond_static = true}; }
 
 void rs_bg_model_free(rs_bg_model_t *m) {
   free(m->n);
@@ -99,13 +99,14 @@ static bool match_beside(const rs_bg_model_t *m, int row, int col, uint32_t cm, 
 }
 
 /* one return: background? (*beyond: it lies beyond the cell's farthest surface) */
-static bool classify(const rs_bg_model_t *m, int r, int col, uint32_t cell, uint32_t cm, bool *beyond) {
+static bool classify(const rs_bg_model_t *m, const rs_bg_rules_t *rules, int r, int col, uint32_t cell, uint32_t cm,
+                     bool *beyond) {
   *beyond = false;
   /* a cell the sensor sees through matches the surfaces beside it; a cell
    * with none learned (too few returns) those of a cell beside it whose
    * farthest surface is seen in half the frames or more (not a queue taken
    * for the scene where the road is out of reach) */
-  const int see = m->see_through;
+  const int see = rules->see_through;
   if (match(m, cell, cm) ||
       (see > 0 && (m->n[cell] >= see || m->n[cell] == 0) && match_beside(m, r, col, cm, m->n[cell] == 0 ? 50 : 0)))
     return true;
@@ -119,17 +120,17 @@ static bool classify(const rs_bg_model_t *m, int r, int col, uint32_t cell, uint
   const uint32_t far = m->hi[cell * RS_BG_SURFACES + nk - 1];
   if (far == BEYOND || cm <= far) return false;
   *beyond = true;
-  return m->beyond_static && (m->far_seen[cell] >= RS_BG_SOLID_PCT || cm - far <= (far < 1000u ? 30u : far * 3u / 100u));
+  return rules->beyond_static && (m->far_seen[cell] >= RS_BG_SOLID_PCT || cm - far <= (far < 1000u ? 30u : far * 3u / 100u));
 }
 
-bool rs_bg_return_static(const rs_bg_model_t *m, int row, int col, float r, bool *beyond) {
+bool rs_bg_return_static(const rs_bg_model_t *m, const rs_bg_rules_t *rules, int row, int col, float r, bool *beyond) {
   bool b;
-  bool st = classify(m, row, col, (uint32_t)row * m->cols + (uint32_t)col, to_cm(r), &b);
+  bool st = classify(m, rules, row, col, (uint32_t)row * m->cols + (uint32_t)col, to_cm(r), &b);
   if (beyond) *beyond = b;
   return st;
 }
 
-void rs_bg_subtract(const rs_bg_model_t *m, rs_slot_t *s, rs_bg_counts_t *c) {
+void rs_bg_subtract(const rs_bg_model_t *m, const rs_bg_rules_t *rules, rs_slot_t *s, rs_bg_counts_t *c) {
   const int rows = s->meta.rows, cols = s->meta.cols;
   for (int l = 0; l < RS_LAYERS; l++)
     for (int r = 0; r < rows; r++) {
@@ -139,7 +140,7 @@ void rs_bg_subtract(const rs_bg_model_t *m, rs_slot_t *s, rs_bg_counts_t *c) {
         if (range == 0.0f) continue;
         const uint32_t cell = (uint32_t)r * (uint32_t)cols + (uint32_t)col;
         bool beyond;
-        const bool st = classify(m, r, col, cell, to_cm(range), &beyond);
+        const bool st = classify(m, rules, r, col, cell, to_cm(range), &beyond);
         if (beyond) {
           if (c->beyond_cells) c->beyond_cells[cell]++;
           c->beyond++;
@@ -159,8 +160,6 @@ int rs_bg_model_copy(rs_bg_model_t *dst, const rs_bg_model_t *src) {
   dst->params = src->params;
   dst->frames = src->frames;
   dst->created = src->created;
-  dst->see_through = src->see_through;
-  dst->beyond_static = src->beyond_static;
   memcpy(dst->n, src->n, cells);
   memcpy(dst->far_seen, src->far_seen, cells);
   memcpy(dst->lo, src->lo, cells * RS_BG_SURFACES * sizeof *dst->lo);

@@ -24,16 +24,10 @@ void rs_bgu_cfg_default(rs_bgu_cfg_t *c) {
   c->every_s = 60.0;
   c->frames = 600;
   rs_bg_params_default(&c->params);
-  c->see_through = RS_BG_SEE_THROUGH;
-  c->beyond_static = true;
+  rs_bg_rules_default(&c->rules);
 }
 
-static void settings(const rs_bgu_t *u, rs_bg_model_t *m) {
-  m->see_through = u->cfg.see_through;
-  m->beyond_static = u->cfg.beyond_static;
-}
-
-double rs_bgu_explained(const rs_bg_model_t *m, const rs_bg_learner_t *l) {
+double rs_bgu_explained(const rs_bg_model_t *m, const rs_bg_rules_t *rules, const rs_bg_learner_t *l) {
   if (m->rows != l->rows || m->cols != l->cols) return 0.0;
   uint64_t all = 0, bg = 0;
   for (int r = 0; r < l->rows; r++)
@@ -42,7 +36,7 @@ double rs_bgu_explained(const rs_bg_model_t *m, const rs_bg_learner_t *l) {
       for (int f = 0; f < l->nframes; f++) {
         if (x[f] == 0) continue;
         all++;
-        bg += rs_bg_return_static(m, r, c, (float)x[f] / 100.0f, NULL);
+        bg += rs_bg_return_static(m, rules, r, c, (float)x[f] / 100.0f, NULL);
       }
     }
   return all ? (double)bg / (double)all : 1.0;
@@ -71,7 +65,6 @@ static void learn_once(rs_bgu_t *u) {
     return;
   }
   u->have[spare] = true;
-  settings(u, &u->models[spare]);
   if (u->active < 0) {
     /* the first model: saved here, off the processing thread */
     char err[RS_ERRMSG_SIZE];
@@ -82,7 +75,8 @@ static void learn_once(rs_bgu_t *u) {
     return;
   }
   const rs_bg_model_t *cur = &u->models[u->active], *cand = &u->models[spare];
-  const double e_cur = rs_bgu_explained(cur, &u->store), e_cand = rs_bgu_explained(cand, &u->store);
+  const double e_cur = rs_bgu_explained(cur, &u->cfg.rules, &u->store),
+               e_cand = rs_bgu_explained(cand, &u->cfg.rules, &u->store);
   const size_t s_cur = cells_with_surfaces(cur), s_cand = cells_with_surfaces(cand);
   if (e_cand < e_cur - 0.001)
     snprintf(u->reason, sizeof u->reason, "it explains %.2f %% of the recent returns, the model in use %.2f %%",
@@ -145,7 +139,6 @@ int rs_bgu_init(rs_bgu_t *u, const rs_bgu_cfg_t *cfg, const rs_bg_model_t *initi
   if (initial) {
     int rc = rs_bg_model_copy(&u->models[0], initial);
     if (rc != RS_OK) return rc;
-    settings(u, &u->models[0]);
     u->have[0] = true;
     u->active = 0;
     u->initial_frames = initial->frames;

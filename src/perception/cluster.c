@@ -13,26 +13,56 @@
 void rs_cluster_cfg_default(rs_cluster_cfg_t *c) {
   memset(c, 0, sizeof *c);
   c->method = RS_CLUSTER_FSPC;
-  c->win_h = 5;
-  c->win_w = 11;
-  c->eps = 1.8f;
-  c->min_pts = 15;
-  c->obj_w = 0.5f;
-  c->obj_h = 0.8f;
-  c->adapt_share = 0.2f;
-  c->adapt_min_pts = 3;
-  c->adapt_sparse_cells = 3.0f;
-  c->adapt_sparse_min_pts = 2;
-  c->adapt_min_half_w = 2;
-  c->adapt_eps_share = 0.03f;
-  c->adapt_eps_rows = 1.0f;
-  c->adapt_eps_min = 0.5f;
-  c->adapt_eps_max = 2.5f;
-  c->adapt_border_eps = 2.0f;
-  c->adapt_seed_surfaces = 3;
-  c->dbscan_eps = 1.2f;
-  c->dbscan_min_pts = 15;
-  c->ccl_eps = 1.0f;
+  c->fspc = (rs_fspc_cfg_t){.win_h = 5, .win_w = 11, .eps = 1.8f, .min_pts = 15};
+  c->adaptive = (rs_fspc_adaptive_cfg_t){.win_h = 5,
+                                         .win_w = 11,
+                                         .max_min_pts = 15,
+                                         .obj_w = 0.5f,
+                                         .obj_h = 0.8f,
+                                         .share = 0.2f,
+                                         .min_pts = 3,
+                                         .sparse_cells = 3.0f,
+                                         .sparse_min_pts = 2,
+                                         .min_half_w = 2,
+                                         .eps_share = 0.03f,
+                                         .eps_rows = 1.0f,
+                                         .eps_min = 0.5f,
+                                         .eps_max = 2.5f,
+                                         .border_eps = 2.0f,
+                                         .seed_surfaces = 3};
+  c->dbscan = (rs_dbscan_cfg_t){.eps = 1.2f, .min_pts = 15};
+  c->ccl = (rs_ccl_cfg_t){.eps = 1.0f};
+}
+
+bool rs_cluster_cfg_set_eps(rs_cluster_cfg_t *c, float eps) {
+  switch (c->method) {
+  case RS_CLUSTER_FSPC: c->fspc.eps = eps; return true;
+  case RS_CLUSTER_FSPC_ADAPTIVE: c->adaptive.eps_max = eps; return true;
+  case RS_CLUSTER_DBSCAN: c->dbscan.eps = eps; return true;
+  case RS_CLUSTER_CCL: c->ccl.eps = eps; return true;
+  default: return false;
+  }
+}
+
+bool rs_cluster_cfg_set_min_pts(rs_cluster_cfg_t *c, int min_pts) {
+  switch (c->method) {
+  case RS_CLUSTER_FSPC: c->fspc.min_pts = min_pts; return true;
+  case RS_CLUSTER_FSPC_ADAPTIVE: c->adaptive.max_min_pts = min_pts; return true;
+  case RS_CLUSTER_DBSCAN: c->dbscan.min_pts = min_pts; return true;
+  default: return false;
+  }
+}
+
+bool rs_cluster_cfg_set_window(rs_cluster_cfg_t *c, int h, int w) {
+  switch (c->method) {
+  case RS_CLUSTER_FSPC: c->fspc.win_h = h, c->fspc.win_w = w; return true;
+  case RS_CLUSTER_FSPC_ADAPTIVE: c->adaptive.win_h = h, c->adaptive.win_w = w; return true;
+  default: return false;
+  }
+}
+
+static bool window_ok(int h, int w) {
+  return h >= 1 && h <= RS_MAX_WIN_H && h % 2 == 1 && w >= 1 && w <= RS_MAX_WIN_W && w % 2 == 1;
 }
 
 const char *rs_cluster_method_name(rs_cluster_method_t m) {
@@ -52,13 +82,14 @@ int rs_cluster_method_from_name(const char *s) {
 }
 
 int rs_cluster_init(rs_cluster_t *c, const rs_cluster_cfg_t *cfg, const rs_sensor_t *s) {
-  if (cfg->win_h < 1 || cfg->win_h > RS_MAX_WIN_H || cfg->win_h % 2 == 0 || cfg->win_w < 1 ||
-      cfg->win_w > RS_MAX_WIN_W || cfg->win_w % 2 == 0)
+  const rs_fspc_cfg_t *f = &cfg->fspc;
+  const rs_fspc_adaptive_cfg_t *a = &cfg->adaptive;
+  if (!window_ok(f->win_h, f->win_w) || !(f->eps > 0) || f->min_pts < 1) return RS_E_INVAL;
+  if (!window_ok(a->win_h, a->win_w) || a->max_min_pts < 1 || !(a->eps_min > 0) || !(a->eps_max >= a->eps_min) ||
+      !(a->border_eps >= 1.0f) || a->min_pts < 1 || a->sparse_min_pts < 1 || !(a->sparse_cells >= 0.0f) ||
+      a->min_half_w < 0 || !(a->obj_w > 0) || !(a->obj_h > 0) || !(a->share > 0) || a->seed_surfaces < 0)
     return RS_E_INVAL;
-  if (!(cfg->eps > 0) || cfg->min_pts < 1 || !(cfg->adapt_eps_max >= cfg->adapt_eps_min) || !(cfg->adapt_border_eps >= 1.0f) ||
-      cfg->adapt_min_pts < 1 || cfg->adapt_sparse_min_pts < 1 || !(cfg->adapt_sparse_cells >= 0.0f) ||
-      cfg->adapt_min_half_w < 0 || !(cfg->dbscan_eps > 0) || cfg->dbscan_min_pts < 1 || !(cfg->ccl_eps > 0))
-    return RS_E_INVAL;
+  if (!(cfg->dbscan.eps > 0) || cfg->dbscan.min_pts < 1 || !(cfg->ccl.eps > 0)) return RS_E_INVAL;
   c->cfg = *cfg;
   c->sensor = s;
   c->bg_surfaces = NULL;
@@ -84,7 +115,7 @@ static void build_adaptive(rs_cluster_t *c, int cols) {
       gaps[j] = gaps[j - 1];
       gaps[j - 1] = t;
     }
-  const double eps_share = fmax(c->cfg.adapt_eps_share, c->cfg.adapt_eps_rows * (ng ? gaps[ng / 2] : 0.0));
+  const double eps_share = fmax(c->cfg.adaptive.eps_share, c->cfg.adaptive.eps_rows * (ng ? gaps[ng / 2] : 0.0));
   for (int r = 0; r < s->lasers; r++) {
     double el = s->elevation_deg[s->laser_of_row[r]];
     double lo = r > 0 ? el - s->elevation_deg[s->laser_of_row[r - 1]] : 1e9;
@@ -93,20 +124,20 @@ static void build_adaptive(rs_cluster_t *c, int cols) {
     if (del < 0.05 * D2R) del = 0.05 * D2R;
     for (int b = 0; b < RS_ADAPT_BINS; b++) {
       double range = b + 0.5;
-      double ncol = c->cfg.obj_w / (range * daz), nrow = c->cfg.obj_h / (range * del);
-      int hw = (int)fmin(c->cfg.win_w / 2, fmax(c->cfg.adapt_min_half_w, ceil(ncol / 2.0)));
-      int hh = (int)fmin(c->cfg.win_h / 2, fmax(1.0, ceil(nrow / 2.0)));
+      double ncol = c->cfg.adaptive.obj_w / (range * daz), nrow = c->cfg.adaptive.obj_h / (range * del);
+      int hw = (int)fmin(c->cfg.adaptive.win_w / 2, fmax(c->cfg.adaptive.min_half_w, ceil(ncol / 2.0)));
+      int hh = (int)fmin(c->cfg.adaptive.win_h / 2, fmax(1.0, ceil(nrow / 2.0)));
       double cells = fmin(2 * hw + 1, fmax(1.0, ncol)) * fmin(2 * hh + 1, fmax(1.0, nrow));
-      int mp = (int)lround(c->cfg.adapt_share * cells);
-      if (mp > c->cfg.min_pts) mp = c->cfg.min_pts;
+      int mp = (int)lround(c->cfg.adaptive.share * cells);
+      if (mp > c->cfg.adaptive.max_min_pts) mp = c->cfg.adaptive.max_min_pts;
       /* where the smallest object covers only a few cells, a pair of returns side by side is one */
-      const int floor_mp = cells < c->cfg.adapt_sparse_cells ? c->cfg.adapt_sparse_min_pts : c->cfg.adapt_min_pts;
+      const int floor_mp = cells < c->cfg.adaptive.sparse_cells ? c->cfg.adaptive.sparse_min_pts : c->cfg.adaptive.min_pts;
       if (mp < floor_mp) mp = floor_mp;
       c->half_w[r][b] = (uint8_t)hw;
       c->half_h[r][b] = (uint8_t)hh;
       c->min_pts[r][b] = (uint8_t)mp;
       double e = eps_share * range;
-      c->eps_tab[r][b] = (float)fmin(c->cfg.adapt_eps_max, fmax(c->cfg.adapt_eps_min, e));
+      c->eps_tab[r][b] = (float)fmin(c->cfg.adaptive.eps_max, fmax(c->cfg.adaptive.eps_min, e));
     }
   }
   c->cols = cols;
@@ -175,7 +206,7 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
                  rs_cluster_stats_t *st) {
   const int rows = s->meta.rows, cols = s->meta.cols;
   if (adaptive && c->cols != cols) build_adaptive(c, cols);
-  const int seed_surf = adaptive && c->bg_surfaces ? c->cfg.adapt_seed_surfaces : 0;
+  const int seed_surf = adaptive && c->bg_surfaces ? c->cfg.adaptive.seed_surfaces : 0;
   /* core cells */
   for (uint32_t k = 0; k < nfg; k++) {
     const uint32_t i = c->fg[k];
@@ -232,7 +263,7 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
         e = c->eps_tab[r][b];
       }
       const float x = c->rr[i];
-      const float eb = adaptive ? e * c->cfg.adapt_border_eps : e; /* reach of a cell that is not a core */
+      const float eb = adaptive ? e * c->cfg.adaptive.border_eps : e; /* reach of a cell that is not a core */
       /* the window's columns as at most two segments (it may wrap) */
       int seg_a[2], seg_n[2], nseg = 0;
       if (2 * hw + 1 >= cols) {
@@ -310,7 +341,7 @@ static uint32_t region_count(const rs_cluster_t *c, uint32_t k, float eps) {
 static void dbscan(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, rs_cluster_stats_t *st) {
   const int cols = s->meta.cols;
   const rs_sensor_t *sen = c->sensor;
-  const float eps = c->cfg.dbscan_eps;
+  const float eps = c->cfg.dbscan.eps;
   for (int b = 0; b < RS_GRID_BUCKETS; b++) c->heads[b] = -1;
   for (uint32_t k = 0; k < nfg; k++) {
     const uint32_t i = c->fg[k];
@@ -325,7 +356,7 @@ static void dbscan(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, rs_cluster_stats
     c->next[k] = c->heads[h];
     c->heads[h] = (int32_t)k;
   }
-  for (uint32_t k = 0; k < nfg; k++) c->core[k] = region_count(c, k, eps) >= (uint32_t)c->cfg.dbscan_min_pts;
+  for (uint32_t k = 0; k < nfg; k++) c->core[k] = region_count(c, k, eps) >= (uint32_t)c->cfg.dbscan.min_pts;
   /* labels by point index in queue order; cluster ids written to the slot */
   uint32_t ncl = 0;
   for (uint32_t k = 0; k < nfg; k++) {
@@ -364,11 +395,12 @@ void rs_cluster_run(rs_cluster_t *c, rs_slot_t *s, rs_cluster_stats_t *st) {
   switch (c->cfg.method) {
   case RS_CLUSTER_FSPC:
   case RS_CLUSTER_FSPC_ADAPTIVE:
-    fspc(c, s, nfg, c->cfg.method == RS_CLUSTER_FSPC_ADAPTIVE, c->cfg.win_h / 2, c->cfg.win_w / 2, c->cfg.eps,
-         c->cfg.min_pts, st);
+    /* the adaptive run takes window, eps and minPts per row and range from its tables */
+    fspc(c, s, nfg, c->cfg.method == RS_CLUSTER_FSPC_ADAPTIVE, c->cfg.fspc.win_h / 2, c->cfg.fspc.win_w / 2,
+         c->cfg.fspc.eps, c->cfg.fspc.min_pts, st);
     break;
   case RS_CLUSTER_DBSCAN: dbscan(c, s, nfg, st); break;
-  case RS_CLUSTER_CCL: fspc(c, s, nfg, false, 1, 1, c->cfg.ccl_eps, 1, st); break;
+  case RS_CLUSTER_CCL: fspc(c, s, nfg, false, 1, 1, c->cfg.ccl.eps, 1, st); break;
   default: break;
   }
   for (uint32_t k = 0; k < nfg; k++) {
@@ -381,7 +413,7 @@ void rs_cluster_run(rs_cluster_t *c, rs_slot_t *s, rs_cluster_stats_t *st) {
    * every clustered cell, layer by layer, row-major, for the object stage */
   const uint32_t cols = s->meta.cols, cells = (uint32_t)s->meta.rows * cols;
   const rs_cluster_method_t m = c->cfg.method;
-  const float eps = m == RS_CLUSTER_DBSCAN ? c->cfg.dbscan_eps : (m == RS_CLUSTER_CCL ? c->cfg.ccl_eps : c->cfg.eps);
+  const float eps = m == RS_CLUSTER_DBSCAN ? c->cfg.dbscan.eps : (m == RS_CLUSTER_CCL ? c->cfg.ccl.eps : c->cfg.fspc.eps);
   uint32_t nm = 0;
   for (uint32_t k = 0; k < nfg; k++)
     if (s->label[c->fg[k]] >= RS_LABEL_FIRST_OBJECT) c->members[nm++] = c->fg[k];

@@ -55,8 +55,8 @@ int rs_proc_init(rs_proc_t *p, const rs_proc_cfg_t *cfg, char *err, size_t errle
   bc.window_s = cfg->update_window_s;
   if (cfg->update_every_s > 0) bc.every_s = cfg->update_every_s;
   bc.sync = cfg->lossless;
-  bc.see_through = cfg->see_through == 0 ? RS_BG_SEE_THROUGH : (cfg->see_through < 0 ? 0 : cfg->see_through);
-  bc.beyond_static = !cfg->beyond_foreground;
+  bc.rules.see_through = cfg->see_through == 0 ? RS_BG_SEE_THROUGH : (cfg->see_through < 0 ? 0 : cfg->see_through);
+  bc.rules.beyond_static = !cfg->beyond_foreground;
   int rc = rs_bgu_init(&p->bgu, &bc, cfg->background);
   if (rc != RS_OK) {
     snprintf(err, errlen, "background updater: %s", rs_strerror(rc));
@@ -154,7 +154,7 @@ void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_pro
   if (geo) {
     const uint64_t fg0 = p->bg.foreground;
     p->bg.beyond_cells = p->beyond_cells;
-    rs_bg_subtract(bgm, s, &p->bg);
+    rs_bg_subtract(bgm, &p->bgu.cfg.rules, s, &p->bg);
     r->foreground = (uint32_t)(p->bg.foreground - fg0);
     t = stage_end(p, r, RS_STAGE_BACKGROUND, t);
   }

@@ -10,6 +10,7 @@
 
 #include "roadscan/util/assign.h"
 #include "roadscan/util/error.h"
+#include "roadscan/util/opts.h"
 #include "roadscan/util/sort.h"
 
 #include <math.h>
@@ -61,45 +62,24 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
   return RS_OK;
 }
 
-/* the parameters by name, with their ranges (rs_track_cfg_set) */
-typedef struct {
-  const char *name;
-  size_t off;
-  double lo, hi;
-  bool integer;
-} knob_t;
-#define KNOB(f, lo, hi) {#f, offsetof(rs_track_cfg_t, f), lo, hi, false}
-static const knob_t knobs[] = {
+/* the parameters by name, with their ranges (rs_track_cfg_set; roadscand --track-set) */
+#define KNOB(f, l, u) {.type = RS_OPT_DOUBLE, .name = #f, .arg = "X", .off = offsetof(rs_track_cfg_t, f), .lo = l, .hi = u}
+#define KNOB_INT(f, l, u) {.type = RS_OPT_INT, .name = #f, .arg = "N", .off = offsetof(rs_track_cfg_t, f), .lo = l, .hi = u}
+static const rs_opt_t knobs[] = {
     KNOB(q_accel, 0.01, 100.0),       KNOB(q_long, 0.01, 100.0),       KNOB(meas_sd, 0.01, 5.0),         KNOB(meas_sd_per_m, 0.0, 2.0),
     KNOB(gate_chi2, 1.0, 100.0),      KNOB(gate_m, 0.5, 20.0),          KNOB(max_speed, 1.0, 100.0),
     KNOB(init_speed_sd, 0.1, 100.0),  KNOB(init_small_speed_sd, 0.1, 100.0),
-    {"birth_points", offsetof(rs_track_cfg_t, birth_points), 1, 10000, true},
-    {"confirm_hits", offsetof(rs_track_cfg_t, confirm_hits), 1, 100, true},
+    KNOB_INT(birth_points, 1, 10000), KNOB_INT(confirm_hits, 1, 100),
     KNOB(confirm_move_m, 0.0, 20.0),  KNOB(confirm_still_s, 0.0, 60.0), KNOB(tentative_miss_s, 0.01, 10.0),
     KNOB(coast_s, 0.01, 60.0),        KNOB(lost_s, 0.0, 60.0),          KNOB(still_speed, 0.0, 5.0),
     KNOB(size_weight, 0.0, 100.0),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
-  for (size_t k = 0; k < sizeof knobs / sizeof knobs[0]; k++) {
-    if (strcmp(knobs[k].name, name) != 0) continue;
-    char *end;
-    double v = strtod(value, &end);
-    if (end == value || *end != '\0' || !(v >= knobs[k].lo && v <= knobs[k].hi) ||
-        (knobs[k].integer && v != floor(v))) {
-      snprintf(err, n, "tracking parameter %s: '%s' is not a%s number from %g to %g", name, value,
-               knobs[k].integer ? " whole" : "", knobs[k].lo, knobs[k].hi);
-      return RS_E_INVAL;
-    }
-    if (knobs[k].integer) *(int *)((char *)c + knobs[k].off) = (int)v;
-    else *(double *)((char *)c + knobs[k].off) = v;
-    return RS_OK;
-  }
-  size_t used = (size_t)snprintf(err, n, "no tracking parameter '%s'; there are:", name);
-  for (size_t k = 0; k < sizeof knobs / sizeof knobs[0] && used < n; k++)
-    used += (size_t)snprintf(err + used, n - used, " %s", knobs[k].name);
-  return RS_E_INVAL;
+  return rs_opt_set(knobs, (int)(sizeof knobs / sizeof knobs[0]), c, "tracking parameter", name, value, err, n);
 }
+
+void rs_track_cfg_names(char *buf, size_t size) { rs_opt_names(knobs, (int)(sizeof knobs / sizeof knobs[0]), buf, size); }
 
 void rs_track_set_pose(rs_tracker_t *tr, const rs_pose_t *pose) {
   tr->have_pose = pose != NULL;

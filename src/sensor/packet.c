@@ -63,11 +63,28 @@ static int flag_bank(const uint8_t *blk) {
   }
 }
 
-int rs_vls128_bank_of_block(int block, bool dual) { return dual ? block / 2 : block % 4; }
+int rs_layout_blocks(const rs_model_info_t *mi, bool dual) {
+  return mi->blocks_per_cycle > 1 && dual ? RS_BLOCKS - RS_BLOCKS / 3 : RS_BLOCKS;
+}
 
-/* blocks holding data for this product/mode (VLS-128 dual pads 4 blocks) */
+int rs_layout_group(const rs_model_info_t *mi, bool dual, int block) {
+  if (mi->blocks_per_cycle > 1) return dual ? 0 : block / mi->blocks_per_cycle;
+  return dual ? block / 2 : block;
+}
+
+int rs_layout_groups(const rs_model_info_t *mi, bool dual) {
+  return rs_layout_group(mi, dual, rs_layout_blocks(mi, dual) - 1) + 1;
+}
+
+int rs_layout_bank(const rs_model_info_t *mi, bool dual, int block) {
+  if (mi->blocks_per_cycle <= 1 || block >= rs_layout_blocks(mi, dual)) return 0; /* padding: bank 0 */
+  return dual ? block / 2 : block % mi->blocks_per_cycle;
+}
+
+/* blocks holding data for this product/mode, from the product byte (the check runs before detection) */
 static int blocks_in_use(uint8_t product, uint8_t mode) {
-  return (product == 0xA1 && mode == RS_MODE_DUAL) ? 8 : RS_BLOCKS;
+  const rs_model_info_t *vls = rs_model_info(RS_MODEL_VLS128);
+  return rs_layout_blocks(product == vls->product_id ? vls : rs_model_info(RS_MODEL_VLP16), mode == RS_MODE_DUAL);
 }
 
 int rs_packet_check(const uint8_t *p, size_t len) {
@@ -85,14 +102,6 @@ int rs_packet_check(const uint8_t *p, size_t len) {
   return RS_OK;
 }
 
-/* azimuth group (firing cycle) of a block, and number of groups */
-static int group_of_block(const rs_model_info_t *mi, bool dual, int b) {
-  if (mi->blocks_per_cycle > 1) return dual ? 0 : b / mi->blocks_per_cycle;
-  return dual ? b / 2 : b;
-}
-static int group_count(const rs_model_info_t *mi, bool dual, int nb) {
-  return group_of_block(mi, dual, nb - 1) + 1;
-}
 
 int rs_packet_decode(const rs_sensor_t *s, const uint8_t *p, size_t len, float rate_hint,
                      rs_packet_t *out) {
@@ -101,7 +110,7 @@ int rs_packet_decode(const rs_sensor_t *s, const uint8_t *p, size_t len, float r
   const rs_model_info_t *mi = s->info;
   const bool dual = p[OFF_MODE] == RS_MODE_DUAL;
   const bool vls = mi->blocks_per_cycle > 1;
-  const int nb = vls && dual ? 8 : RS_BLOCKS;
+  const int nb = rs_layout_blocks(mi, dual);
   const float group_us = rs_model_group_us(mi);
 
   out->model = mi->model;
@@ -109,7 +118,7 @@ int rs_packet_decode(const rs_sensor_t *s, const uint8_t *p, size_t len, float r
   out->mode_byte = p[OFF_MODE];
   out->timestamp_us = le32(p + OFF_TIMESTAMP);
   out->blocks = (uint8_t)nb;
-  out->groups = (uint8_t)group_count(mi, dual, nb);
+  out->groups = (uint8_t)rs_layout_groups(mi, dual);
   out->n_points = 0;
   out->n_empty = 0;
 
@@ -125,7 +134,7 @@ int rs_packet_decode(const rs_sensor_t *s, const uint8_t *p, size_t len, float r
   if (out->groups >= 2) {
     int first = 0, last = 0;
     for (int b = 0; b < nb; b++)
-      if (group_of_block(mi, dual, b) == out->groups - 1) {
+      if (rs_layout_group(mi, dual, b) == out->groups - 1) {
         last = b;
         break;
       }
@@ -141,10 +150,10 @@ int rs_packet_decode(const rs_sensor_t *s, const uint8_t *p, size_t len, float r
   for (int b = 0; b < nb; b++) {
     const uint8_t *blk = p + b * RS_BLOCK_SIZE;
     const int bank = vls ? flag_bank(blk) : 0;
-    const int g = group_of_block(mi, dual, b);
+    const int g = rs_layout_group(mi, dual, b);
     /* azimuth reference: the first block of the group */
     int gb = b;
-    while (gb > 0 && group_of_block(mi, dual, gb - 1) == g) gb--;
+    while (gb > 0 && rs_layout_group(mi, dual, gb - 1) == g) gb--;
     const float az0 = (float)out->block_azimuth[gb] / 100.0f;
     const float tbase = (float)g * group_us;
     const bool odd_twin = dual && (b % 2 == 1);
@@ -206,16 +215,14 @@ int rs_packet_decode(const rs_sensor_t *s, const uint8_t *p, size_t len, float r
 void rs_packet_encode(const rs_model_info_t *mi, const rs_encode_t *in, uint8_t out[RS_PAYLOAD_SIZE]) {
   static const uint8_t bank_flag[4] = {0xEE, 0xDD, 0xCC, 0xBB};
   const bool dual = in->mode_byte == RS_MODE_DUAL;
-  const bool vls = mi->blocks_per_cycle > 1;
+  const int nb = rs_layout_blocks(mi, dual);
   memset(out, 0, RS_PAYLOAD_SIZE);
   for (int b = 0; b < RS_BLOCKS; b++) {
     uint8_t *blk = out + b * RS_BLOCK_SIZE;
-    int bank = vls ? rs_vls128_bank_of_block(b, dual) : 0;
-    if (vls && dual && b >= 8) bank = 0; /* padding blocks */
     blk[0] = 0xFF;
-    blk[1] = bank_flag[bank & 3];
+    blk[1] = bank_flag[rs_layout_bank(mi, dual, b) & 3];
     put16(blk + 2, in->block_azimuth[b]);
-    if (vls && dual && b >= 8) continue;
+    if (b >= nb) continue; /* padding blocks */
     for (int c = 0; c < RS_RECORDS; c++) {
       put16(blk + 4 + 3 * c, in->distance[b][c]);
       blk[4 + 3 * c + 2] = in->intensity[b][c];

@@ -9,6 +9,7 @@
 #include "roadscan/sim/scene.h"
 
 #include "roadscan/util/error.h"
+#include "roadscan/util/opts.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -123,60 +124,31 @@ bool rs_scene_preset(const char *name, rs_scene_cfg_t *c) {
   return true;
 }
 
-typedef struct {
-  const char *key;
-  size_t off;
-  double lo, hi;
-  bool is_int;
-} knob_t;
-
-#define KNOB(f, lo, hi) {#f, offsetof(rs_scene_cfg_t, f), lo, hi, false}
-static const knob_t knobs[] = {
-    KNOB(pole_height, 1.0, 30.0),         KNOB(pole_x, -14.0, -8.0),
-    KNOB(pole_y, -14.0, -8.0),            KNOB(leg_length, 50.0, 400.0),
+/* the scene knobs by name, with their ranges (rs_scene_set; roadscan-sim --set and --scenario-file) */
+#define KNOB(f, l, u) {.type = RS_OPT_DOUBLE, .name = #f, .arg = "X", .off = offsetof(rs_scene_cfg_t, f), .lo = l, .hi = u}
+#define KNOB_INT(f, l, u) {.type = RS_OPT_INT, .name = #f, .arg = "N", .off = offsetof(rs_scene_cfg_t, f), .lo = l, .hi = u}
+static const rs_opt_t knobs[] = {
+    KNOB_INT(site_seed, 0, 2147483647.0), KNOB(pole_height, 1.0, 30.0),   KNOB(pole_x, -14.0, -8.0),
+    KNOB(pole_y, -14.0, -8.0),            KNOB(leg_length, 50.0, 400.0),  KNOB_INT(trees_per_leg, 0, 40),
     KNOB(foliage_hit, 0.0, 1.0),          KNOB(vehicles_per_min, 0.0, 120.0),
     KNOB(pedestrians_per_min, 0.0, 60.0), KNOB(cyclist_share, 0.0, 1.0),
     KNOB(green_s, 5.0, 120.0),            KNOB(objects_min_range, 0.0, 400.0),
     KNOB(objects_max_range, 0.0, 400.0),  KNOB(warmup_s, 0.0, 600.0),
-    KNOB(range_noise, 0.0, 1.0),          KNOB(dropout, 0.0, 1.0),
-    KNOB(spurious, 0.0, 0.5),             KNOB(packet_loss, 0.0, 0.9),
-    KNOB(max_range, 0.0, 400.0),          KNOB(noise_tail, 0.0, 0.5),
-    KNOB(attenuation, 0.0, 100.0),        KNOB(beam_div_h, 0.0, 20.0),
-    KNOB(beam_div_v, 0.0, 20.0),          KNOB(mix_depth, 0.0, 5.0),
+    KNOB(range_noise, 0.0, 1.0),          KNOB(noise_tail, 0.0, 0.5),     KNOB(dropout, 0.0, 1.0),
+    KNOB(spurious, 0.0, 0.5),             KNOB(attenuation, 0.0, 100.0),  KNOB(packet_loss, 0.0, 0.9),
+    KNOB(max_range, 0.0, 400.0),          KNOB(beam_div_h, 0.0, 20.0),    KNOB(beam_div_v, 0.0, 20.0),
+    KNOB_INT(beam_samples, 1, 9),         KNOB(mix_depth, 0.0, 5.0),
     KNOB(rpm_offset, -0.05, 0.05),        KNOB(rpm_jitter, 0.0, 0.01),
-    {"beam_samples", offsetof(rs_scene_cfg_t, beam_samples), 1, 9, true},
-    {"trees_per_leg", offsetof(rs_scene_cfg_t, trees_per_leg), 0, 40, true},
-    {"site_seed", offsetof(rs_scene_cfg_t, site_seed), 0, 2147483647.0, true},
 };
+#define NKNOBS ((int)(sizeof knobs / sizeof knobs[0]))
 
-const char *rs_scene_keys(void) {
-  return "site_seed pole_height pole_x pole_y leg_length trees_per_leg foliage_hit vehicles_per_min pedestrians_per_min "
-         "cyclist_share green_s objects_min_range objects_max_range warmup_s range_noise noise_tail dropout spurious "
-         "attenuation packet_loss max_range beam_div_h beam_div_v beam_samples mix_depth rpm_offset rpm_jitter";
+const rs_opt_t *rs_scene_knobs(int *n) {
+  *n = NKNOBS;
+  return knobs;
 }
 
 int rs_scene_set(rs_scene_cfg_t *cfg, const char *key, const char *value, char *err, size_t n) {
-  for (size_t i = 0; i < sizeof knobs / sizeof knobs[0]; i++) {
-    if (strcmp(knobs[i].key, key) != 0) continue;
-    char *end;
-    double v = strtod(value, &end);
-    if (end == value || *end != '\0' || !isfinite(v)) {
-      snprintf(err, n, "%s: '%s' is not a number", key, value);
-      return RS_E_INVAL;
-    }
-    if (v < knobs[i].lo || v > knobs[i].hi || (knobs[i].is_int && v != floor(v))) {
-      snprintf(err, n, "%s: %s is out of range (%g to %g%s)", key, value, knobs[i].lo, knobs[i].hi,
-               knobs[i].is_int ? ", whole number" : "");
-      return RS_E_INVAL;
-    }
-    if (knobs[i].is_int)
-      *(int *)(void *)((char *)cfg + knobs[i].off) = (int)v;
-    else
-      *(double *)(void *)((char *)cfg + knobs[i].off) = v;
-    return RS_OK;
-  }
-  snprintf(err, n, "unknown scene key '%s' (known: %s)", key, rs_scene_keys());
-  return RS_E_INVAL;
+  return rs_opt_set(knobs, NKNOBS, cfg, "scene key", key, value, err, n);
 }
 
 /* ---- geometry ---- */

@@ -24,12 +24,7 @@ double rs_synth_range(double az_deg, double el_deg) {
 
 static double group_us(const rs_model_info_t *mi) { return rs_model_group_us(mi); }
 
-static int groups_per_packet(const rs_model_info_t *mi, bool dual) {
-  if (mi->blocks_per_cycle > 1) return dual ? 1 : RS_BLOCKS / mi->blocks_per_cycle;
-  return dual ? RS_BLOCKS / 2 : RS_BLOCKS;
-}
-
-static double packet_us(const rs_model_info_t *mi, bool dual) { return groups_per_packet(mi, dual) * group_us(mi); }
+static double packet_us(const rs_model_info_t *mi, bool dual) { return rs_layout_groups(mi, dual) * group_us(mi); }
 
 uint32_t rs_synth_count(const rs_synth_cfg_t *cfg) {
   const rs_model_info_t *mi = rs_model_info(cfg->model);
@@ -44,8 +39,7 @@ double rs_synth_time(const rs_synth_cfg_t *cfg, uint32_t k) {
 void rs_synth_packet(const rs_synth_cfg_t *cfg, const rs_sensor_t *s, uint32_t k, rs_encode_t *enc) {
   const rs_model_info_t *mi = s->info;
   const bool dual = cfg->mode == RS_MODE_DUAL;
-  const bool vls = mi->blocks_per_cycle > 1;
-  const int gpp = groups_per_packet(mi, dual);
+  const int nb = rs_layout_blocks(mi, dual);
   const double deg_per_us = cfg->hz * 360.0 / 1e6;
   memset(enc, 0, sizeof *enc);
   enc->mode_byte = cfg->mode;
@@ -53,13 +47,12 @@ void rs_synth_packet(const rs_synth_cfg_t *cfg, const rs_sensor_t *s, uint32_t k
   double t_pkt = (double)k * packet_us(mi, dual);
   enc->timestamp_us = (uint32_t)fmod(cfg->t0 * 1e6 + t_pkt, 3600e6);
   for (int b = 0; b < RS_BLOCKS; b++) {
-    int g = vls ? (dual ? 0 : b / 4) : (dual ? b / 2 : b);
-    if (g >= gpp) g = gpp - 1;
+    const int g = rs_layout_group(mi, dual, b < nb ? b : nb - 1); /* padding: the last group's azimuth */
     double tg = t_pkt + g * group_us(mi);
     double az = fmod(cfg->start_az_deg + deg_per_us * tg, 360.0);
     enc->block_azimuth[b] = (uint16_t)((int)lround(az * 100.0) % 36000);
-    if (vls && dual && b >= 8) continue;
-    int bank = vls ? rs_vls128_bank_of_block(b, dual) : 0;
+    if (b >= nb) continue;
+    const int bank = rs_layout_bank(mi, dual, b);
     for (int c = 0; c < RS_RECORDS; c++) {
       int laser;
       float tf;

@@ -37,7 +37,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
       for (uint32_t i = 0; i < (uint32_t)m.rows * m.cols; i++) slot.range[i] = 0.5f + (float)(i % 97);
       rs_bg_counts_t bc;
       memset(&bc, 0, sizeof bc);
-      rs_bg_subtract(&m, &slot, &bc);
+      rs_bg_rules_t rules;
+      rs_bg_rules_default(&rules);
+      rs_bg_subtract(&m, &rules, &slot, &bc);
       rs_bg_model_free(&m);
     }
   } else {

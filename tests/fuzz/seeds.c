@@ -190,8 +190,11 @@ static void stage_seeds(void) {
 
 static void value_seeds(void) {
   static const char *vals[] = {"\x00" "2.5", "\x01" "2368", "\x02" "yes", "\x03" "VLP-32C", "\x04" "east 1 2 3 4",
-                               "\x05" "q_accel=2"};
-  for (int i = 0; i < 6; i++) {
+                               "\x05" "q_accel=2",
+                               "\x06" "# a site\n[source]\npcap = a.pcap\nspeed = 2\nfast = yes\n[cluster]\ncluster = "
+                               "dbscan\ncount-line = east 1 2 3 4\ncount-line = west 0 0 1 1\n[lcm]\nsensor-id = north\n",
+                               "\x06" "pole_height = 7\nvehicles_per_min = 12\ntrees_per_leg = 3\n"};
+  for (int i = 0; i < 8; i++) {
     char name[16];
     snprintf(name, sizeof name, "v%d", i);
     put("values", name, vals[i], i == 0 ? 4 : strlen(vals[i]), NULL, 0);

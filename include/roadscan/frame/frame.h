@@ -115,7 +115,12 @@ typedef struct {
   uint32_t last_ts;
   /* totals over the run */
   uint64_t frames, missing_packets, out_of_order, duplicates, late_points, collisions;
+  /* per block of the packet being fed: the frame (seq) that took its returns, or RS_ASM_DROPPED (a
+   * duplicate, a late packet, no such block); final once the packet is consumed */
+  uint64_t block_seq[RS_BLOCKS];
 } rs_asm_t;
+
+#define RS_ASM_DROPPED UINT64_MAX
 
 /* Columns for a rotation rate: enough bins for every firing (rounded up to
  * a multiple of 10), within RS_MIN_COLS..RS_MAX_COLS. */

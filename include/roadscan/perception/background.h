@@ -89,11 +89,18 @@ typedef struct {
   uint8_t *far_seen;      /* [cells]: % of the frames learned from in which the farthest surface is
                              seen (RS_BG_SOLID_PCT or more: solid, nothing is seen through it) */
   uint16_t *lo, *hi;      /* [cells * RS_BG_SURFACES] */
-  bool beyond_static;     /* runtime: returns beyond a solid farthest surface, or just beyond one
-                             seen through (max(0.3 m, 3 %)), are background (default true) */
-  int see_through;        /* runtime: cells of this many static surfaces or more also match the
-                             surfaces of the cells beside them (0 = off; default RS_BG_SEE_THROUGH) */
 } rs_bg_model_t;
+
+/* How the subtraction reads a model: run-time settings (the daemon's options), not part of the
+ * model, so the model is only ever read. */
+typedef struct {
+  int see_through;        /* cells of this many static surfaces or more (or none) also match the
+                             surfaces of the cells beside them (0 = off; default RS_BG_SEE_THROUGH) */
+  bool beyond_static;     /* returns beyond a solid farthest surface, or just beyond one seen
+                             through (max(0.3 m, 3 %)), are background (default true) */
+} rs_bg_rules_t;
+
+void rs_bg_rules_default(rs_bg_rules_t *r);
 
 int rs_bg_model_alloc(rs_bg_model_t *m, rs_model_t model, int rows, int cols);
 void rs_bg_model_free(rs_bg_model_t *m);
@@ -106,7 +113,7 @@ bool rs_bg_is_static(const rs_bg_model_t *m, int row, int col, float r);
 /* Is it background by every rule of the subtraction (surfaces beside a
  * see-through or empty cell, behind a solid surface)? *beyond (optional):
  * it lies beyond the cell's farthest surface. */
-bool rs_bg_return_static(const rs_bg_model_t *m, int row, int col, float r, bool *beyond);
+bool rs_bg_return_static(const rs_bg_model_t *m, const rs_bg_rules_t *rules, int row, int col, float r, bool *beyond);
 /* A copy (allocated here). */
 int rs_bg_model_copy(rs_bg_model_t *dst, const rs_bg_model_t *src);
 
@@ -118,7 +125,7 @@ typedef struct {
 
 /* Labels every return of the slot: 1 background, 2 foreground (until the
  * clustering stage relabels it). The model is only read. */
-void rs_bg_subtract(const rs_bg_model_t *m, rs_slot_t *s, rs_bg_counts_t *c);
+void rs_bg_subtract(const rs_bg_model_t *m, const rs_bg_rules_t *rules, rs_slot_t *s, rs_bg_counts_t *c);
 
 /* ---- learning ---- */
 

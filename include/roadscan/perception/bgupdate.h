@@ -52,8 +52,7 @@ typedef struct {
   int frames;             /* samples kept (default 600; fewer within RS_BGU_BUDGET) */
   bool sync;              /* lossless replay: wait for the learner (deterministic) */
   rs_bg_params_t params;
-  int see_through;        /* applied to every model taken over (the pipeline's setting) */
-  bool beyond_static;
+  rs_bg_rules_t rules;    /* how a candidate model is scored (the pipeline's subtraction rules) */
 } rs_bgu_cfg_t;
 
 void rs_bgu_cfg_default(rs_bgu_cfg_t *c);
@@ -104,6 +103,6 @@ const rs_bg_model_t *rs_bgu_model(const rs_bgu_t *u);
  * in use changed with this frame. */
 bool rs_bgu_frame(rs_bgu_t *u, const rs_slot_t *s);
 /* Share of the sampled returns a model calls background (0..1; the check). */
-double rs_bgu_explained(const rs_bg_model_t *m, const rs_bg_learner_t *l);
+double rs_bgu_explained(const rs_bg_model_t *m, const rs_bg_rules_t *rules, const rs_bg_learner_t *l);
 
 #endif

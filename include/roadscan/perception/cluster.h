@@ -19,17 +19,17 @@
  * window reads, whatever the scene.
  *
  * Adaptive FSPC: per laser row and 1 m range bin, the window shrinks to what
- * an obj_w x obj_h object would cover (at least adapt_min_half_w columns
- * either side), minPts to adapt_share of the cells it would fill (at least
- * adapt_min_pts, or adapt_sparse_min_pts where it fills fewer than
- * adapt_sparse_cells, at most min_pts), and eps to
+ * an obj_w x obj_h object would cover (at least min_half_w columns either
+ * side), minPts to share of the cells it would fill (at least min_pts, or
+ * sparse_min_pts where it fills fewer than sparse_cells, at most
+ * max_min_pts; the fields of rs_fspc_adaptive_cfg_t), and eps to
  * 0.03 x range (0.5 to 2.5 m): a car roof seen by one laser near the pole
  * and a pedestrian at 150 m are found; cars queued 2 m apart stay apart.
  * Cells where the static scene has several surfaces (the sensor sees
  * through foliage, or past an edge, to what is behind) give intermittent
  * returns that the background cannot learn; with the model's surface
  * counts (bg_surfaces) their returns join clusters but do not seed them.
- * A cell that is not a core joins a cluster within adapt_border_eps x eps
+ * A cell that is not a core joins a cluster within border_eps x eps
  * of one of its core cells (core cells link within eps, so clusters do not
  * merge through it): the side of a car seen almost along the line of sight
  * at 150 m spreads over metres of range from one column to the next.
@@ -56,30 +56,53 @@ _Static_assert(RS_MAX_CLUSTERS + 3 < UINT16_MAX, "cluster labels fit in uint16_t
 
 typedef enum { RS_CLUSTER_NONE = 0, RS_CLUSTER_FSPC, RS_CLUSTER_FSPC_ADAPTIVE, RS_CLUSTER_DBSCAN, RS_CLUSTER_CCL } rs_cluster_method_t;
 
+/* The paper's FSPC (also CCL's window of 3 x 3). */
 typedef struct {
-  rs_cluster_method_t method;
   int win_h, win_w;      /* odd; defaults 5 x 11 */
   float eps;             /* m, range difference; default 1.8 */
   int min_pts;           /* default 15 (the centre counts) */
-  float obj_w, obj_h;    /* adaptive: the smallest object to find (m), default 0.5 x 0.8 */
-  float adapt_share;     /* adaptive: minPts = share x expected cells, default 0.2 */
-  int adapt_min_pts;     /* adaptive: lowest minPts, default 3 */
-  float adapt_sparse_cells; /* adaptive: where the smallest object would cover fewer cells than this */
-  int adapt_sparse_min_pts; /*   (default 3), the lowest minPts is this instead (default 2: a pair) */
-  int adapt_min_half_w;  /* adaptive: the window reaches at least this many columns either side (default
+} rs_fspc_cfg_t;
+
+/* Density-adaptive FSPC (see above). */
+typedef struct {
+  int win_h, win_w;      /* the largest window (odd; default 5 x 11) */
+  int max_min_pts;       /* the largest minPts (default 15) */
+  float obj_w, obj_h;    /* the smallest object to find (m), default 0.5 x 0.8 */
+  float share;           /* minPts = share x expected cells, default 0.2 */
+  int min_pts;           /* lowest minPts, default 3 */
+  float sparse_cells;    /* where the smallest object would cover fewer cells than this */
+  int sparse_min_pts;    /*   (default 3), the lowest minPts is this instead (default 2: a pair) */
+  int min_half_w;        /* the window reaches at least this many columns either side (default
                             2: returns go missing beyond 120 m, a neighbour may be two columns away) */
-  float adapt_eps_share; /* adaptive: eps = clamp(max(share, adapt_eps_rows x the sensor's median */
-  float adapt_eps_rows;  /*   row spacing in radians) x range, adapt_eps_min, adapt_eps_max): 0.03, 1.0, */
-  float adapt_eps_min;   /*   0.5 m, 2.5 m */
-  float adapt_eps_max;
-  float adapt_border_eps; /* adaptive: a cell that is not a core joins a core cell's cluster within this
-                             many times the core's eps (core to core: eps); default 2 */
-  int adapt_seed_surfaces; /* adaptive, with bg_surfaces: a return in a cell of at least this many static
-                              surfaces (foliage and edges the sensor sees through) seeds no cluster but
-                              may join one; default 3, 0 = off */
-  float dbscan_eps;      /* m, default 1.2 */
-  int dbscan_min_pts;    /* default 15 */
-  float ccl_eps;         /* m, range difference joining 8-neighbours, default 1.0 */
+  float eps_share;       /* eps = clamp(max(share, eps_rows x the sensor's median row spacing in */
+  float eps_rows;        /*   radians) x range, eps_min, eps_max): 0.03, 1.0, 0.5 m, 2.5 m */
+  float eps_min;
+  float eps_max;
+  float border_eps;      /* a cell that is not a core joins a core cell's cluster within this many
+                            times the core's eps (core to core: eps); default 2 */
+  int seed_surfaces;     /* with bg_surfaces: a return in a cell of at least this many static
+                            surfaces (foliage and edges the sensor sees through) seeds no cluster
+                            but may join one; default 3, 0 = off */
+} rs_fspc_adaptive_cfg_t;
+
+/* 3-D Euclidean DBSCAN. */
+typedef struct {
+  float eps;             /* m, default 1.2 */
+  int min_pts;           /* default 15 */
+} rs_dbscan_cfg_t;
+
+/* Connected components of the range image (8-neighbours). */
+typedef struct {
+  float eps;             /* m, range difference joining neighbours, default 1.0 */
+} rs_ccl_cfg_t;
+
+/* The method and each method's own parameters. */
+typedef struct {
+  rs_cluster_method_t method;
+  rs_fspc_cfg_t fspc;
+  rs_fspc_adaptive_cfg_t adaptive;
+  rs_dbscan_cfg_t dbscan;
+  rs_ccl_cfg_t ccl;
 } rs_cluster_cfg_t;
 
 typedef struct {
@@ -113,6 +136,12 @@ typedef struct {
 } rs_cluster_t;
 
 void rs_cluster_cfg_default(rs_cluster_cfg_t *c);
+/* What --eps, --min-pts and --window set: the chosen method's eps (the largest with fspc-adaptive),
+ * minPts (the largest with fspc-adaptive) and window (the largest). false when the method has no
+ * such parameter (CCL has no minPts, neither DBSCAN nor CCL a window; none has nothing). */
+bool rs_cluster_cfg_set_eps(rs_cluster_cfg_t *c, float eps);
+bool rs_cluster_cfg_set_min_pts(rs_cluster_cfg_t *c, int min_pts);
+bool rs_cluster_cfg_set_window(rs_cluster_cfg_t *c, int h, int w);
 const char *rs_cluster_method_name(rs_cluster_method_t m);
 /* "fspc", "fspc-adaptive", "dbscan", "ccl", "none"; -1 if unknown */
 int rs_cluster_method_from_name(const char *s);

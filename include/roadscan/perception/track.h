@@ -198,6 +198,8 @@ void rs_track_cfg_default(rs_track_cfg_t *c);
  * within its range; RS_E_INVAL with a message naming it (and, for an unknown
  * name, every name) otherwise. */
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n);
+/* The parameters' names, space-separated. */
+void rs_track_cfg_names(char *buf, size_t size);
 /* RS_E_INVAL for a parameter out of range. */
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg);
 /* The sensor's pose in the site (NULL: none): from then on every track also

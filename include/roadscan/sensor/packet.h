@@ -88,8 +88,16 @@ typedef struct {
  * dual-mode VLS-128 padding blocks are zero with a valid flag). */
 void rs_packet_encode(const rs_model_info_t *mi, const rs_encode_t *in, uint8_t out[RS_PAYLOAD_SIZE]);
 
-/* Bank (0..3) a VLS-128 block of `block` index carries in the given mode. */
-int rs_vls128_bank_of_block(int block, bool dual);
+/* ---- the packet layout of a model, written once (decoder, encoder, simulators, bench) ----
+ * Blocks carrying data: 12, or 8 for a VLS-128 in dual mode (4 padding blocks). */
+int rs_layout_blocks(const rs_model_info_t *mi, bool dual);
+/* The firing group (azimuth step) of a block: a VLS-128 fires 4 banks per group (dual: one group per
+ * packet), the others one block per group (dual: two blocks, the same firing, per group). */
+int rs_layout_group(const rs_model_info_t *mi, bool dual, int block);
+/* Firing groups per packet: 12, 6 (dual); VLS-128 3, 1 (dual). */
+int rs_layout_groups(const rs_model_info_t *mi, bool dual);
+/* The bank (0..3, the block flag) of a block; 0 but on the VLS-128. */
+int rs_layout_bank(const rs_model_info_t *mi, bool dual, int block);
 
 /* ---- model detection ----
  *

@@ -13,6 +13,8 @@
 
 #include "roadscan/sensor/sensor.h"
 
+#include "roadscan/util/opts.h"
+
 #include <stdbool.h>
 #include <stdint.h>
 
@@ -62,7 +64,8 @@ typedef struct {
 bool rs_scene_preset(const char *name, rs_scene_cfg_t *cfg);
 /* key = value (same names as the fields); RS_OK or RS_E_INVAL with err */
 int rs_scene_set(rs_scene_cfg_t *cfg, const char *key, const char *value, char *err, size_t n);
-const char *rs_scene_keys(void);
+/* The knobs rs_scene_set knows (an option table over rs_scene_cfg_t, util/opts.h), *n of them. */
+const rs_opt_t *rs_scene_knobs(int *n);
 
 /* one return on a ray */
 typedef struct {
