@@ -338,6 +338,14 @@ START_TEST(t_programs) {
     snprintf(cmd, sizeof cmd, "./%s --no-such-option", progs[i]);
     ck_assert_msg(tu_exec(cmd, &out) == 2 && strstr(out, "unknown option '--no-such-option'"), "%s: %s", cmd, out);
   }
+  /* the argument counts the programs declare */
+  ck_assert_int_eq(tu_exec("./roadscan-eval a b", &out), 2);
+  ck_assert_msg(strstr(out, "roadscan-eval: 1 argument missing (usage: roadscan-eval CAPTURE TRUTH PRED") != NULL, "%s",
+                out);
+  ck_assert_int_eq(tu_exec("./roadscan-listen --quiet extra", &out), 2);
+  ck_assert_msg(strstr(out, "roadscan-listen: unexpected argument 'extra' (see --help)") != NULL, "%s", out);
+  ck_assert_int_eq(tu_exec("./roadscan-export a.pcap b.pcap --frame 1 -o x", &out), 2);
+  ck_assert_msg(strstr(out, "unexpected argument 'b.pcap'") != NULL, "%s", out);
   /* the daemon's clustering defaults, written as text in its table, are the clustering module's */
   rs_cluster_cfg_t c;
   rs_cluster_cfg_default(&c);

@@ -418,8 +418,7 @@ static const rs_opt_t table[] = {
                 "synthetic packets: seconds of each model (the tracker alone: at least 10; 30 by default)"),
     {.type = RS_OPT_INT, .name = "tracker", .arg = "N", .off = offsetof(T, tracker_n), .lo = 1, .hi = RS_TRACK_MAX,
      .flags = RS_OPT_NODEF, .help = "the tracker alone on N synthetic objects"},
-    {.type = RS_OPT_MODEL, .name = "sensor", .arg = "NAME", .off = offsetof(T, force),
-     .def = "detected from the packets", .help = "a capture's sensor model"},
+    RS_OPT_FORCE_MODEL_("sensor", T, force),
     RS_OPT_INT_("repeat", "N", T, repeat, 1, 1000, "passes over a capture (decode + assembly)"),
     RS_OPT_STR_("model", "MODEL", T, model_path,
                 "a background model of the capture's site: every frame runs the daemon's stages as roadscand "
@@ -444,6 +443,7 @@ static const rs_opts_spec_t spec = {
              "of roadscand on every frame of the capture, timed with CLOCK_MONOTONIC. With --tracker: the "
              "tracker's update on N synthetic objects.",
     .epilog = "Exit status: 0 done, 1 the capture could not be read, 2 bad usage.",
+    .max_args = 1,
     .opts = table,
     .n = (int)(sizeof table / sizeof table[0]),
 };
@@ -451,17 +451,9 @@ static const rs_opts_spec_t spec = {
 int main(int argc, char **argv) {
   st = (settings_t){.seconds = 1.0, .repeat = 5, .best_of = 1, .method = RS_CLUSTER_FSPC_ADAPTIVE - 1};
   char err[RS_ERRMSG_SIZE];
-  if (rs_opts_init(&opts, &spec, &st) != RS_OK) {
-    fprintf(stderr, "roadscan-bench: %s\n", opts.err);
-    return 2;
-  }
   int first;
-  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &first);
-  if (pr == RS_OPTS_EXIT) return 0;
-  if (pr == RS_OPTS_ERROR) {
-    snprintf(err, sizeof err, "%s", opts.err);
-    goto bad;
-  }
+  const int start = rs_opts_start(&opts, &spec, &st, argc, argv, &first);
+  if (start >= 0) return start;
   sg.best_of = st.best_of;
   sg.method = (rs_cluster_method_t)(st.method + 1); /* the choices start at fspc */
   if (st.model_path) {
@@ -476,10 +468,6 @@ int main(int argc, char **argv) {
     }
   }
   if (st.tracker_n > 0) return tracker_bench(st.tracker_n, st.seconds < 10 ? 30.0 : st.seconds);
-  if (first + 1 < argc) {
-    snprintf(err, sizeof err, "one capture at most (see --help)");
-    goto bad;
-  }
   if (first < argc) {
     int rc = capture(argv[first], st.force, st.repeat);
     if (sg.csv && fclose(sg.csv) != 0) rc = 1;

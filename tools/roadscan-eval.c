@@ -686,27 +686,17 @@ int main(int argc, char **argv) {
                   "--tracking CAPTURE TRUTH PRED --truth-states S --tracks T [--counts C --count-line L ...]",
       .about = about,
       .epilog = "Exit status: 0 scored, 1 a file could not be read or does not fit the capture, 2 bad usage.",
+      .min_args = 3,
+      .max_args = 3,
       .opts = table,
       .n = (int)(sizeof table / sizeof table[0]),
   };
-  if (rs_opts_init(&opts, &spec, &st) != RS_OK) {
-    fprintf(stderr, "roadscan-eval: %s\n", opts.err);
-    return 2;
-  }
-  int optind_ = 0;
-  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &optind_);
-  if (pr == RS_OPTS_EXIT) return 0;
-  if (pr == RS_OPTS_ERROR) {
-    fprintf(stderr, "roadscan-eval: %s\n", opts.err);
-    return 2;
-  }
+  int optind_;
+  const int start = rs_opts_start(&opts, &spec, &st, argc, argv, &optind_);
+  if (start >= 0) return start;
   const bool json = st.json, diagnose = st.diagnose, tracking = st.tracking;
   const char *objects_path = st.objects_path, *model_path = st.model_path, *dump_path = st.dump_path,
              *states_path = st.states_path, *tracks_path = st.tracks_path, *counts_path = st.counts_path;
-  if (argc - optind_ != 3) {
-    fprintf(stderr, "roadscan-eval: give CAPTURE TRUTH PRED (see --help)\n");
-    return 2;
-  }
   if ((counts_path || nclines) && !(counts_path && nclines && states_path)) {
     fprintf(stderr, "roadscan-eval: --counts and --count-line go together, with --truth-states\n");
     return 2;

@@ -86,12 +86,10 @@ static const rs_opt_t table[] = {
     {.type = RS_OPT_FUNC, .name = "frame", .arg = "N", .off = offsetof(T, frame), .fn = parse_frame,
      .help = "frame number (0 = the partial frame before the first roll-over, as the daemon's --frames-out); "
              "'all': every point of the capture, with its frame (CSV column 'frame')"},
-    {.type = RS_OPT_STR, .name = "output", .short_name = 'o', .arg = "FILE", .off = offsetof(T, out_path),
-     .help = "output file (PCD v0.7 ASCII, or CSV with --csv)"},
+    RS_OPT_OUTPUT_("FILE", T, out_path, "output file (PCD v0.7 ASCII, or CSV with --csv)"),
     RS_OPT_FLAG_("csv", T, csv, "write CSV instead of PCD"),
-    {.type = RS_OPT_MODEL, .name = "model", .arg = "NAME", .off = offsetof(T, model),
-     .def = "detected from the packets", .help = "force the sensor model"},
-    RS_OPT_STR_("calibration", "FILE", T, calib_path, "per-unit calibration (ROS velodyne YAML)"),
+    RS_OPT_FORCE_MODEL_("model", T, model),
+    RS_OPT_CALIB_(T, calib_path),
     RS_OPT_INT_("port", "N", T, port, 1, 65535, "data port"),
     RS_OPT_DBL_("cut-azimuth", "DEG", T, cut, 0.0, 359.99, "frame boundary azimuth"),
 };
@@ -108,6 +106,8 @@ static const rs_opts_spec_t spec = {
              "1 last, 2 dual-last, 3 dual-strongest, 4 dual-second, 5 dual-same).",
     .epilog = "Exit status: 0 written, 1 the capture or a file could not be read or written, or no such frame, "
               "2 bad usage.",
+    .min_args = 1,
+    .max_args = 1,
     .opts = table,
     .n = (int)(sizeof table / sizeof table[0]),
 };
@@ -115,19 +115,11 @@ static const rs_opts_spec_t spec = {
 int main(int argc, char **argv) {
   st = (settings_t){.frame = -1, .port = RS_DEFAULT_DATA_PORT};
   char err[RS_ERRMSG_SIZE];
-  if (rs_opts_init(&opts, &spec, &st) != RS_OK) {
-    fprintf(stderr, "roadscan-export: %s\n", opts.err);
-    return 2;
-  }
   int first;
-  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &first);
-  if (pr == RS_OPTS_EXIT) return 0;
-  if (pr == RS_OPTS_ERROR) {
-    snprintf(err, sizeof err, "%s", opts.err);
-    goto bad;
-  }
-  if (first + 1 != argc || st.frame < 0 || st.out_path == NULL) {
-    snprintf(err, sizeof err, "give one CAPTURE, --frame N and -o FILE (see --help)");
+  const int start = rs_opts_start(&opts, &spec, &st, argc, argv, &first);
+  if (start >= 0) return start;
+  if (st.frame < 0 || st.out_path == NULL) {
+    snprintf(err, sizeof err, "--frame N and -o FILE are required (see --help)");
     goto bad;
   }
   const char *out_path = st.out_path;

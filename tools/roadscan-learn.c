@@ -138,8 +138,7 @@ static rs_opts_t opts;
 #define T settings_t
 static const rs_opt_t table[] = {
     RS_OPT_HEAD("", "Learning"),
-    {.type = RS_OPT_STR, .name = "output", .short_name = 'o', .arg = "MODEL", .off = offsetof(T, out),
-     .help = "the model file to write"},
+    RS_OPT_OUTPUT_("MODEL", T, out, "the model file to write"),
     RS_OPT_INT_("frames", "N", T, max_frames, 10, 100000, "frames sampled at random over the capture"),
     {.type = RS_OPT_DOUBLE, .name = "seconds", .arg = "S", .off = offsetof(T, seconds), .lo = 0.05, .hi = 1e6,
      .def = "the whole capture", .help = "learn from the complete frames of the first S seconds only"},
@@ -160,9 +159,8 @@ static const rs_opt_t table[] = {
                 "a surface reaches half-way to the one beside it in the row when they are less than max(M, 5 % of "
                 "the range) apart (0 = off)"),
     RS_OPT_HEAD("", "Sensor"),
-    {.type = RS_OPT_MODEL, .name = "model", .arg = "NAME", .off = offsetof(T, force_model),
-     .def = "detected from the packets", .help = "force the sensor model"},
-    RS_OPT_STR_("calibration", "FILE", T, calib_path, "per-unit calibration (ROS velodyne YAML)"),
+    RS_OPT_FORCE_MODEL_("model", T, force_model),
+    RS_OPT_CALIB_(T, calib_path),
     {.type = RS_OPT_INT, .name = "columns", .arg = "N", .off = offsetof(T, columns), .lo = RS_MIN_COLS,
      .hi = RS_MAX_COLS, .def = "from the measured rate, as the daemon", .help = "azimuth bins"},
     RS_OPT_HEAD("", "Models"),
@@ -180,6 +178,7 @@ static const rs_opts_spec_t spec = {
              "sampled uniformly at random, then every (laser, azimuth) cell is clustered over the ranges seen in "
              "it (docs/background.md). The model file is checksummed; roadscand --background loads it.",
     .epilog = "Exit status: 0 written, 1 the capture or a file could not be read or written, 2 bad usage.",
+    .max_args = 1,
     .opts = table,
     .n = (int)(sizeof table / sizeof table[0]),
 };
@@ -191,17 +190,9 @@ int main(int argc, char **argv) {
   st.seed = 1;
   st.method = st.params.method == RS_BG_PERCENTILE;
   char err[RS_ERRMSG_SIZE];
-  if (rs_opts_init(&opts, &spec, &st) != RS_OK) {
-    fprintf(stderr, "roadscan-learn: %s\n", opts.err);
-    return 2;
-  }
-  int first = 0;
-  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &first);
-  if (pr == RS_OPTS_EXIT) return 0;
-  if (pr == RS_OPTS_ERROR) {
-    snprintf(err, sizeof err, "%s", opts.err);
-    goto bad;
-  }
+  int first;
+  const int start = rs_opts_start(&opts, &spec, &st, argc, argv, &first);
+  if (start >= 0) return start;
   const char *out = st.out, *image = st.image, *info = st.info, *calib_path = st.calib_path;
   rs_bg_params_t params = st.params;
   params.method = st.method == 1 ? RS_BG_PERCENTILE : RS_BG_DBSCAN;

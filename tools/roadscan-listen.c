@@ -368,21 +368,9 @@ static const rs_opts_spec_t spec = {
 int main(int argc, char **argv) {
   st = (settings_t){.url = RS_PUB_DEFAULT_URL, .channel = RS_PUB_DEFAULT_CHANNEL};
   char err[RS_ERRMSG_SIZE], logurl[4200];
-  if (rs_opts_init(&opts, &spec, &st) != RS_OK) {
-    fprintf(stderr, "roadscan-listen: %s\n", opts.err);
-    return 2;
-  }
   int first;
-  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &first);
-  if (pr == RS_OPTS_EXIT) return 0;
-  if (pr == RS_OPTS_ERROR) {
-    snprintf(err, sizeof err, "%s", opts.err);
-    goto bad;
-  }
-  if (first < argc) {
-    snprintf(err, sizeof err, "unexpected argument '%s'", argv[first]);
-    goto bad;
-  }
+  const int start = rs_opts_start(&opts, &spec, &st, argc, argv, &first);
+  if (start >= 0) return start;
   const char *url = st.url, *channel = st.channel, *stats = st.stats, *log = st.log, *tracks = st.tracks,
              *counts = st.counts;
   const double timeout = st.timeout;

@@ -127,8 +127,7 @@ static rs_opts_t opts;
 static const rs_opt_t table[] = {
     {.type = RS_OPT_INT, .name = "frame", .arg = "N", .off = offsetof(T, frame), .lo = 0, .hi = 100000000,
      .flags = RS_OPT_NODEF, .help = "frame number (as roadscand's --frames-out; 0 = the partial first one)"},
-    {.type = RS_OPT_STR, .name = "output", .short_name = 'o', .arg = "FILE", .off = offsetof(T, out),
-     .help = "the picture (PNG): range image above, bird's-eye view below"},
+    RS_OPT_OUTPUT_("FILE", T, out, "the picture (PNG): range image above, bird's-eye view below"),
     RS_OPT_STR_("background", "MODEL", T, bg_path,
                 "subtract this static scene (roadscan-learn); without one every return is drawn grey by range"),
     {.type = RS_OPT_CHOICE, .name = "cluster", .arg = "METHOD", .off = offsetof(T, method),
@@ -137,8 +136,7 @@ static const rs_opt_t table[] = {
                 "take the labels from a point-label file instead (roadscand --labels-out, roadscan-sim --labels: "
                 "any pipeline's, or the truth)"),
     RS_OPT_DBL_("range", "M", T, half, 2.0, 500.0, "bird's-eye view half-width in metres"),
-    {.type = RS_OPT_MODEL, .name = "model", .arg = "NAME", .off = offsetof(T, model),
-     .def = "detected from the packets", .help = "force the sensor model"},
+    RS_OPT_FORCE_MODEL_("model", T, model),
 };
 #undef T
 
@@ -149,6 +147,8 @@ static const rs_opts_spec_t spec = {
     .about = "Colours: background grey (nearer is lighter), noise (foreground in no cluster) red, each cluster its "
              "own colour, no return black.",
     .epilog = "Exit status: 0 drawn, 1 a file could not be read or written, or no such frame, 2 bad usage.",
+    .min_args = 1,
+    .max_args = 1,
     .opts = table,
     .n = (int)(sizeof table / sizeof table[0]),
 };
@@ -156,19 +156,11 @@ static const rs_opts_spec_t spec = {
 int main(int argc, char **argv) {
   st = (settings_t){.frame = -1, .method = RS_CLUSTER_FSPC_ADAPTIVE, .half = 50.0};
   char err[RS_ERRMSG_SIZE];
-  if (rs_opts_init(&opts, &spec, &st) != RS_OK) {
-    fprintf(stderr, "roadscan-render: %s\n", opts.err);
-    return 2;
-  }
   int first;
-  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &first);
-  if (pr == RS_OPTS_EXIT) return 0;
-  if (pr == RS_OPTS_ERROR) {
-    snprintf(err, sizeof err, "%s", opts.err);
-    goto bad;
-  }
-  if (first + 1 != argc || st.frame < 0 || st.out == NULL) {
-    snprintf(err, sizeof err, "give one CAPTURE, --frame N and -o FILE (see --help)");
+  const int start = rs_opts_start(&opts, &spec, &st, argc, argv, &first);
+  if (start >= 0) return start;
+  if (st.frame < 0 || st.out == NULL) {
+    snprintf(err, sizeof err, "--frame N and -o FILE are required (see --help)");
     goto bad;
   }
   const long frame_no = st.frame;

@@ -121,30 +121,20 @@ static const rs_opts_spec_t spec = {
              "printed as one column of a Markdown table, up to 8 captures (docs/simulator.md puts the real "
              "captures next to the simulator's this way).",
     .epilog = "Exit status: 0 printed, 1 a capture could not be read, 2 bad usage.",
+    .min_args = 1,
+    .max_args = MAX_INPUTS,
     .opts = table,
     .n = (int)(sizeof table / sizeof table[0]),
 };
 
 int main(int argc, char **argv) {
   char err[RS_ERRMSG_SIZE], names[1024] = "";
-  if (rs_opts_init(&opts, &spec, &settings) != RS_OK) {
-    fprintf(stderr, "roadscan-scenestats: %s\n", opts.err);
-    return 2;
-  }
-  int optind_ = 0;
-  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &optind_);
-  if (pr == RS_OPTS_EXIT) return 0;
-  if (pr == RS_OPTS_ERROR) {
-    snprintf(err, sizeof err, "%s", opts.err);
-    goto bad;
-  }
+  int optind_;
+  const int start = rs_opts_start(&opts, &spec, &settings, argc, argv, &optind_);
+  if (start >= 0) return start;
   const long max_frames = settings.max_frames;
   if (settings.names) snprintf(names, sizeof names, "%s", settings.names);
   const int n = argc - optind_;
-  if (n < 1 || n > MAX_INPUTS) {
-    snprintf(err, sizeof err, "give 1 to %d captures (see --help)", MAX_INPUTS);
-    goto bad;
-  }
   static rs_sstats_t st[MAX_INPUTS];
   const char *label[MAX_INPUTS];
   char *save = NULL, *tok = names[0] ? strtok_r(names, ",", &save) : NULL;

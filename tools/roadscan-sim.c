@@ -55,8 +55,12 @@ static int check_scenario(void *t, const char *key, const char *v, char *err, si
 static int add_set(void *t, const char *key, const char *v, char *err, size_t n) {
   settings_t *s = (settings_t *)(void *)((char *)t - offsetof(settings_t, sets));
   const char *eq = strchr(v, '=');
-  if (eq == NULL || eq == v || strlen(v) >= sizeof s->sets[0]) {
+  if (eq == NULL || eq == v) {
     snprintf(err, n, "%s: '%s' is not KEY=VALUE", key, v);
+    return RS_E_INVAL;
+  }
+  if (strlen(v) >= sizeof s->sets[0]) {
+    snprintf(err, n, "%s: '%.32s...' is longer than %zu characters", key, v, sizeof s->sets[0] - 1);
     return RS_E_INVAL;
   }
   if (s->nsets == MAX_SETS) {
@@ -84,8 +88,7 @@ static const rs_opt_t table[] = {
      .choices = "strongest|last|dual", .help = "which returns the sensor reports"},
     RS_OPT_INT_("seed", "N", T, seed, 0, 2147483647.0, "random seed (the traffic; the site has site_seed)"),
     RS_OPT_DBL_("start-time", "T", T, t0, 0.0, 4e9, "capture time of the first packet, s since 1970"),
-    {.type = RS_OPT_STR, .name = "output", .short_name = 'o', .arg = "FILE", .off = offsetof(T, out),
-     .help = "the capture (pcap, Ethernet)"},
+    RS_OPT_OUTPUT_("FILE", T, out, "the capture (pcap, Ethernet)"),
     RS_OPT_STR_("labels", "FILE", T, labels, "ground truth: labels 2 (foliage, spurious) and 3+ (object ids)"),
     RS_OPT_STR_("truth-states", "FILE", T, states_path,
                 "every road user's true state at the start of every turn (CSV t,id,class,x,y,vx,vy,heading,"
@@ -116,21 +119,9 @@ int main(int argc, char **argv) {
       .n = (int)(sizeof table / sizeof table[0]),
   };
   char err[RS_ERRMSG_SIZE];
-  if (rs_opts_init(&opts, &spec, &st) != RS_OK) {
-    fprintf(stderr, "roadscan-sim: %s\n", opts.err);
-    return 2;
-  }
   int first;
-  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &first);
-  if (pr == RS_OPTS_EXIT) return 0;
-  if (pr == RS_OPTS_ERROR) {
-    snprintf(err, sizeof err, "%s", opts.err);
-    goto bad;
-  }
-  if (first < argc) {
-    snprintf(err, sizeof err, "unexpected argument '%s'", argv[first]);
-    goto bad;
-  }
+  const int start = rs_opts_start(&opts, &spec, &st, argc, argv, &first);
+  if (start >= 0) return start;
   if (st.out == NULL || st.labels == NULL) {
     snprintf(err, sizeof err, "-o OUT.pcap and --labels OUT.csv are required");
     goto bad;

@@ -21,8 +21,7 @@ static const uint8_t mode_of[] = {RS_MODE_STRONGEST, RS_MODE_LAST, RS_MODE_DUAL}
 
 #define T settings_t
 static const rs_opt_t table[] = {
-    {.type = RS_OPT_STR, .name = "output", .short_name = 'o', .arg = "FILE", .off = offsetof(T, out),
-     .help = "the capture (pcap, Ethernet)"},
+    RS_OPT_OUTPUT_("FILE", T, out, "the capture (pcap, Ethernet)"),
     {.type = RS_OPT_MODEL, .name = "model", .arg = "NAME", .off = offsetof(T, cfg.model), .help = "the sensor"},
     RS_OPT_DBL_("seconds", "S", T, cfg.seconds, 0.01, 3600.0, "capture length"),
     RS_OPT_DBL_("hz", "HZ", T, cfg.hz, 5.0, 20.0, "rotation rate"),
@@ -46,21 +45,9 @@ int main(int argc, char **argv) {
   st.cfg = (rs_synth_cfg_t){.model = RS_MODEL_VLP16, .mode = RS_MODE_STRONGEST, .hz = 10.0, .seconds = 2.0,
                             .t0 = 1700000000.0, .linktype = RS_LINK_ETHERNET, .position_every = 50};
   char err[RS_ERRMSG_SIZE];
-  if (rs_opts_init(&opts, &spec, &st) != RS_OK) {
-    fprintf(stderr, "roadscan-synth: %s\n", opts.err);
-    return 2;
-  }
   int first;
-  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &first);
-  if (pr == RS_OPTS_EXIT) return 0;
-  if (pr == RS_OPTS_ERROR) {
-    snprintf(err, sizeof err, "%s", opts.err);
-    goto bad;
-  }
-  if (first < argc) {
-    snprintf(err, sizeof err, "unexpected argument '%s'", argv[first]);
-    goto bad;
-  }
+  const int start = rs_opts_start(&opts, &spec, &st, argc, argv, &first);
+  if (start >= 0) return start;
   const char *out = st.out;
   rs_synth_cfg_t cfg = st.cfg;
   cfg.mode = mode_of[st.mode_i];

@@ -141,9 +141,8 @@ static const rs_opt_t table[] = {
     {.type = RS_OPT_STR, .name = "source", .arg = "ADDR", .off = offsetof(T, cfg.capture.source_addr),
      .fn = check_source, .help = "only packets from this sensor address (IPv4 or IPv6)"},
     RS_OPT_HEAD("sensor", "Sensor"),
-    {.type = RS_OPT_MODEL, .name = "model", .arg = "NAME", .off = offsetof(T, cfg.stream.force_model),
-     .def = "detected from the packets", .help = "force the sensor model"},
-    S("calibration", "FILE", calib_path, "per-unit calibration (ROS velodyne YAML)"),
+    RS_OPT_FORCE_MODEL_("model", T, cfg.stream.force_model),
+    RS_OPT_CALIB_(T, calib_path),
     {.type = RS_OPT_DOUBLE, .name = "rpm", .arg = "N", .off = offsetof(T, cfg.assembly.default_hz), .lo = 300,
      .hi = 1200, .scale = 1.0 / 60.0, .help = "rotation rate assumed until one is measured"},
     {.type = RS_OPT_FUNC, .name = "pose", .arg = "\"X Y Z ROLL PITCH YAW\"", .off = offsetof(T, pose),
@@ -292,15 +291,9 @@ int main(int argc, char **argv) {
                               .sensor_id = "roadscan",
                               .max_datagram = RS_PUB_DATAGRAM_MAX};
   char err[RS_ERRMSG_SIZE];
-  if (rs_opts_init(&opts, &spec, &st) != RS_OK) return bad(opts.err);
   int first;
-  const rs_opts_result_t pr = rs_opts_parse(&opts, argc, argv, &first);
-  if (pr == RS_OPTS_EXIT) return 0;
-  if (pr == RS_OPTS_ERROR) return bad(opts.err);
-  if (first < argc) {
-    snprintf(err, sizeof err, "unexpected argument '%s' (see --help)", argv[first]);
-    return bad(err);
-  }
+  const int start = rs_opts_start(&opts, &spec, &st, argc, argv, &first);
+  if (start >= 0) return start;
   cfg->capture.data_port = (uint16_t)st.port;
   cfg->bg_see_through = st.see_through == 0 ? -1 : st.see_through;
   cfg->labels_confirmed_only = st.labels_confirmed == 1;

@@ -30,21 +30,6 @@ const char *rs_pipeline_csv_header(void) {
 }
 
 
-/* a failed init releases what it had: the caller does not deinit */
-static void undo_init(rs_pipeline_t *p) {
-  rs_proc_deinit(&p->proc);
-  if (p->tracks_out) fclose(p->tracks_out);
-  p->tracks_out = NULL;
-  if (p->counts_out) fclose(p->counts_out);
-  p->counts_out = NULL;
-  free(p->label_buf);
-  p->label_buf = NULL;
-  rs_capture_close(&p->cap);
-  rs_ring_deinit(&p->ring);
-  if (p->labels_open) rs_labels_finish(&p->labels);
-  p->labels_open = false;
-}
-
 /* a CSV sink with its header; false with input_err naming the option */
 static bool open_csv(rs_pipeline_t *p, FILE **f, const char *path, const char *option, const char *header) {
   *f = fopen(path, "w");
@@ -106,14 +91,14 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
   /* last, so that no failure above leaves them allocated */
   if ((cfg->tracks_out && !open_csv(p, &p->tracks_out, cfg->tracks_out, "--tracks-out", rs_pipeline_tracks_header())) ||
       (cfg->counts_out && !open_csv(p, &p->counts_out, cfg->counts_out, "--counts-out", rs_pipeline_counts_header()))) {
-    undo_init(p);
+    rs_pipeline_deinit(p); /* a failed init releases what it had: the caller does not deinit */
     return RS_E_IO;
   }
   if (p->labels_open) {
     p->label_buf = malloc(sizeof *p->label_buf * RS_LABELS_FRAME_MAX);
     if (p->label_buf == NULL) {
       snprintf(p->input_err, sizeof p->input_err, "out of memory");
-      undo_init(p);
+      rs_pipeline_deinit(p);
       return RS_E_NOMEM;
     }
   }
@@ -134,7 +119,7 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
   };
   rc = rs_proc_init(&p->proc, &pc, p->input_err, sizeof p->input_err);
   if (rc != RS_OK) {
-    undo_init(p);
+    rs_pipeline_deinit(p);
     return rc;
   }
   return RS_OK;

@@ -6,25 +6,24 @@
 #include <stdio.h>
 #include <string.h>
 
-int rs_framer_init(rs_framer_t *f, const rs_stream_cfg_t *scfg, const rs_asm_cfg_t *acfg, rs_slot_t *slots,
-                   rs_framer_fn fn, void *user) {
+static void setup(rs_framer_t *f, const rs_asm_cfg_t *acfg, rs_slot_t *slots, rs_framer_fn fn, void *user) {
   memset(f, 0, sizeof *f);
   f->acfg = *acfg;
   if (f->acfg.default_hz <= 0) f->acfg.default_hz = 10.0;
   f->slots = slots;
   f->fn = fn;
   f->user = user;
+}
+
+int rs_framer_init(rs_framer_t *f, const rs_stream_cfg_t *scfg, const rs_asm_cfg_t *acfg, rs_slot_t *slots,
+                   rs_framer_fn fn, void *user) {
+  setup(f, acfg, slots, fn, user);
   return rs_stream_init(&f->stream, scfg);
 }
 
 int rs_framer_start(rs_framer_t *f, const rs_asm_cfg_t *acfg, const rs_sensor_t *s, rs_slot_t *slots, rs_framer_fn fn,
                     void *user) {
-  memset(f, 0, sizeof *f);
-  f->acfg = *acfg;
-  if (f->acfg.default_hz <= 0) f->acfg.default_hz = 10.0;
-  f->slots = slots;
-  f->fn = fn;
-  f->user = user;
+  setup(f, acfg, slots, fn, user);
   f->rc = rs_asm_init(&f->as, &f->acfg, s);
   f->ready = f->rc == RS_OK;
   return f->rc;

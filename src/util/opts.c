@@ -350,6 +350,28 @@ rs_opts_result_t rs_opts_parse(rs_opts_t *o, int argc, char **argv, int *first_a
   return RS_OPTS_RUN;
 }
 
+int rs_opts_start(rs_opts_t *o, const rs_opts_spec_t *spec, void *base, int argc, char **argv, int *first) {
+  int f = argc;
+  rs_opts_result_t pr = RS_OPTS_ERROR;
+  if (rs_opts_init(o, spec, base) == RS_OK) pr = rs_opts_parse(o, argc, argv, &f);
+  if (pr == RS_OPTS_EXIT) return 0;
+  if (pr == RS_OPTS_RUN) {
+    const int n = argc - f;
+    if (spec->max_args >= 0 && n > spec->max_args)
+      snprintf(o->err, sizeof o->err, "unexpected argument '%s' (see --help)", argv[f + spec->max_args]);
+    else if (n < spec->min_args)
+      snprintf(o->err, sizeof o->err, "%d argument%s missing (usage: %s %.*s)", spec->min_args - n,
+               spec->min_args - n > 1 ? "s" : "", spec->prog, (int)strcspn(spec->synopsis ? spec->synopsis : "", "\n"),
+               spec->synopsis ? spec->synopsis : "");
+    else {
+      *first = f;
+      return -1;
+    }
+  }
+  fprintf(stderr, "%s: %s\n", spec->prog, o->err);
+  return 2;
+}
+
 /* ---- help and man page ---- */
 
 /* the option as written: "-o, --output FILE" */

@@ -78,6 +78,13 @@ typedef struct {
   {.type = RS_OPT_FLOAT, .name = (nm), .arg = (a), .off = offsetof(T, f), .lo = (l), .hi = (u), .help = (h)}
 #define RS_OPT_INT_(nm, a, T, f, l, u, h) \
   {.type = RS_OPT_INT, .name = (nm), .arg = (a), .off = offsetof(T, f), .lo = (l), .hi = (u), .help = (h)}
+/* Rows several programs share. */
+#define RS_OPT_OUTPUT_(a, T, f, h) \
+  {.type = RS_OPT_STR, .name = "output", .short_name = 'o', .arg = (a), .off = offsetof(T, f), .help = (h)}
+#define RS_OPT_FORCE_MODEL_(nm, T, f)                                                                   \
+  {.type = RS_OPT_MODEL, .name = (nm), .arg = "NAME", .off = offsetof(T, f), .def = "detected from the packets", \
+   .help = "force the sensor model"}
+#define RS_OPT_CALIB_(T, f) RS_OPT_STR_("calibration", "FILE", T, f, "per-unit calibration (ROS velodyne YAML)")
 
 /* What a program says about itself. */
 typedef struct {
@@ -88,6 +95,7 @@ typedef struct {
   const char *about;     /* paragraphs of description ("\n\n" between them); may be NULL */
   const char *epilog;    /* exit status and the like; may be NULL */
   bool config_file;      /* --config FILE reads the INI file first, the command line overrides it */
+  int min_args, max_args; /* arguments that are not options (max_args < 0: any number) */
   const rs_opt_t *opts;
   int n;
 } rs_opts_spec_t;
@@ -116,6 +124,11 @@ int rs_opts_init(rs_opts_t *o, const rs_opts_spec_t *spec, void *base);
  * *first_arg (optional): the index of the first argument that is not an
  * option (getopt order). */
 rs_opts_result_t rs_opts_parse(rs_opts_t *o, int argc, char **argv, int *first_arg);
+
+/* The start of every program: rs_opts_init, rs_opts_parse and the argument count. Returns -1 to
+ * go on (*first: the first argument that is not an option), else the exit status: 0 after --help,
+ * --man or --version, 2 after a usage error, said on stderr as "prog: message". */
+int rs_opts_start(rs_opts_t *o, const rs_opts_spec_t *spec, void *base, int argc, char **argv, int *first);
 
 /* An INI file: keys are option names in their section; an unknown key, a key
  * in the wrong section, a key twice (unless repeatable), a NUL byte or a line
