@@ -4,6 +4,9 @@
 # with the learned (DBSCAN) model and with the per-cell percentile baseline.
 # Usage: scripts/bg-figures.sh [SENSOR] [OUTDIR]   (default VLP-32C, out/bg)
 set -euo pipefail
+# roadscand refuses to run as root unless told (it needs no privilege to replay a file): these
+# scripts are often run as root (containers, CI), so they say so
+export ROADSCAN_ALLOW_ROOT=1
 cd "$(dirname "$0")/.."
 sensor=${1:-VLP-32C}
 out=${2:-out/bg}

@@ -5,6 +5,9 @@
 # the sensor itself moves from frame 35 on, see docs/background.md).
 # Usage: scripts/bg-real.sh [OUTDIR]   (default out/real)
 set -euo pipefail
+# roadscand refuses to run as root unless told (it needs no privilege to replay a file): these
+# scripts are often run as root (containers, CI), so they say so
+export ROADSCAN_ALLOW_ROOT=1
 cd "$(dirname "$0")/.."
 bin=${BIN:-build/bin}
 out=${1:-out/real}

@@ -3,6 +3,9 @@
 # its original timing: the real VLP-16 capture in ../shared/data when present,
 # otherwise a synthetic one. Results land in out/.
 set -euo pipefail
+# roadscand refuses to run as root unless told (it needs no privilege to replay a file): these
+# scripts are often run as root (containers, CI), so they say so
+export ROADSCAN_ALLOW_ROOT=1
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null

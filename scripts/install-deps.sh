@@ -5,7 +5,8 @@ set -euo pipefail
 pkgs=(build-essential cmake ninja-build pkg-config
       libpcap-dev check libyaml-dev libinih-dev libpng-dev
       liblcm-dev liblcm-bin libglib2.0-dev
-      tcpdump iproute2 util-linux python3-venv)
+      tcpdump iproute2 util-linux python3-venv
+      strace systemd)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

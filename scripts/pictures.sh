@@ -6,6 +6,9 @@
 # build it) also with that build's labels, learned and run with its defaults.
 # Usage: [OLD_BIN=DIR] scripts/pictures.sh [FRAME]   (default frame 100)
 set -euo pipefail
+# roadscand refuses to run as root unless told (it needs no privilege to replay a file): these
+# scripts are often run as root (containers, CI), so they say so
+export ROADSCAN_ALLOW_ROOT=1
 cd "$(dirname "$0")/.."
 bin=${BIN:-build/bin}
 out=out/results

@@ -8,6 +8,9 @@
 # (site_seed 5), learned on seed 21 and scored on seed 22, light and rush.
 # Takes about 30 minutes on 2 cores.
 set -euo pipefail
+# roadscand refuses to run as root unless told (it needs no privilege to replay a file): these
+# scripts are often run as root (containers, CI), so they say so
+export ROADSCAN_ALLOW_ROOT=1
 cd "$(dirname "$0")/.."
 bin=${BIN:-build/bin}
 out=out/results

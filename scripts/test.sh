@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Installs dependencies, then builds and runs every test: a plain release
 # build, an AddressSanitizer + UndefinedBehaviorSanitizer build, and a
-# ThreadSanitizer build of the suites that run threads; builds the package;
-# then runs every fuzz target for 30 s (libFuzzer, clang).
+# ThreadSanitizer build of the suites that run threads; soaks the release
+# daemon for 5 minutes; builds the package; then runs every fuzz target for
+# 30 s (libFuzzer, clang).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
@@ -26,6 +27,8 @@ run() { # name dir ctest-args cmake-args...
   ctest --test-dir "$dir" --output-on-failure -j "$jobs" $filter
 }
 run release build "" -DCMAKE_BUILD_TYPE=Release
+echo "== soak: the daemon flat out for 5 minutes, resident memory flat (scripts/soak.sh 60: the hour)"
+bash scripts/soak.sh 5
 run asan+ubsan build-asan "" -DCMAKE_BUILD_TYPE=Debug -DRS_SANITIZE=ON
 run tsan build-tsan "-R ^(ring|pipeline|tools|lcm|bgupdate)$" -DCMAKE_BUILD_TYPE=Debug -DRS_SANITIZE=thread
 echo "== Debian package"

@@ -13,6 +13,7 @@
 #include <stdio.h>
 #include <string.h>
 #include <sys/socket.h>
+#include <time.h>
 #include <unistd.h>
 
 static rs_stream_t st;
@@ -218,6 +219,44 @@ START_TEST(t_live_loopback) {
 }
 END_TEST
 
+/* live capture time has the kernel's sub-second resolution: two datagrams sent 200 ms apart are
+ * 200 ms apart or more (microseconds read as nanoseconds put them under a millisecond apart) */
+START_TEST(t_live_timestamps) {
+  rs_capture_t c;
+  rs_capture_cfg_t cc = {.data_port = (uint16_t)(27000 + getpid() % 1000)};
+  int rc = rs_capture_open_live(&c, "lo", &cc);
+  if (rc == RS_E_PERM) {
+    fprintf(stderr, "check_capture: live capture needs CAP_NET_RAW here; timestamps case skipped\n");
+    return;
+  }
+  ck_assert_msg(rc == RS_OK, "open lo: %s", c.err);
+  int sock = socket(AF_INET, SOCK_DGRAM, 0);
+  struct sockaddr_in to = {.sin_family = AF_INET, .sin_port = htons(cc.data_port)};
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  static uint8_t payload[1206];
+  struct timespec wall;
+  clock_gettime(CLOCK_REALTIME, &wall);
+  const double sent0 = (double)wall.tv_sec + (double)wall.tv_nsec * 1e-9;
+  ck_assert_int_eq(sendto(sock, payload, sizeof payload, 0, (struct sockaddr *)&to, sizeof to), 1206);
+  struct timespec gap = {0, 200000000L};
+  nanosleep(&gap, NULL);
+  ck_assert_int_eq(sendto(sock, payload, sizeof payload, 0, (struct sockaddr *)&to, sizeof to), 1206);
+  close(sock);
+  double ts[2];
+  int got = 0;
+  rs_frame_in_t f;
+  for (int tries = 0; tries < 100 && got < 2; tries++) {
+    rc = rs_capture_next(&c, &f, NULL);
+    ck_assert_int_ge(rc, 0);
+    if (rc == 1) ts[got++] = f.ts;
+  }
+  ck_assert_int_eq(got, 2);
+  ck_assert_msg(ts[1] - ts[0] >= 0.19, "captured %.6f s apart, sent 0.2 s apart", ts[1] - ts[0]);
+  ck_assert_msg(ts[0] >= sent0 - 0.01 && ts[0] < sent0 + 60, "captured at %.6f, sent at %.6f", ts[0], sent0);
+  rs_capture_close(&c);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("capture");
   TCase *tc = tcase_create("core");
@@ -227,6 +266,7 @@ int main(void) {
   tcase_add_test(tc, t_truncated_and_bad_files);
   tcase_add_test(tc, t_pacing_and_loop);
   tcase_add_test(tc, t_live_loopback);
+  tcase_add_test(tc, t_live_timestamps);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

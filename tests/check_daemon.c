@@ -131,7 +131,8 @@ START_TEST(t_help_covers_every_option) {
                                 "rpm", "pose", "columns", "cut-azimuth", "background", "learn-seconds", "learn-out", "see-through",
                                 "cluster", "window", "eps", "min-pts", "seed-surfaces", "border-eps", "sparse-min-pts", "min-half-width", "lcm-url", "channel", "stats-channel",
                                 "sensor-id", "max-datagram", "no-publish", "budget-ms", "summary-seconds", "syslog",
-                                "frames-out", "labels-out", "quiet", "config", "help", "version"};
+                                "frames-out", "labels-out", "quiet", "capture-buffer-kib", "allow-root", "stall-ms",
+                                "config", "help", "version"};
   for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
     char opt[64];
     snprintf(opt, sizeof opt, "--%s", names[i]);
@@ -339,6 +340,46 @@ START_TEST(t_install_layout) {
 }
 END_TEST
 
+/* As root the daemon refuses to start (a capability would do) unless --allow-root or
+ * ROADSCAN_ALLOW_ROOT=1 says so; as nobody a replay needs nothing. */
+START_TEST(t_refuses_root) {
+  const char *out;
+  char cmd[2048];
+  if (tu_exec("[ \"$(id -u)\" = 0 ]", &out) != 0) {
+    fprintf(stderr, "check_daemon: not root: the refusal is not tested here\n");
+    return;
+  }
+  snprintf(cmd, sizeof cmd, "env -u ROADSCAN_ALLOW_ROOT ./roadscand --pcap %s --fast --no-publish", cap);
+  ck_assert_int_eq(tu_exec(cmd, &out), 2);
+  ck_assert_msg(strstr(out, "refusing to run as root") && strstr(out, "CAP_NET_RAW") && strstr(out, "--allow-root"), "%s",
+                out);
+  ck_assert_ptr_null(strstr(out, "roadscan summary"));
+  snprintf(cmd, sizeof cmd, "env -u ROADSCAN_ALLOW_ROOT ./roadscand --pcap %s --fast --no-publish --allow-root", cap);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  snprintf(cmd, sizeof cmd, "env ROADSCAN_ALLOW_ROOT=yes ./roadscand --pcap %s --fast --no-publish", cap);
+  ck_assert_int_eq(tu_exec(cmd, &out), 2); /* only "1" */
+  snprintf(cmd, sizeof cmd, "env ROADSCAN_ALLOW_ROOT=1 ./roadscand --pcap %s --fast --no-publish", cap);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  /* the config file says it as well */
+  const char *ini = write_ini("dmn-root.ini", "[daemon]\nallow-root = true\n");
+  snprintf(cmd, sizeof cmd, "env -u ROADSCAN_ALLOW_ROOT ./roadscand --config %s --pcap %s --fast --no-publish", ini, cap);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  /* nobody replays a capture it can read */
+  if (tu_exec("command -v setpriv >/dev/null", &out) == 0) {
+    const char *copy = "/tmp/roadscan-dmn-nobody.pcap";
+    snprintf(cmd, sizeof cmd, "cp %s %s && chmod 644 %s", cap, copy, copy);
+    ck_assert_int_eq(tu_exec(cmd, &out), 0);
+    snprintf(cmd, sizeof cmd,
+             "cp ./roadscand /tmp/roadscand-dmn-nobody && env -u ROADSCAN_ALLOW_ROOT setpriv --reuid=65534 --regid=65534 "
+             "--clear-groups /tmp/roadscand-dmn-nobody --pcap %s --fast --no-publish; s=$?; rm -f %s "
+             "/tmp/roadscand-dmn-nobody; exit $s",
+             copy, copy);
+    ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
+    ck_assert_ptr_nonnull(strstr(out, "roadscan summary"));
+  }
+}
+END_TEST
+
 /* The unit grants CAP_NET_RAW only: that must be enough for live capture. */
 START_TEST(t_live_capture_with_cap_net_raw_only) {
   const char *out;
@@ -530,6 +571,7 @@ int main(void) {
   tcase_add_test(tc, t_config_errors);
   tcase_add_test(tc, t_config_and_overrides);
   tcase_add_test(tc, t_help_covers_every_option);
+  tcase_add_test(tc, t_refuses_root);
   tcase_add_test(tc, t_log_lines_and_budget);
   tcase_add_test(tc, t_udpm_in_netns);
   tcase_add_test(tc, t_install_layout);

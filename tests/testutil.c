@@ -5,8 +5,18 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "roadscan/capture/capture.h"
+#include "roadscan/capture/net.h"
+#include "roadscan/sim/synth.h"
 
 int tu_run(Suite *s) {
   SRunner *sr = srunner_create(s);
@@ -74,6 +84,114 @@ int tu_exec(const char *cmdline, const char **out) {
   int st = pclose(p);
   if (out) *out = buf;
   return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+int tu_spawn(const char *cmdline, const char *out_path) {
+  char cmd[4096];
+  snprintf(cmd, sizeof cmd, "cd %s && exec %s >%s 2>&1", RS_BIN_DIR, cmdline, out_path);
+  pid_t pid = fork();
+  ck_assert_int_ge(pid, 0);
+  if (pid == 0) {
+    execl("/bin/sh", "sh", "-c", cmd, (char *)NULL);
+    _exit(127);
+  }
+  return (int)pid;
+}
+
+static double now_s(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
+}
+
+static void nap_ms(long ms) {
+  struct timespec d = {ms / 1000, (ms % 1000) * 1000000L};
+  nanosleep(&d, NULL);
+}
+
+const char *tu_slurp_text(const char *path) {
+  static char buf[1 << 20];
+  buf[0] = '\0';
+  FILE *f = fopen(path, "r");
+  if (f == NULL) return buf;
+  size_t n = fread(buf, 1, sizeof buf - 1, f);
+  buf[n] = '\0';
+  fclose(f);
+  return buf;
+}
+
+bool tu_wait_for(const char *path, const char *needle, double timeout_s) {
+  const double end = now_s() + timeout_s;
+  do {
+    if (strstr(tu_slurp_text(path), needle)) return true;
+    nap_ms(20);
+  } while (now_s() < end);
+  return false;
+}
+
+int tu_stop(int pid, int sig, double timeout_s) {
+  if (sig) kill(pid, sig);
+  const double end = now_s() + timeout_s;
+  int st = 0;
+  for (;;) {
+    pid_t r = waitpid(pid, &st, WNOHANG);
+    if (r == pid) break;
+    if (r < 0) return -1;
+    if (now_s() > end) {
+      kill(pid, SIGKILL);
+      waitpid(pid, &st, 0);
+      break;
+    }
+    nap_ms(20);
+  }
+  return WIFEXITED(st) ? WEXITSTATUS(st) : 128 + WTERMSIG(st);
+}
+
+long tu_send_capture(const char *path, uint16_t port, double speed) {
+  static rs_capture_t c; /* large: not on the stack */
+  rs_capture_cfg_t cc = {.data_port = 2368, .speed = speed};
+  ck_assert_msg(rs_capture_open_file(&c, path, &cc) == RS_OK, "%s", c.err);
+  int sock = socket(AF_INET, SOCK_DGRAM, 0);
+  ck_assert_int_ge(sock, 0);
+  long sent = 0;
+  rs_frame_in_t f;
+  while (rs_capture_next(&c, &f, NULL) == 1) {
+    rs_udp_t u;
+    if (rs_net_parse(c.linktype, f.data, f.caplen, &u) != RS_OK) continue;
+    if (port && u.dst_port != 2368) continue; /* other live tests on lo count the position port */
+    struct sockaddr_in to = {.sin_family = AF_INET, .sin_port = htons(port ? port : u.dst_port)};
+    to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    if (sendto(sock, u.payload, u.len, 0, (struct sockaddr *)&to, sizeof to) == (ssize_t)u.len) sent++;
+  }
+  close(sock);
+  rs_capture_close(&c);
+  return sent;
+}
+
+long tu_settle_live(uint16_t port, const char *csv) {
+  static int k;
+  const char *tail = tu_tmp("settle-tail.pcap");
+  rs_synth_cfg_t cfg = {.model = RS_MODEL_VLP16, .mode = RS_MODE_STRONGEST, .hz = 10.0, .seconds = 0.5,
+                        .t0 = 2e9 + 10.0 * ++k};
+  ck_assert_int_gt(rs_synth_write(&cfg, tail), 300);
+  struct timespec now;
+  clock_gettime(CLOCK_REALTIME, &now);
+  const double t_sent = (double)now.tv_sec + (double)now.tv_nsec * 1e-9;
+  const long n = tu_send_capture(tail, port, 1.0); /* paced: a burst would fill a small kernel buffer */
+  for (int tries = 0; tries < 6000; tries++) { /* 120 s at most */
+    FILE *f = fopen(csv, "r");
+    char line[1024];
+    bool seen = false;
+    while (f && !seen && fgets(line, sizeof line, f)) {
+      const char *p = strchr(line, ',');
+      seen = p && strtod(p + 1, NULL) >= t_sent; /* t_first: the kernel's receive time */
+    }
+    if (f) fclose(f);
+    if (seen) return n;
+    nap_ms(20);
+  }
+  ck_abort_msg("no frame of the packets sent last in %s", csv);
+  return n;
 }
 
 long tu_count_lines(const char *path) {

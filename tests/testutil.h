@@ -28,6 +28,29 @@ const char *tu_shared_data(void);
  * into *out (static buffer). Returns the exit status (or -1). */
 int tu_exec(const char *cmdline, const char **out);
 
+/* Starts build/bin/<cmdline> in the background (sh -c, in RS_BIN_DIR), its
+ * stdout and stderr to out_path; returns its pid. */
+int tu_spawn(const char *cmdline, const char *out_path);
+/* Waits until the file at path holds needle (true), or timeout_s passes
+ * (false): a condition, never a measured time. */
+bool tu_wait_for(const char *path, const char *needle, double timeout_s);
+/* Sends sig to pid (0: none) and waits up to timeout_s for it to end (then
+ * SIGKILL). Returns its exit status, or 128 + the signal that ended it. */
+int tu_stop(int pid, int sig, double timeout_s);
+/* Sends the UDP payloads of a capture to 127.0.0.1: every one to its captured
+ * destination port, or (port > 0) only the data packets, to port; paced at the capture's timing times speed (0: flat
+ * out). Returns the number of datagrams sent. */
+long tu_send_capture(const char *path, uint16_t port, double speed);
+/* After what a live test sent to a daemon on lo (data port `port`, frames CSV
+ * `csv`): 0.5 s more of a VLP-16 at its rate (a capture that starts 10 s of
+ * sensor time after the last one this made), then a wait until a frame that
+ * began with one of those packets is in the CSV. The kernel hands packets over
+ * in order, so every packet sent before was read by then. Returns the
+ * datagrams of the 0.5 s. */
+long tu_settle_live(uint16_t port, const char *csv);
+/* A file's contents (static buffer, 1 MiB at most; "" when unreadable). */
+const char *tu_slurp_text(const char *path);
+
 /* Counts lines of a text file (-1 if unreadable). */
 long tu_count_lines(const char *path);
 

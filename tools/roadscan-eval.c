@@ -593,6 +593,13 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
   (void)ts;
   ctx_t *c = user;
   if (c->failed) return;
+  const rs_bg_model_t *m = c->dg.model;
+  if (m && (m->model != stream.sensor.info->model || m->rows != stream.sensor.lasers)) {
+    snprintf(c->err, sizeof c->err, "--model: the model is for a %s (%u rows), the capture is from a %s",
+             rs_model_name(m->model), m->rows, stream.sensor.info->name);
+    c->failed = true;
+    return;
+  }
   int pi = 0;
   for (int b = 0; b < pkt->blocks; b++) {
     int az = pkt->block_azimuth[b];

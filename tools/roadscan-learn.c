@@ -91,7 +91,7 @@ static void print_info(const rs_bg_model_t *m, FILE *out) {
 static int write_png(const rs_bg_model_t *m, const char *path) {
   const int scale = m->rows <= 32 ? 8 : 2, w = m->cols, h = m->rows * scale;
   uint8_t *px = calloc((size_t)w * (size_t)h * 3, 1);
-  if (px == NULL) return RS_E_NOMEM;
+  if (px == NULL) return RS_E_OOM;
   for (int r = 0; r < m->rows; r++)
     for (int c = 0; c < m->cols; c++) {
       size_t cell = (size_t)r * m->cols + (size_t)c;

@@ -210,16 +210,19 @@ static void on_stats(const lcm_recv_buf_t *rbuf, const char *channel, void *user
              "\"objects_us\":%d,\"publish_us\":%d,\"processing_us\":%d,\"latency_us\":%d,\"points\":%d,"
              "\"foreground\":%d,\"clusters\":%d,\"noise\":%d,\"frames_processed\":%" PRId64 ",\"frames_dropped\":%" PRId64
              ",\"deadline_overruns\":%" PRId64 ",\"packets_missing\":%" PRId64 ",\"truncated_lists\":%" PRId64
-             ",\"budget_ms\":%.2f}\n",
+             ",\"budget_ms\":%.2f,\"tracks_us\":%d,\"tracks\":%d,\"kernel_dropped\":%" PRId64
+             ",\"capture_buffer_kib\":%d}\n",
              js(s.sensor_id), s.frame_seq, s.background_us, s.cluster_us, s.objects_us, s.publish_us, s.processing_us,
              s.latency_us, s.points, s.foreground, s.clusters, s.noise, s.frames_processed, s.frames_dropped,
-             s.deadline_overruns, s.packets_missing, s.truncated_lists, (double)s.budget_ms);
+             s.deadline_overruns, s.packets_missing, s.truncated_lists, (double)s.budget_ms, s.tracks_us, s.tracks,
+             s.kernel_dropped, s.capture_buffer_kib);
     else
       printf("%s frame %" PRId64 " stats: processing %.2f ms (background %.2f, cluster %.2f, objects %.2f, publish "
-             "%.2f) latency %.2f ms; %d foreground, %d clusters; %" PRId64 " dropped, %" PRId64 " over budget\n",
+             "%.2f) latency %.2f ms; %d foreground, %d clusters; %" PRId64 " dropped, %" PRId64 " over budget; %" PRId64
+             " packets dropped by the kernel\n",
              s.sensor_id, s.frame_seq, s.processing_us * 1e-3, s.background_us * 1e-3, s.cluster_us * 1e-3,
              s.objects_us * 1e-3, s.publish_us * 1e-3, s.latency_us * 1e-3, s.foreground, s.clusters,
-             s.frames_dropped, s.deadline_overruns);
+             s.frames_dropped, s.deadline_overruns, s.kernel_dropped);
     fflush(stdout);
   }
   roadscan_frame_stats_t_decode_cleanup(&s);

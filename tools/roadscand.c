@@ -18,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define RING_SLOTS 4
 static rs_slot_t slots[RING_SLOTS];
@@ -48,7 +49,8 @@ typedef struct {
   rs_publish_cfg_t pub;
   rs_pose_t pose;
   const char *frames_path, *calib_path, *bg_path;
-  bool quiet, fast, no_publish, use_syslog, no_tracking;
+  bool quiet, fast, no_publish, use_syslog, no_tracking, allow_root;
+  int buffer_kib;
   rs_track_cfg_t tcfg;
   struct {
     rs_count_line_t line[RS_COUNT_LINES];
@@ -140,6 +142,9 @@ static const rs_opt_t table[] = {
     I("port", "N", port, 1, 65535, "sensor data UDP port"),
     {.type = RS_OPT_STR, .name = "source", .arg = "ADDR", .off = offsetof(T, cfg.capture.source_addr),
      .fn = check_source, .help = "only packets from this sensor address (IPv4 or IPv6)"},
+    I("capture-buffer-kib", "N", buffer_kib, RS_CAPTURE_BUFFER_MIN / 1024, RS_CAPTURE_BUFFER_MAX / 1024,
+      "live: the kernel's capture buffer, KiB (what a stall of the packet thread can absorb; the kernel's drops "
+      "are in the summary and the statistics)"),
     RS_OPT_HEAD("sensor", "Sensor"),
     RS_OPT_FORCE_MODEL_("model", T, cfg.stream.force_model),
     RS_OPT_CALIB_(T, calib_path),
@@ -238,6 +243,12 @@ static const rs_opt_t table[] = {
     S("frames-out", "FILE", frames_path, "one CSV line per frame"),
     S("labels-out", "FILE", cfg.labels_out, "the pipeline's label of every return (specs/point-labels.md)"),
     F("quiet", quiet, "no summary at the end"),
+    F("allow-root", allow_root,
+      "run as root (refused otherwise: live capture needs only CAP_NET_RAW, a replay no privilege; the "
+      "environment variable ROADSCAN_ALLOW_ROOT=1 does the same)"),
+    D("stall-ms", "MS", cfg.stall_ms, 0.0, 10000.0,
+      "testing: the processing thread sleeps MS per frame (overload tests: drops are counted and published, "
+      "capture never waits)"),
 };
 #undef T
 #undef F
@@ -283,6 +294,7 @@ int main(int argc, char **argv) {
   rs_cluster_cfg_default(&st.ccfg);
   rs_track_cfg_default(&st.tcfg);
   st.count_interval = 60.0;
+  st.buffer_kib = RS_CAPTURE_BUFFER_DEFAULT / 1024;
   st.pub = (rs_publish_cfg_t){.channel = RS_PUB_DEFAULT_CHANNEL,
                               .stats_channel = RS_PUB_DEFAULT_STATS,
                               .tracks_channel = RS_PUB_DEFAULT_TRACKS,
@@ -295,6 +307,7 @@ int main(int argc, char **argv) {
   const int start = rs_opts_start(&opts, &spec, &st, argc, argv, &first);
   if (start >= 0) return start;
   cfg->capture.data_port = (uint16_t)st.port;
+  cfg->capture.buffer_bytes = st.buffer_kib * 1024;
   cfg->bg_see_through = st.see_through == 0 ? -1 : st.see_through;
   cfg->labels_confirmed_only = st.labels_confirmed == 1;
   st.pub.stats_channel = channel_or_off(st.pub.stats_channel);
@@ -303,9 +316,15 @@ int main(int argc, char **argv) {
   st.pub.counts_channel = channel_or_off(st.pub.counts_channel);
   const bool speed_set = rs_opts_given(&opts, "speed") > 0, have_pose = rs_opts_given(&opts, "pose") > 0;
   if (st.use_syslog) rs_log_open("roadscand", true);
+  const char *allow_env = getenv("ROADSCAN_ALLOW_ROOT");
+  if (geteuid() == 0 && !st.allow_root && !(allow_env && strcmp(allow_env, "1") == 0))
+    return bad("refusing to run as root: live capture needs only CAP_NET_RAW (setcap cap_net_raw=eip on the "
+               "binary, or the systemd unit's AmbientCapabilities=CAP_NET_RAW as an unprivileged user), a replay "
+               "needs no privilege; --allow-root (or ROADSCAN_ALLOW_ROOT=1) overrides");
   if ((cfg->pcap_path == NULL) == (cfg->iface == NULL)) return bad("give exactly one source: --pcap FILE or --iface NAME");
   if (cfg->iface && (st.fast || speed_set || cfg->capture.loop)) return bad("--speed, --fast and --loop apply to --pcap only");
   if (st.fast && speed_set) return bad("--fast and --speed exclude each other");
+  if (cfg->pcap_path && rs_opts_given(&opts, "capture-buffer-kib")) return bad("--capture-buffer-kib applies to --iface only");
   if (st.fast) {
     cfg->capture.speed = 0.0;
     cfg->lossless = true;

@@ -40,6 +40,7 @@ static int check_linktype(rs_capture_t *c) {
 static int open_offline(rs_capture_t *c) {
   char eb[PCAP_ERRBUF_SIZE] = "";
   c->p = pcap_open_offline_with_tstamp_precision(c->path, PCAP_TSTAMP_PRECISION_NANO, eb);
+  c->ts_unit = 1e-9;
   if (c->p == NULL) {
     struct stat st;
     if (stat(c->path, &st) != 0) {
@@ -73,7 +74,9 @@ int rs_capture_open_live(rs_capture_t *c, const char *iface, const rs_capture_cf
   pcap_set_snaplen(c->p, cfg->snaplen > 0 ? cfg->snaplen : 2048);
   pcap_set_promisc(c->p, 0);
   pcap_set_immediate_mode(c->p, 1);
-  pcap_set_buffer_size(c->p, 16 * 1024 * 1024);
+  (void)pcap_set_tstamp_precision(c->p, PCAP_TSTAMP_PRECISION_NANO); /* microseconds where refused */
+  c->buffer_bytes = cfg->buffer_bytes > 0 ? cfg->buffer_bytes : RS_CAPTURE_BUFFER_DEFAULT;
+  pcap_set_buffer_size(c->p, c->buffer_bytes);
   int rc = pcap_activate(c->p);
   if (rc < 0) {
     int code = RS_E_CAPTURE;
@@ -91,6 +94,7 @@ int rs_capture_open_live(rs_capture_t *c, const char *iface, const rs_capture_cf
     c->p = NULL;
     return code;
   }
+  c->ts_unit = pcap_get_tstamp_precision(c->p) == PCAP_TSTAMP_PRECISION_NANO ? 1e-9 : 1e-6;
   rc = check_linktype(c);
   if (rc != RS_OK) return rc;
   char filter[160];
@@ -117,9 +121,22 @@ void rs_capture_close(rs_capture_t *c) {
   c->p = NULL;
 }
 
-static double ts_of(const struct pcap_pkthdr *h) {
-  /* opened with nanosecond precision: tv_usec holds nanoseconds */
-  return (double)h->ts.tv_sec + (double)h->ts.tv_usec * 1e-9;
+bool rs_capture_kstats(rs_capture_t *c) {
+  if (!c->live || c->p == NULL) return false;
+  struct pcap_stat ps;
+  if (pcap_stats(c->p, &ps) != 0) return false;
+  /* libpcap's counters are 32-bit and wrap: carry them into 64 bits */
+  uint32_t last[3] = {(uint32_t)c->kstats.received, (uint32_t)c->kstats.dropped, (uint32_t)c->kstats.if_dropped};
+  c->kstats.received += (uint32_t)(ps.ps_recv - last[0]);
+  c->kstats.dropped += (uint32_t)(ps.ps_drop - last[1]);
+  c->kstats.if_dropped += (uint32_t)(ps.ps_ifdrop - last[2]);
+  return true;
+}
+
+static double ts_of(const rs_capture_t *c, const struct pcap_pkthdr *h) {
+  /* tv_usec holds nanoseconds where the handle has nanosecond precision
+   * (files always; live when the kernel grants it), else microseconds */
+  return (double)h->ts.tv_sec + (double)h->ts.tv_usec * c->ts_unit;
 }
 
 static void pace(rs_capture_t *c, double ts, const _Atomic bool *stop) {
@@ -166,7 +183,7 @@ static void pace(rs_capture_t *c, double ts, const _Atomic bool *stop) {
 
 static void deliver(rs_capture_t *c, const struct pcap_pkthdr *h, const u_char *data, rs_frame_in_t *out,
                     const _Atomic bool *stop) {
-  double ts = ts_of(h) + c->loop_offset;
+  double ts = ts_of(c, h) + c->loop_offset;
   if (!c->live) pace(c, ts, stop);
   c->last_ts = ts;
   out->data = data;
@@ -184,7 +201,7 @@ static int restart(rs_capture_t *c, struct pcap_pkthdr **h, const u_char **data)
   int rc = open_offline(c);
   if (rc != RS_OK) return rc;
   if (pcap_next_ex(c->p, h, data) != 1) return RS_CAPTURE_EOF;
-  c->loop_offset = span_end + 1e-3 - ts_of(*h);
+  c->loop_offset = span_end + 1e-3 - ts_of(c, *h);
   c->loops++;
   return 1;
 }

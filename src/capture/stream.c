@@ -57,6 +57,7 @@ static int make_sensor(rs_stream_t *st, rs_model_t m) {
     int rc = rs_calib_apply(st->cfg.calib, &st->sensor, st->err, sizeof st->err, warn, sizeof warn);
     if (rc != RS_OK) {
       st->failed = true;
+      st->fail_code = RS_E_CALIB;
       return rc;
     }
     if (warn[0] && st->cfg.log) fprintf(st->cfg.log, "roadscan: calibration: %s\n", warn);
@@ -67,35 +68,57 @@ static int make_sensor(rs_stream_t *st, rs_model_t m) {
   return RS_OK;
 }
 
-static void decode_emit(rs_stream_t *st, const uint8_t *p, uint32_t index, double ts, rs_stream_emit_fn emit,
-                        void *user) {
+/* A packet of another model: counted; a run of them is a switched sensor. */
+static int foreign_packet(rs_stream_t *st, const uint8_t *p, uint32_t index) {
+  char detail[128];
+  const uint8_t prod = p[RS_PAYLOAD_SIZE - 1];
+  const rs_model_t m = rs_model_from_product(prod);
+  snprintf(detail, sizeof detail, "data packet %u has product byte 0x%02X (%s), the stream's sensor is a %s (0x%02X)",
+           index, prod, m == RS_MODEL_UNKNOWN ? "unknown" : rs_model_name(m), st->sensor.info->name, st->det.product);
+  rs_stream_count(st, RS_E_PRODUCT_MISMATCH, detail);
+  if (m == RS_MODEL_UNKNOWN) return RS_OK; /* a corrupt byte, not another sensor */
+  if (st->foreign_run++ == 0) st->foreign_first = index;
+  if (st->foreign_run < RS_STREAM_SWITCH_PACKETS) return RS_OK;
+  snprintf(st->err, sizeof st->err,
+           "the sensor changed mid-stream: the %u data packets since packet %u are from a %s (product byte 0x%02X), "
+           "none from the %s this run was set up for; restart to identify the new sensor (a background model and "
+           "calibration are per sensor)",
+           st->foreign_run, st->foreign_first, rs_model_name(m), prod, st->sensor.info->name);
+  rs_stream_count(st, RS_E_SENSOR_CHANGED, NULL);
+  st->failed = true;
+  st->fail_code = RS_E_SENSOR_CHANGED;
+  return RS_E_SENSOR_CHANGED;
+}
+
+static int decode_emit(rs_stream_t *st, const uint8_t *p, uint32_t index, double ts, rs_stream_emit_fn emit,
+                       void *user) {
   char detail[96];
-  if (st->det.forced == RS_MODEL_UNKNOWN && p[RS_PAYLOAD_SIZE - 1] != st->det.product) {
-    snprintf(detail, sizeof detail, "data packet %u has product byte 0x%02X, stream is 0x%02X", index,
-             p[RS_PAYLOAD_SIZE - 1], st->det.product);
-    rs_stream_count(st, RS_E_PRODUCT_MISMATCH, detail);
-    return;
-  }
+  if (st->det.forced == RS_MODEL_UNKNOWN && p[RS_PAYLOAD_SIZE - 1] != st->det.product)
+    return foreign_packet(st, p, index);
   int rc = rs_packet_decode(&st->sensor, p, RS_PAYLOAD_SIZE, st->rate_hint, &st->pkt);
   if (rc != RS_OK) {
     snprintf(detail, sizeof detail, "data packet %u", index);
     rs_stream_count(st, rc, detail);
-    return;
+    return RS_OK;
   }
+  st->foreign_run = 0;
   st->n.decoded++;
   if (emit) emit(user, &st->pkt, index, ts);
+  return RS_OK;
 }
 
 static int drain(rs_stream_t *st, rs_stream_emit_fn emit, void *user) {
-  for (int i = 0; i < st->npre; i++) decode_emit(st, st->pre[i], st->pre_index[i], st->pre_ts[i], emit, user);
+  int rc = RS_OK;
+  for (int i = 0; i < st->npre && rc == RS_OK; i++)
+    rc = decode_emit(st, st->pre[i], st->pre_index[i], st->pre_ts[i], emit, user);
   st->npre = 0;
-  return RS_OK;
+  return rc;
 }
 
 int rs_stream_payload(rs_stream_t *st, const uint8_t *payload, uint32_t len, uint16_t dst_port, double ts,
                       rs_stream_emit_fn emit, void *user) {
   char detail[96];
-  if (st->failed) return RS_E_CALIB;
+  if (st->failed) return st->fail_code;
   if (dst_port != st->cfg.data_port) {
     if (dst_port == st->cfg.position_port) st->n.position_packets++;
     else st->n.other_packets++;
@@ -131,10 +154,10 @@ int rs_stream_payload(rs_stream_t *st, const uint8_t *payload, uint32_t len, uin
     }
     rc = make_sensor(st, (rs_model_t)m);
     if (rc != RS_OK) return rc;
-    drain(st, emit, user);
+    rc = drain(st, emit, user);
+    if (rc != RS_OK) return rc;
   }
-  decode_emit(st, payload, index, ts, emit, user);
-  return RS_OK;
+  return decode_emit(st, payload, index, ts, emit, user);
 }
 
 int rs_stream_frame(rs_stream_t *st, int linktype, const rs_frame_in_t *f, rs_stream_emit_fn emit, void *user) {
@@ -163,7 +186,7 @@ int rs_stream_frame(rs_stream_t *st, int linktype, const rs_frame_in_t *f, rs_st
 }
 
 int rs_stream_finish(rs_stream_t *st, rs_stream_emit_fn emit, void *user) {
-  if (st->failed) return RS_E_CALIB;
+  if (st->failed) return st->fail_code;
   if (!st->sensor_ready && st->npre > 0) {
     int m = rs_detect_finish(&st->det);
     if (m <= 0) return RS_OK;
@@ -193,16 +216,16 @@ int rs_stream_replay_file(rs_stream_t *st, const char *path, rs_stream_emit_fn e
       }
       break;
     }
-    if (rs_stream_frame(st, cap.linktype, &f, emit, user) != RS_OK) {
+    if ((rc = rs_stream_frame(st, cap.linktype, &f, emit, user)) != RS_OK) {
       snprintf(err, n, "%s", st->err);
-      status = RS_E_CALIB;
+      status = rc;
       break;
     }
   }
   rs_capture_close(&cap);
-  if (status != RS_E_CALIB && !(stop && *stop) && rs_stream_finish(st, emit, user) != RS_OK) {
+  if (!st->failed && !(stop && *stop) && (rc = rs_stream_finish(st, emit, user)) != RS_OK) {
     snprintf(err, n, "%s", st->err);
-    status = RS_E_CALIB;
+    status = rc;
   }
   return status;
 }

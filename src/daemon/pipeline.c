@@ -88,6 +88,12 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
     p->labels_open = false;
     return rc;
   }
+  if (cfg->iface) { /* from here the kernel keeps what passes the filter for the packet thread */
+    char filter[160];
+    rs_capture_filter(&cfg->capture, filter, sizeof filter);
+    rs_log(RS_LOG_INFO, "capturing on %s: filter \"%s\", kernel buffer %d KiB", cfg->iface, filter,
+           p->cap.buffer_bytes / 1024);
+  }
   /* last, so that no failure above leaves them allocated */
   if ((cfg->tracks_out && !open_csv(p, &p->tracks_out, cfg->tracks_out, "--tracks-out", rs_pipeline_tracks_header())) ||
       (cfg->counts_out && !open_csv(p, &p->counts_out, cfg->counts_out, "--counts-out", rs_pipeline_counts_header()))) {
@@ -99,7 +105,7 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
     if (p->label_buf == NULL) {
       snprintf(p->input_err, sizeof p->input_err, "out of memory");
       rs_pipeline_deinit(p);
-      return RS_E_NOMEM;
+      return RS_E_OOM;
     }
   }
   rs_proc_cfg_t pc = {
@@ -125,7 +131,14 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
   return RS_OK;
 }
 
+/* live: the kernel's drop counters, once per frame (the handle is the packet thread's) */
+static void poll_kstats(rs_pipeline_t *p) {
+  if (rs_capture_kstats(&p->cap))
+    atomic_store_explicit(&p->kernel_dropped, p->cap.kstats.dropped + p->cap.kstats.if_dropped, memory_order_relaxed);
+}
+
 static void publish_cur(rs_pipeline_t *p) {
+  poll_kstats(p);
   rs_slot_t *s = &p->slots[p->cur];
   s->meta.assembled_ns = rs_now_ns();
   s->meta.dropped_frames = rs_ring_dropped(&p->ring);
@@ -198,6 +211,7 @@ static void *packet_main(void *arg) {
   if (p->input_status == RS_OK || p->input_status == RS_E_TRUNCATED) {
     rs_stream_finish(&p->stream, on_packet, p);
   }
+  poll_kstats(p);
   if (p->cur >= 0) {
     /* end of input: let the consumer take what is queued first, or its
      * skip-to-newest policy would drop the last full frame for the partial
@@ -269,6 +283,8 @@ static void publish_stats(rs_pipeline_t *p, const rs_slot_t *s, const rs_proc_re
   st.packets_missing = (int64_t)p->proc.n.missing_packets;
   st.truncated_lists = (int64_t)p->cfg.publish->truncated_lists;
   st.budget_ms = (float)budget_ms;
+  st.kernel_dropped = (int64_t)atomic_load_explicit(&p->kernel_dropped, memory_order_relaxed);
+  st.capture_buffer_kib = p->cap.live ? (int32_t)(p->cap.buffer_bytes / 1024) : 0;
   rs_publish_stats(p->cfg.publish, &st);
 }
 
@@ -380,6 +396,11 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
       rs_labels_write_frame(&p->labels, s, p->label_buf, NULL, 0);
     }
   }
+  if (p->cfg.stall_ms > 0) { /* the overload tests' slow processing thread */
+    const double ms = p->cfg.stall_ms;
+    struct timespec d = {(time_t)(ms / 1000.0), (long)(fmod(ms, 1000.0) * 1e6)};
+    nanosleep(&d, NULL);
+  }
   const int64_t dt = rs_now_ns() - t0;
   rs_timing_add(&p->t_frame, dt);
   const double hz = s->meta.rate_hz > 0 ? s->meta.rate_hz : 10.0;
@@ -388,7 +409,10 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
   const double budget_ms = p->cfg.budget_ms > 0 ? p->cfg.budget_ms : 1000.0 / hz / speed;
   if ((double)dt * 1e-6 > budget_ms) p->overruns++;
   if (p->cfg.publish) publish_stats(p, s, &r, pub_ns, published_ns, dt, budget_ms);
-  if (p->cfg.frames_out) write_frame_line(p->cfg.frames_out, s, &r, dt);
+  if (p->cfg.frames_out) {
+    write_frame_line(p->cfg.frames_out, s, &r, dt);
+    fflush(p->cfg.frames_out); /* a frame's line is there when the frame is done (tail -f, the tests) */
+  }
 }
 
 static void *proc_main(void *arg) {
@@ -482,6 +506,11 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
   fprintf(out, "  packets: %llu captured, %llu data (%llu decoded), %llu position, %llu other\n",
           (unsigned long long)n->frames, (unsigned long long)n->data_packets, (unsigned long long)n->decoded,
           (unsigned long long)n->position_packets, (unsigned long long)n->other_packets);
+  if (p->cap.live)
+    fprintf(out, "  kernel: %llu packets passed the filter, %llu dropped by the kernel (buffer of %d KiB full), %llu by the "
+                 "interface\n",
+            (unsigned long long)p->cap.kstats.received, (unsigned long long)p->cap.kstats.dropped,
+            p->cap.buffer_bytes / 1024, (unsigned long long)p->cap.kstats.if_dropped);
   fprintf(out, "  stream: %llu missing, %llu out of order, %llu duplicate packets; %llu late returns dropped, %llu cell collisions\n",
           (unsigned long long)a->missing_packets, (unsigned long long)a->out_of_order,
           (unsigned long long)a->duplicates, (unsigned long long)a->late_points, (unsigned long long)a->collisions);

@@ -19,7 +19,7 @@ int rs_eval_init(rs_eval_t *e) {
   e->used = calloc(e->cap, sizeof *e->used);
   if (e->pairs == NULL || e->used == NULL) {
     rs_eval_deinit(e);
-    return RS_E_NOMEM;
+    return RS_E_OOM;
   }
   return RS_OK;
 }
@@ -459,7 +459,7 @@ static int idtp(rs_mot_t *m, uint64_t *out) {
   uint32_t *c = malloc(sizeof *c * N), *loc = malloc(sizeof *loc * N);
   int rc = RS_OK;
   if (!c || !loc) {
-    rc = RS_E_NOMEM;
+    rc = RS_E_OOM;
     goto done;
   }
   for (uint32_t i = 0; i < N; i++) c[i] = i;
@@ -470,7 +470,7 @@ static int idtp(rs_mot_t *m, uint64_t *out) {
   /* co-occurrences grouped by root: sort (root << 32 | k) */
   uint64_t *keys = malloc(sizeof *keys * m->nco);
   if (!keys) {
-    rc = RS_E_NOMEM;
+    rc = RS_E_OOM;
     goto done;
   }
   for (uint32_t k = 0; k < m->nco; k++) keys[k] = (uint64_t)uf_find(c, m->co[k].g) << 32 | k;
@@ -505,7 +505,7 @@ static int idtp(rs_mot_t *m, uint64_t *out) {
       free(as);
       free(used);
       free(keys);
-      rc = RS_E_NOMEM;
+      rc = RS_E_OOM;
       goto done;
     }
     for (uint32_t k = a; k < b; k++) { /* maximise co-occurrence = minimise its negative */
@@ -530,7 +530,7 @@ done:
 
 int rs_mot_finish(rs_mot_t *m, rs_mot_result_t *out) {
   rs_mot_result_t *r = &m->r;
-  if (m->oom) return RS_E_NOMEM;
+  if (m->oom) return RS_E_OOM;
   r->objects = m->ngt;
   r->tracks = m->nh;
   r->mostly_tracked = r->partly_tracked = r->mostly_lost = 0;
@@ -540,7 +540,7 @@ int rs_mot_finish(rs_mot_t *m, rs_mot_result_t *out) {
     else if (ratio < 0.2) r->mostly_lost++;
     else r->partly_tracked++;
   }
-  if (idtp(m, &r->idtp) != RS_OK) return RS_E_NOMEM;
+  if (idtp(m, &r->idtp) != RS_OK) return RS_E_OOM;
   r->mota = r->gt ? 1.0 - (double)(r->misses + r->false_pos + r->switches) / (double)r->gt : NAN;
   r->motp_iou = r->matches ? r->iou_sum / (double)r->matches : NAN;
   r->idf1 = r->gt + r->hyp ? 2.0 * (double)r->idtp / (double)(r->gt + r->hyp) : NAN;

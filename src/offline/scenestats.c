@@ -30,7 +30,7 @@ int rs_sstats_init(rs_sstats_frames_t *f, rs_model_t model, int rows, int cols, 
   f->first_az = calloc((size_t)max_frames, sizeof *f->first_az);
   if (!f->range || !f->inten || !f->t || !f->rate_hz || !f->first_az) {
     rs_sstats_free(f);
-    return RS_E_NOMEM;
+    return RS_E_OOM;
   }
   return RS_OK;
 }
@@ -86,7 +86,7 @@ static int push(vec_t *a, double x) {
   if (a->n == a->cap) {
     size_t nc = a->cap ? a->cap * 2 : 1024;
     double *nv = realloc(a->v, nc * sizeof *nv);
-    if (nv == NULL) return RS_E_NOMEM;
+    if (nv == NULL) return RS_E_OOM;
     a->v = nv;
     a->cap = nc;
   }
@@ -137,7 +137,7 @@ int rs_sstats_compute(const rs_sstats_frames_t *f, rs_sstats_t *o) {
     med_map[c] = sorted[n / 2];
   }
   uint64_t steady = 0, multi = 0;
-  int rc = sorted && dev && inten && med_map ? RS_OK : RS_E_NOMEM;
+  int rc = sorted && dev && inten && med_map ? RS_OK : RS_E_OOM;
   for (size_t c = 0; c < cells && rc == RS_OK; c++) {
     const float *x = f->range + c * (size_t)f->max_frames;
     const uint8_t *in = f->inten + c * (size_t)f->max_frames;
@@ -216,7 +216,7 @@ int rs_sstats_compute(const rs_sstats_frames_t *f, rs_sstats_t *o) {
       double m = sorted[n / 2];
       double *ad = malloc(sizeof(double) * (size_t)n);
       if (ad == NULL) {
-        rc = RS_E_NOMEM;
+        rc = RS_E_OOM;
         break;
       }
       for (int i = 0; i < n; i++) {

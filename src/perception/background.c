@@ -55,7 +55,7 @@ int rs_bg_model_alloc(rs_bg_model_t *m, rs_model_t model, int rows, int cols) {
   m->hi = calloc(cells * RS_BG_SURFACES, sizeof(uint16_t));
   if (!m->n || !m->far_seen || !m->lo || !m->hi) {
     rs_bg_model_free(m);
-    return RS_E_NOMEM;
+    return RS_E_OOM;
   }
   rs_bg_params_default(&m->params);
   return RS_OK;
@@ -283,7 +283,7 @@ int rs_bg_learner_init(rs_bg_learner_t *l, rs_model_t model, int rows, int cols,
   l->rng = seed * 0x9E3779B97F4A7C15ull + 1;
   if (l->samples == NULL || l->t == NULL) {
     rs_bg_learner_free(l);
-    return RS_E_NOMEM;
+    return RS_E_OOM;
   }
   return RS_OK;
 }
@@ -564,7 +564,7 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
   uint16_t *ilo = malloc(cells * RS_BG_SURFACES * sizeof(uint16_t)), *ihi = malloc(cells * RS_BG_SURFACES * sizeof(uint16_t));
   if (!ti || !order || !win || !vals || !v || !cnt || !label || !memb || (!cand && p->method != RS_BG_PERCENTILE) ||
       !ncand || !ilo || !ihi) {
-    rc = RS_E_NOMEM;
+    rc = RS_E_OOM;
     goto done;
   }
   for (int i = 0; i < nf; i++) ti[i] = (tidx_t){l->t[i], i};
@@ -680,7 +680,7 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
   if (p->support) {
     uint16_t *add = calloc(cells, sizeof *add);
     if (add == NULL) {
-      rc = RS_E_NOMEM;
+      rc = RS_E_OOM;
       goto done;
     }
     const int rows = l->rows, cols = l->cols;
@@ -849,7 +849,7 @@ int rs_bg_save(const rs_bg_model_t *m, const char *path, char *err, size_t n) {
   uint8_t *b = calloc(size, 1);
   if (b == NULL) {
     snprintf(err, n, "%s: out of memory", path);
-    return RS_E_NOMEM;
+    return RS_E_OOM;
   }
   memcpy(b, RS_BG_MAGIC, 8);
   put32(b + 8, RS_BG_VERSION);
@@ -905,7 +905,12 @@ int rs_bg_load(rs_bg_model_t *m, const char *path, char *err, size_t n) {
     return RS_E_FORMAT;
   }
   uint8_t *b = malloc((size_t)size);
-  if (b == NULL || fread(b, 1, (size_t)size, fp) != (size_t)size) {
+  if (b == NULL) {
+    fclose(fp);
+    snprintf(err, n, "%s: out of memory for %ld bytes", path, size);
+    return RS_E_OOM;
+  }
+  if (fread(b, 1, (size_t)size, fp) != (size_t)size) {
     fclose(fp);
     free(b);
     snprintf(err, n, "%s: cannot read", path);
@@ -944,7 +949,7 @@ int rs_bg_load(rs_bg_model_t *m, const char *path, char *err, size_t n) {
   }
   if (rs_bg_model_alloc(m, (rs_model_t)model, (int)rows, (int)cols) != RS_OK) {
     snprintf(err, n, "%s: out of memory", path);
-    rc = RS_E_NOMEM;
+    rc = RS_E_OOM;
     goto out;
   }
   m->rate_hz = (float)get32(b + 28) / 1000.0f;

@@ -44,7 +44,7 @@ int rs_proc_init(rs_proc_t *p, const rs_proc_cfg_t *cfg, char *err, size_t errle
   p->beyond_cells = calloc((size_t)RS_MAX_ROWS * RS_MAX_COLS, sizeof *p->beyond_cells);
   if (p->beyond_cells == NULL) {
     snprintf(err, errlen, "out of memory");
-    return RS_E_NOMEM;
+    return RS_E_OOM;
   }
   /* the static scene: learned first (learn_seconds) or loaded, kept current
    * (update_window_s) by the updater's learner thread */

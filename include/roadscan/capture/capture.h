@@ -23,7 +23,21 @@ typedef struct {
   double speed;             /* replay: 1.0 = original timing; 0 = flat out */
   bool loop;                /* replay: start again at the end */
   int snaplen;
+  int buffer_bytes;         /* live: the kernel's capture buffer (0: RS_CAPTURE_BUFFER_DEFAULT) */
 } rs_capture_cfg_t;
+
+/* The kernel's buffer between the interface and the packet thread (live):
+ * what a stall of the packet thread can absorb before the kernel drops. */
+#define RS_CAPTURE_BUFFER_DEFAULT (16 * 1024 * 1024)
+#define RS_CAPTURE_BUFFER_MIN (64 * 1024)
+#define RS_CAPTURE_BUFFER_MAX (1024 * 1024 * 1024)
+
+/* What the kernel counted for a live capture (pcap_stats): packets that
+ * passed the filter, packets it dropped because the buffer was full, and
+ * packets the interface dropped. */
+typedef struct {
+  uint64_t received, dropped, if_dropped;
+} rs_capture_kstats_t;
 
 /* Paced replay waits for the capture's timing, but never for a jump in it:
  * a record more than this many seconds after (or before) the previous one
@@ -34,6 +48,7 @@ typedef struct {
   pcap_t *p;
   bool live;
   int linktype;
+  double ts_unit;           /* seconds per unit of a record's sub-second field (1e-9 or 1e-6) */
   rs_capture_cfg_t cfg;
   char path[512];
   /* pacing */
@@ -45,6 +60,8 @@ typedef struct {
   uint64_t loops;
   uint64_t jumps;           /* paced replay: timestamp jumps not waited for (> RS_CAPTURE_MAX_GAP_S) */
   double jump_max;          /* the largest, s (either way) */
+  int buffer_bytes;         /* live: the buffer asked for */
+  rs_capture_kstats_t kstats; /* live: the latest rs_capture_kstats */
   char err[RS_ERRMSG_SIZE];
 } rs_capture_t;
 
@@ -63,6 +80,11 @@ void rs_capture_close(rs_capture_t *c);
  * here); RS_CAPTURE_EOF: end of file (and no loop). Paces replay. */
 #define RS_CAPTURE_EOF 2
 int rs_capture_next(rs_capture_t *c, rs_frame_in_t *out, const _Atomic bool *stop);
+
+/* Live: refreshes c->kstats from the kernel (packet thread: libpcap's
+ * handle is not shared). Returns false for a file or when the kernel says
+ * nothing. Cheap (one getsockopt): call it once per frame. */
+bool rs_capture_kstats(rs_capture_t *c);
 
 /* "udp dst port N [and src host A]" */
 void rs_capture_filter(const rs_capture_cfg_t *cfg, char *buf, size_t n);

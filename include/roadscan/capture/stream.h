@@ -7,7 +7,14 @@
  * kind. While the model is undecided, data packets wait in a bounded
  * pre-buffer (RS_DETECT_MAX_PACKETS) and are decoded, in order, once it is
  * decided: nothing is lost to detection. The first error of each kind is
- * logged with its packet number; later ones are only counted. */
+ * logged with its packet number; later ones are only counted.
+ *
+ * A data packet of another model than the stream's (its product byte) is
+ * counted and dropped: a second sensor on the same port (give --source). When
+ * RS_STREAM_SWITCH_PACKETS such packets come in a row, none of the stream's
+ * own between them, the sensor was switched: the stream stops with
+ * RS_E_SENSOR_CHANGED (the map, calibration and background were the old
+ * sensor's; a restart identifies the new one). */
 #ifndef ROADSCAN_STREAM_H
 #define ROADSCAN_STREAM_H
 
@@ -30,6 +37,10 @@ typedef struct {
   FILE *log;                   /* first-of-a-kind messages (NULL: silent) */
 } rs_stream_cfg_t;
 
+/* Consecutive data packets of one other known model that end a stream: about
+ * 0.3 s of the slowest model's packets, far more than any interleaving. */
+#define RS_STREAM_SWITCH_PACKETS 500
+
 typedef void (*rs_stream_emit_fn)(void *user, const rs_packet_t *pkt, uint32_t index, double ts);
 
 typedef struct {
@@ -46,7 +57,8 @@ typedef struct {
   rs_detect_t det;
   rs_sensor_t sensor;
   bool sensor_ready;
-  bool failed;                 /* fatal configuration problem (e.g. calibration mismatch) */
+  bool failed;                 /* the stream cannot go on: fail_code, err */
+  int fail_code;               /* RS_E_CALIB (calibration mismatch) or RS_E_SENSOR_CHANGED */
   bool have_src;
   uint8_t src_ver;
   uint8_t src_addr[16];
@@ -57,13 +69,16 @@ typedef struct {
   uint32_t pre_index[RS_DETECT_MAX_PACKETS];
   double pre_ts[RS_DETECT_MAX_PACKETS];
   rs_packet_t pkt;             /* decode buffer */
+  uint32_t foreign_run;        /* data packets of another model in a row */
+  uint32_t foreign_first;      /* index of the first of them */
   rs_stream_counters_t n;
   char err[RS_ERRMSG_SIZE];               /* last fatal message */
 } rs_stream_t;
 
 int rs_stream_init(rs_stream_t *st, const rs_stream_cfg_t *cfg);
 /* One captured frame. Returns RS_OK (also when the frame was counted as an
- * error or ignored) or RS_E_CALIB when the stream cannot go on (st->err). */
+ * error or ignored), or when the stream cannot go on (st->err) RS_E_CALIB
+ * (the calibration does not fit the sensor) or RS_E_SENSOR_CHANGED. */
 int rs_stream_frame(rs_stream_t *st, int linktype, const rs_frame_in_t *f, rs_stream_emit_fn emit, void *user);
 /* One UDP payload already taken off the wire (the same path after parsing). */
 int rs_stream_payload(rs_stream_t *st, const uint8_t *payload, uint32_t len, uint16_t dst_port, double ts,
@@ -73,7 +88,8 @@ int rs_stream_finish(rs_stream_t *st, rs_stream_emit_fn emit, void *user);
 /* Replays a capture file flat out: every captured frame through the stream
  * (emit per decoded packet), then rs_stream_finish. Stops early when *stop
  * (optional) becomes true. RS_OK; a read error with err set (a truncated
- * file after everything before the cut was emitted); RS_E_CALIB with st->err. */
+ * file after everything before the cut was emitted); RS_E_CALIB or
+ * RS_E_SENSOR_CHANGED with err set. */
 int rs_stream_replay_file(rs_stream_t *st, const char *path, rs_stream_emit_fn emit, void *user, const bool *stop,
                           char *err, size_t n);
 /* Counts an error of a kind (and logs the first one). */

@@ -59,6 +59,7 @@ typedef struct {
   rs_publish_t *publish;       /* optional: LCM publisher (rs_publish_init done) */
   double budget_ms;            /* per-frame processing budget; 0 = the frame period */
   double summary_s;            /* > 0: one log line every summary_s seconds */
+  double stall_ms;             /* test hook (overload tests): the processing thread sleeps this long per frame */
 } rs_pipeline_cfg_t;
 
 typedef struct {
@@ -75,6 +76,7 @@ typedef struct {
   _Atomic bool stop;
   _Atomic bool input_done;
   _Atomic uint64_t frames_done; /* frames processed so far (any thread may read it) */
+  _Atomic uint64_t kernel_dropped; /* live: packets the kernel or the interface dropped (packet thread, per frame) */
   int input_status;            /* RS_OK, or why the input ended badly */
   char input_err[RS_ERRMSG_SIZE];
   rs_timing_t t_packet;        /* decode + assembly per data packet (packet thread) */

@@ -11,6 +11,7 @@
 #define RS_ERRNO_MAP(X)                                                              \
   X(INVAL, "invalid-argument", "invalid argument")                                  \
   X(NOMEM, "capacity", "compile-time capacity exceeded")                            \
+  X(OOM, "out-of-memory", "out of memory")                                          \
   X(IO, "io", "input/output error")                                                 \
   X(NOENT, "no-such-file", "no such file")                                          \
   X(FORMAT, "bad-format", "malformed file")                                         \
@@ -28,6 +29,7 @@
   X(RETURN_MODE, "return-mode", "unknown return mode byte")                         \
   X(PRODUCT, "unknown-product", "unknown product (model) byte")                     \
   X(PRODUCT_MISMATCH, "product-mismatch", "product byte differs from the stream's sensor") \
+  X(SENSOR_CHANGED, "sensor-changed", "the sensor changed mid-stream")             \
   X(DUPLICATE, "duplicate-packet", "duplicate packet")                              \
   X(OUT_OF_ORDER, "out-of-order", "packet out of order")                            \
   X(CALIB, "calibration", "bad calibration file")                                   \
