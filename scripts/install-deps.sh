@@ -6,7 +6,10 @@ pkgs=(build-essential cmake ninja-build pkg-config
       libpcap-dev check libyaml-dev libinih-dev libpng-dev
       liblcm-dev liblcm-bin libglib2.0-dev
       tcpdump iproute2 util-linux python3-venv
-      strace systemd)
+      strace systemd
+      liblcm-java libjchart2d-java libmicrohttpd-dev curl)
+# a JDK for the Java types (lcm-spy); kept when one is there
+command -v javac >/dev/null || pkgs+=(default-jdk-headless)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -6,10 +6,15 @@
 #include "roadscan/perception/background.h"
 #include "testutil.h"
 
+#include <dirent.h>
 #include <math.h>
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 /* the subtraction's run-time rules: the defaults (main), changed by a test where it says so */
 static rs_bg_rules_t rules;
@@ -464,6 +469,48 @@ START_TEST(t_model_file) {
 }
 END_TEST
 
+/* A save is atomic: one that fails in the middle (the file-size limit reached, as a full disk)
+ * leaves the model that was there whole and no temporary file; one into a missing directory
+ * says why. */
+START_TEST(t_model_save_is_atomic) {
+  learn_model();
+  char err[RS_ERRMSG_SIZE];
+  const char *p = tu_tmp("atomic.bg");
+  ck_assert_int_eq(rs_bg_save(&model, p, err, sizeof err), RS_OK);
+  const long size = fsize(p);
+  ck_assert_int_gt(size, 4096);
+  rs_bg_model_t other;
+  ck_assert_int_eq(rs_bg_model_alloc(&other, RS_MODEL_VLP16, ROWS, COLS), RS_OK);
+  pid_t pid = fork();
+  ck_assert_int_ge(pid, 0);
+  if (pid == 0) { /* a disk that fills up after 4 kB */
+    signal(SIGXFSZ, SIG_IGN);
+    struct rlimit rl = {4096, 4096};
+    setrlimit(RLIMIT_FSIZE, &rl);
+    const int rc = rs_bg_save(&other, p, err, sizeof err);
+    _exit(rc == RS_E_IO && strstr(err, "cannot write the model") ? 0 : 1);
+  }
+  int st;
+  waitpid(pid, &st, 0);
+  ck_assert_msg(WIFEXITED(st) && WEXITSTATUS(st) == 0, "the limited save did not fail as it should");
+  rs_bg_model_free(&other);
+  rs_bg_model_t back;
+  ck_assert_int_eq(rs_bg_load(&back, p, err, sizeof err), RS_OK); /* the old model, whole */
+  ck_assert_int_eq(fsize(p), size);
+  ck_assert_mem_eq(back.lo, model.lo, ROWS * COLS * RS_BG_SURFACES * 2);
+  rs_bg_model_free(&back);
+  /* no temporary file left beside it */
+  DIR *d = opendir(RS_TMP_DIR);
+  ck_assert_ptr_nonnull(d);
+  struct dirent *e;
+  while ((e = readdir(d)) != NULL) ck_assert_msg(strncmp(e->d_name, "atomic.bg.tmp", 13) != 0, "%s left", e->d_name);
+  closedir(d);
+  ck_assert_int_eq(rs_bg_save(&model, tu_tmp("no-such-dir/m.bg"), err, sizeof err), RS_E_IO);
+  ck_assert_msg(strstr(err, "no-such-dir/m.bg: cannot write the model: No such file or directory") != NULL, "%s", err);
+  rs_bg_model_free(&model);
+}
+END_TEST
+
 START_TEST(t_percentile_and_reservoir) {
   rs_bg_learner_t l;
   ck_assert_int_eq(rs_bg_learner_init(&l, RS_MODEL_VLP16, ROWS, COLS, 100, 9), RS_OK);
@@ -505,6 +552,7 @@ int main(void) {
   tcase_add_test(tc, t_subtract);
   tcase_add_test(tc, t_subtract_see_through);
   tcase_add_test(tc, t_model_file);
+  tcase_add_test(tc, t_model_save_is_atomic);
   tcase_add_test(tc, t_percentile_and_reservoir);
   suite_add_tcase(s, tc);
   return tu_run(s);

@@ -6,9 +6,14 @@
  * falls behind, truncation. */
 #include "testutil.h"
 
+#include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <time.h>
+#include <unistd.h>
 
 static const char *cap, *model;
 
@@ -132,6 +137,7 @@ START_TEST(t_help_covers_every_option) {
                                 "cluster", "window", "eps", "min-pts", "seed-surfaces", "border-eps", "sparse-min-pts", "min-half-width", "lcm-url", "channel", "stats-channel",
                                 "sensor-id", "max-datagram", "no-publish", "budget-ms", "summary-seconds", "syslog",
                                 "frames-out", "labels-out", "quiet", "capture-buffer-kib", "allow-root", "stall-ms",
+                                "relearn",
                                 "config", "help", "version"};
   for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
     char opt[64];
@@ -337,6 +343,144 @@ START_TEST(t_install_layout) {
   /* the sample config is valid */
   snprintf(cmd, sizeof cmd, "./roadscand --config %s/etc/roadscan/roadscand.ini --help", dir);
   ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
+}
+END_TEST
+
+/* the messages a service manager receives from the daemon ($NOTIFY_SOCKET), with the monotonic time
+ * of each: until STOPPING=1 (or 120 s) */
+typedef struct {
+  int n, watchdog;
+  double max_gap; /* the longest time without WATCHDOG=1 after READY=1 */
+  bool ready_first, stopping_last;
+} notified_t;
+
+static double mono_s(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return (double)t.tv_sec + (double)t.tv_nsec * 1e-9;
+}
+
+static int run_notified(const char *env, const char *args, notified_t *r) {
+  const char *path = tu_tmp("dmn-notify.sock");
+  unlink(path);
+  int fd = socket(AF_UNIX, SOCK_DGRAM, 0);
+  ck_assert_int_ge(fd, 0);
+  struct sockaddr_un a = {.sun_family = AF_UNIX};
+  snprintf(a.sun_path, sizeof a.sun_path, "%s", path);
+  ck_assert_int_eq(bind(fd, (struct sockaddr *)&a, sizeof a), 0);
+  struct timeval tv = {0, 200000};
+  setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  char cmd[2048];
+  snprintf(cmd, sizeof cmd, "env NOTIFY_SOCKET=%s %s ./roadscand %s", path, env, args);
+  const int pid = tu_spawn(cmd, tu_tmp("dmn-notify.log"));
+  memset(r, 0, sizeof *r);
+  const double end = mono_s() + 120;
+  double last = 0;
+  char msg[512];
+  while (mono_s() < end) {
+    const ssize_t k = recv(fd, msg, sizeof msg - 1, 0);
+    if (k <= 0) continue;
+    msg[k] = '\0';
+    const double now = mono_s();
+    if (r->n++ == 0) {
+      r->ready_first = strncmp(msg, "READY=1", 7) == 0;
+      last = now;
+    }
+    if (strcmp(msg, "WATCHDOG=1") == 0) {
+      if (now - last > r->max_gap) r->max_gap = now - last;
+      last = now;
+      r->watchdog++;
+    }
+    if (strcmp(msg, "STOPPING=1") == 0) {
+      r->stopping_last = true;
+      break;
+    }
+  }
+  close(fd);
+  unlink(path);
+  return tu_stop(pid, 0, 60);
+}
+
+/* Under systemd (Type=notify): READY=1 once running, WATCHDOG=1 fed by the processing thread at
+ * half of $WATCHDOG_USEC, STOPPING=1 at the end; a hung processing thread stops the feeding (the
+ * manager then restarts the service); a $WATCHDOG_PID of another process means no watchdog */
+START_TEST(t_service_notify) {
+  char args[1024];
+  notified_t r;
+  snprintf(args, sizeof args, "--pcap %s --speed 2 --no-publish --background %s", cap, model);
+  ck_assert_int_eq(run_notified("WATCHDOG_USEC=400000", args, &r), 0);
+  ck_assert(r.ready_first);
+  ck_assert(r.stopping_last);
+  ck_assert_int_ge(r.watchdog, 3); /* a 1.5 s replay at least, fed every 0.2 s */
+  /* processing hung 2.5 s per frame: no feeding meanwhile */
+  snprintf(args, sizeof args, "--pcap %s --speed 2 --no-publish --stall-ms 2500", cap);
+  ck_assert_int_eq(run_notified("WATCHDOG_USEC=400000", args, &r), 0);
+  ck_assert(r.ready_first && r.stopping_last);
+  ck_assert_msg(r.max_gap >= 2.0, "fed every %.2f s at most while the processing thread hung", r.max_gap);
+  /* the watchdog is another process's */
+  snprintf(args, sizeof args, "--pcap %s --speed 4 --no-publish", cap);
+  ck_assert_int_eq(run_notified("WATCHDOG_USEC=400000 WATCHDOG_PID=1", args, &r), 0);
+  ck_assert(r.ready_first && r.stopping_last);
+  ck_assert_int_eq(r.watchdog, 0);
+  /* a NOTIFY_SOCKET that is not a path: said, and the daemon runs on */
+  const char *out;
+  char cmd[2048];
+  snprintf(cmd, sizeof cmd, "env NOTIFY_SOCKET=relative ./roadscand --pcap %s --fast --no-publish", cap);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "NOTIFY_SOCKET 'relative' is not an absolute path"));
+}
+END_TEST
+
+/* A site learns once: the model learned at the first start is saved and loaded at every later
+ * start; --relearn learns anew; a corrupt stored model is set aside and learned anew; one for
+ * another sensor is set aside and the daemon exits 1 (systemd restarts it), the next start learns. */
+START_TEST(t_learn_once) {
+  const char *m = tu_tmp("dmn-learned.bg"), *out;
+  char cmd[2048], aside[700];
+  remove(m);
+  snprintf(aside, sizeof aside, "%s.unreadable", m);
+  remove(aside);
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --no-publish --learn-seconds 1 --learn-out %s", cap, m);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_msg(strstr(out, "background model saved to") != NULL, "%s", out);
+  FILE *f = fopen(m, "rb");
+  ck_assert_ptr_nonnull(f);
+  fclose(f);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0); /* again: loaded, not learned */
+  ck_assert_msg(strstr(out, "the stored model") != NULL && strstr(out, "saved to") == NULL, "%s", out);
+  ck_assert_ptr_nonnull(strstr(out, "(loaded)"));
+  char relearn[2100];
+  snprintf(relearn, sizeof relearn, "%s --relearn", cmd);
+  ck_assert_int_eq(tu_exec(relearn, &out), 0);
+  ck_assert_msg(strstr(out, "saved to") != NULL && strstr(out, "the stored model") == NULL, "%s", out);
+  /* corrupt: set aside, learned anew */
+  f = fopen(m, "r+b");
+  ck_assert_ptr_nonnull(f);
+  fseek(f, 300, SEEK_SET);
+  fputc(0x5a, f);
+  fclose(f);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_msg(strstr(out, "set aside as") && strstr(out, "saved to"), "%s", out);
+  f = fopen(aside, "rb");
+  ck_assert_ptr_nonnull(f);
+  fclose(f);
+  /* another sensor's model stored (the sensor was replaced): set aside, exit 1, then learned */
+  const char *v16 = tu_tmp("dmn-v16.pcap"), *v16m = tu_tmp("dmn-v16.bg");
+  snprintf(relearn, sizeof relearn, "./roadscan-synth -o %s --model VLP-16 --seconds 1 && ./roadscan-learn %s -o %s && cp %s %s",
+           v16, v16, v16m, v16m, m);
+  ck_assert_msg(tu_exec(relearn, &out) == 0, "%s", out);
+  ck_assert_int_eq(tu_exec(cmd, &out), 1);
+  ck_assert_msg(strstr(out, "the background model is for a VLP-16") && strstr(out, "the next start learns"), "%s", out);
+  snprintf(aside, sizeof aside, "%s.VLP-16", m);
+  f = fopen(aside, "rb");
+  ck_assert_ptr_nonnull(f);
+  fclose(f);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_msg(strstr(out, "saved to") != NULL, "%s", out);
+  /* --relearn alone is refused */
+  snprintf(relearn, sizeof relearn, "./roadscand --pcap %s --fast --no-publish --relearn", cap);
+  ck_assert_int_eq(tu_exec(relearn, &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "--relearn needs --learn-out"));
 }
 END_TEST
 
@@ -572,6 +716,8 @@ int main(void) {
   tcase_add_test(tc, t_config_and_overrides);
   tcase_add_test(tc, t_help_covers_every_option);
   tcase_add_test(tc, t_refuses_root);
+  tcase_add_test(tc, t_service_notify);
+  tcase_add_test(tc, t_learn_once);
   tcase_add_test(tc, t_log_lines_and_budget);
   tcase_add_test(tc, t_udpm_in_netns);
   tcase_add_test(tc, t_install_layout);

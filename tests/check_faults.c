@@ -448,7 +448,7 @@ START_TEST(t_failing_allocations_at_start_up) {
   snprintf(cmd, sizeof cmd, "./roadscan-learn %s -o %s", cap, model);
   ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
   const char *configs[] = {"--background %s --labels-out %s.labels --tracks-out %s.tracks",
-                           "--learn-seconds 0.5 --learn-out %s.learned --labels-out %s.labels --tracks-out %s.tracks"};
+                           "--learn-seconds 0.5 --learn-out %s.learned --relearn --labels-out %s.labels --tracks-out %s.tracks"};
   for (int c = 0; c < 2; c++) {
     char extra[1200];
     if (c == 0) snprintf(extra, sizeof extra, configs[0], model, report, report);

@@ -354,6 +354,11 @@ START_TEST(t_checked_decode_survives_mutations) {
   roadscan_frame_stats_t st;
   memset(&st, 0, sizeof st);
   st.sensor_id = "north";
+  static char *kinds[2] = {"payload-short", "block-flag"}; /* the variable-length part */
+  static int64_t kind_counts[2] = {3, 7};
+  st.num_errors = 2;
+  st.error_kinds = kinds;
+  st.error_counts = kind_counts;
   glen[RS_LCM_FRAME_STATS] = roadscan_frame_stats_t_encode(good[RS_LCM_FRAME_STATS], 0, 4096, &st);
   static rs_track_list_t tl;
   memset(&tl, 0, sizeof tl);

@@ -315,8 +315,9 @@ START_TEST(t_background_tools) {
   snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --learn-seconds 20 --see-through 0", lp);
   ck_assert_int_eq(tu_exec(cmd, &out), 0);
   const long learned_off = bg_returns(out);
-  /* online: learn from the first 20 s, save, then subtract */
-  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --learn-seconds 20 --learn-out %s.online", lp, model);
+  /* online: learn from the first 20 s, save, then subtract (none stored yet: learned once) */
+  snprintf(cmd, sizeof cmd, "rm -f %s.online && ./roadscand --pcap %s --fast --learn-seconds 20 --learn-out %s.online",
+           model, lp, model);
   ck_assert_int_eq(tu_exec(cmd, &out), 0);
   ck_assert_ptr_nonnull(strstr(out, "the model learned from 200 frames"));
   ck_assert_int_gt(bg_returns(out), learned_off);

@@ -194,14 +194,34 @@ def main():
     calls, fams = traced(log)
     all_calls |= calls
     all_fams |= fams
+    # learning once: the model learned, saved atomically (fsync, rename), then loaded
+    if os.path.exists(f"{tmp}/sandbox-learned.model"):
+        os.remove(f"{tmp}/sandbox-learned.model")
+    for k in range(2):
+        log = f"{tmp}/sandbox-learn{k}.strace"
+        st = subprocess.run(["strace", "-f", "-qq", "-o", log, tool("roadscand"), "--pcap", cap, "--speed", "8",
+                             "--learn-seconds", "2", "--learn-out", f"{tmp}/sandbox-learned.model", "--no-publish"],
+                            env=env, capture_output=True, text=True)
+        if st.returncode != 0 or ("saved to" not in st.stderr and "stored model" not in st.stderr):
+            fail(f"learning once failed ({st.returncode}): {st.stderr}")
+        calls, fams = traced(log)
+        all_calls |= calls
+        all_fams |= fams
     # 3. live capture on the loopback with the sensor's packets arriving, publishing
     log, out, csv = f"{tmp}/sandbox-live.strace", f"{tmp}/sandbox-live.txt", f"{tmp}/sandbox-live.csv"
     for f in (out, csv):
         if os.path.exists(f):
             os.remove(f)
+    # as a notified service with a watchdog (Type=notify): the datagrams to $NOTIFY_SOCKET
+    sock_path = f"{tmp}/sandbox-notify.sock"
+    if os.path.exists(sock_path):
+        os.remove(sock_path)
+    notify = socket.socket(socket.AF_UNIX, socket.SOCK_DGRAM)
+    notify.bind(sock_path)
+    senv = dict(env, NOTIFY_SOCKET=sock_path, WATCHDOG_USEC="1000000")
     with open(out, "w") as o:
         p = subprocess.Popen(["strace", "-f", "-qq", "-o", log, tool("roadscand"), "--iface", "lo", "--background",
-                              model, "--summary-seconds", "0.2", "--frames-out", csv], env=env, stdout=o, stderr=o)
+                              model, "--summary-seconds", "0.2", "--frames-out", csv], env=senv, stdout=o, stderr=o)
     if not wait_for(lambda: file_has(out, "capturing on lo") or p.poll() is not None, 60):
         p.kill()
         fail("the live daemon did not start")
@@ -230,6 +250,14 @@ def main():
         fail("the live daemon did not stop on SIGINT")
     if "source: interface lo" not in open(out).read():
         fail(f"the live run did not end with its summary: {open(out).read()}")
+    notify.settimeout(5)
+    got = set()
+    try:
+        while not {"READY=1", "WATCHDOG=1"} <= got:
+            got |= set(notify.recv(4096).decode().split("\n"))
+    except socket.timeout:
+        fail(f"the live daemon did not notify READY=1 and WATCHDOG=1: {got}")
+    notify.close()
     calls, fams = traced(log)
     all_calls |= calls
     all_fams |= fams

@@ -61,8 +61,9 @@ static void json_geom(const char *prefix, const float *centroid, const float *bm
   json_floats(prefix, "box_max", bmax, 3);
   printf(",");
   json_floats(prefix, "obb_center", oc, 2);
-  printf(",\"%sobb_length\":%.4f,\"%sobb_width\":%.4f,\"%sobb_heading\":%.5f", prefix, (double)len, prefix,
-         (double)wid, prefix, (double)head);
+  /* degrees, as in the table; the key says so (the LCM field is in radians) */
+  printf(",\"%sobb_length\":%.4f,\"%sobb_width\":%.4f,\"%sobb_heading_deg\":%.3f", prefix, (double)len, prefix,
+         (double)wid, prefix, (double)head * 180.0 / M_PI);
 }
 
 /* Frames missed since the previous list of the same sensor. */
@@ -211,12 +212,15 @@ static void on_stats(const lcm_recv_buf_t *rbuf, const char *channel, void *user
              "\"foreground\":%d,\"clusters\":%d,\"noise\":%d,\"frames_processed\":%" PRId64 ",\"frames_dropped\":%" PRId64
              ",\"deadline_overruns\":%" PRId64 ",\"packets_missing\":%" PRId64 ",\"truncated_lists\":%" PRId64
              ",\"budget_ms\":%.2f,\"tracks_us\":%d,\"tracks\":%d,\"kernel_dropped\":%" PRId64
-             ",\"capture_buffer_kib\":%d}\n",
+             ",\"capture_buffer_kib\":%d,\"objects\":%d,\"errors\":{",
              js(s.sensor_id), s.frame_seq, s.background_us, s.cluster_us, s.objects_us, s.publish_us, s.processing_us,
              s.latency_us, s.points, s.foreground, s.clusters, s.noise, s.frames_processed, s.frames_dropped,
              s.deadline_overruns, s.packets_missing, s.truncated_lists, (double)s.budget_ms, s.tracks_us, s.tracks,
-             s.kernel_dropped, s.capture_buffer_kib);
-    else
+             s.kernel_dropped, s.capture_buffer_kib, s.objects);
+    if (L.json) {
+      for (int i = 0; i < s.num_errors; i++) printf("%s\"%s\":%" PRId64, i ? "," : "", js(s.error_kinds[i]), s.error_counts[i]);
+      printf("}}\n");
+    } else
       printf("%s frame %" PRId64 " stats: processing %.2f ms (background %.2f, cluster %.2f, objects %.2f, publish "
              "%.2f) latency %.2f ms; %d foreground, %d clusters; %" PRId64 " dropped, %" PRId64 " over budget; %" PRId64
              " packets dropped by the kernel\n",
@@ -268,9 +272,9 @@ static void on_tracks(const lcm_recv_buf_t *rbuf, const char *channel, void *use
       for (int i = 0; i < m.num_tracks; i++) {
         const roadscan_track_t *t = &m.tracks[i];
         printf("%s{\"id\":%d,\"state\":%d,\"class_id\":%d,\"x\":%.2f,\"y\":%.2f,\"vx\":%.2f,\"vy\":%.2f,"
-               "\"speed\":%.2f,\"heading\":%.4f}",
+               "\"speed\":%.2f,\"heading_deg\":%.2f}",
                i ? "," : "", t->id, t->state, t->class_id, (double)t->position[0], (double)t->position[1],
-               (double)t->velocity[0], (double)t->velocity[1], (double)t->speed, (double)t->heading);
+               (double)t->velocity[0], (double)t->velocity[1], (double)t->speed, (double)t->heading * 180.0 / M_PI);
       }
       printf("]}\n");
     } else {

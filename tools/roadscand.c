@@ -31,6 +31,7 @@ static rs_object_list_t object_list;
 static rs_tracker_t tracker;
 static rs_counter_t counter;
 static rs_publish_t publisher;
+static rs_notify_t notify;
 
 static void on_signal(int sig) {
   (void)sig;
@@ -49,7 +50,7 @@ typedef struct {
   rs_publish_cfg_t pub;
   rs_pose_t pose;
   const char *frames_path, *calib_path, *bg_path;
-  bool quiet, fast, no_publish, use_syslog, no_tracking, allow_root;
+  bool quiet, fast, no_publish, use_syslog, no_tracking, allow_root, relearn;
   int buffer_kib;
   rs_track_cfg_t tcfg;
   struct {
@@ -164,7 +165,10 @@ static const rs_opt_t table[] = {
      .hi = 3600, .def = "off",
      .help = "with no --background: learn the model from the first N seconds of frames, then subtract it "
              "(learned in a low-priority thread; until then nothing is clustered; --fast waits for it)"},
-    S("learn-out", "MODEL", cfg.learn_out, "save the model learned online"),
+    S("learn-out", "MODEL", cfg.learn_out,
+      "where the site's model is kept: saved (atomically) once learned, loaded instead of learning at every "
+      "later start; a stored model that is unreadable or not the sensor's is set aside and learned anew"),
+    F("relearn", relearn, "with --learn-out: learn anew even when a model is stored (and replace it)"),
     {.type = RS_OPT_DOUBLE, .name = "update-minutes", .arg = "M", .off = offsetof(T, cfg.update_window_s), .lo = 0,
      .hi = 1440, .scale = 60.0,
      .help = "keep the model current from the last M minutes of frames (a relearn on sampled frames in a "
@@ -274,6 +278,15 @@ static const rs_opts_spec_t spec = {
 };
 _Static_assert(sizeof table / sizeof table[0] <= RS_OPTS_MAX, "roadscand's options fit the parser");
 
+/* Renames a stored model that cannot be used to PATH.WHY (a previous one of
+ * that name is replaced): kept for a look, out of the way of the next start. */
+static const char *set_aside(const char *path, const char *why) {
+  static char to[4200];
+  snprintf(to, sizeof to, "%s.%s", path, why);
+  if (rename(path, to) != 0) snprintf(to, sizeof to, "(not renamed: %s)", strerror(errno));
+  return to;
+}
+
 /* "none" turns a channel off */
 static const char *channel_or_off(const char *ch) { return ch && strcmp(ch, "none") == 0 ? "" : ch; }
 
@@ -341,11 +354,40 @@ int main(int argc, char **argv) {
   }
   if (st.bg_path && cfg->learn_seconds > 0) return bad("--background and --learn-seconds exclude each other");
   if (cfg->learn_out && cfg->learn_seconds <= 0) return bad("--learn-out needs --learn-seconds");
-  if (st.bg_path) {
+  if (st.relearn && cfg->learn_out == NULL) return bad("--relearn needs --learn-out (the stored model)");
+  /* learn once: a stored model is loaded instead of learning again; one that is not a model (a
+   * crash cannot leave half of one: it is saved atomically) or not for this sensor is set aside */
+  bool stored = false;
+  if (cfg->learn_out && !st.relearn && access(cfg->learn_out, F_OK) == 0) {
+    const int lrc = rs_bg_load(&bgmodel, cfg->learn_out, err, sizeof err);
+    if (lrc == RS_E_FORMAT) {
+      rs_log(RS_LOG_WARN, "background: %s; it is set aside as %s and learned anew", err,
+             set_aside(cfg->learn_out, "unreadable"));
+    } else if (lrc != RS_OK) {
+      rs_log(RS_LOG_ERR, "%s", err);
+      return 1;
+    } else if ((cfg->stream.force_model != RS_MODEL_UNKNOWN && cfg->stream.force_model != bgmodel.model) ||
+               (cfg->assembly.columns && cfg->assembly.columns != bgmodel.cols)) {
+      rs_log(RS_LOG_WARN, "background: the stored model %s (%s, %u columns) does not fit --model/--columns; it is set "
+             "aside as %s and learned anew", cfg->learn_out, rs_model_name(bgmodel.model), bgmodel.cols,
+             set_aside(cfg->learn_out, rs_model_name(bgmodel.model)));
+      rs_bg_model_free(&bgmodel);
+    } else {
+      rs_log(RS_LOG_INFO, "background: the stored model %s (learned from %u frames of a %s) is used; --relearn learns "
+             "anew", cfg->learn_out, bgmodel.frames, rs_model_name(bgmodel.model));
+      st.bg_path = cfg->learn_out;
+      stored = true;
+      cfg->learn_seconds = 0;
+      cfg->learn_out = NULL;
+    }
+  }
+  if (st.bg_path && !stored) {
     if (rs_bg_load(&bgmodel, st.bg_path, err, sizeof err) != RS_OK) {
       rs_log(RS_LOG_ERR, "%s", err);
       return 1;
     }
+  }
+  if (st.bg_path) {
     if (cfg->stream.force_model != RS_MODEL_UNKNOWN && cfg->stream.force_model != bgmodel.model) {
       rs_log(RS_LOG_ERR, "%s: the model is for a %s, --model says %s", st.bg_path, rs_model_name(bgmodel.model),
              rs_model_name(cfg->stream.force_model));
@@ -416,6 +458,8 @@ int main(int argc, char **argv) {
     fprintf(frames, "%s\n", rs_pipeline_csv_header());
     cfg->frames_out = frames;
   }
+  if (!rs_notify_init(&notify, err, sizeof err)) rs_log(RS_LOG_WARN, "service manager: %s; not notified", err);
+  cfg->notify = &notify;
   int rc = rs_pipeline_init(&pipeline, cfg, slots, RING_SLOTS);
   if (rc != RS_OK) {
     rs_log(RS_LOG_ERR, "%s", pipeline.input_err[0] ? pipeline.input_err : rs_strerror(rc));
@@ -436,15 +480,22 @@ int main(int argc, char **argv) {
     rs_publish_deinit(&publisher);
     return 1;
   }
+  /* ready: the source is open, the publisher works, the threads run */
+  rs_notify_ready(&notify, cfg->iface ? "capturing" : "replaying");
   rs_pipeline_join(&pipeline);
+  rs_notify_send(&notify, "STOPPING=1");
   int status = 0;
   if (pipeline.input_status != RS_OK) {
     rs_log(RS_LOG_ERR, "input ended early: %s", pipeline.input_err);
     if (pipeline.input_status != RS_E_TRUNCATED) status = 1;
+    if (stored && pipeline.model_mismatch) /* the sensor was changed: the next start learns its model */
+      rs_log(RS_LOG_WARN, "background: the stored model is set aside as %s; the next start learns the sensor's",
+             set_aside(st.bg_path, rs_model_name(bgmodel.model)));
   }
   if (!st.quiet) rs_pipeline_summary(&pipeline, stderr);
   rs_pipeline_deinit(&pipeline);
   rs_publish_deinit(&publisher);
+  rs_notify_deinit(&notify);
   if (st.bg_path) rs_bg_model_free(&bgmodel);
   if (frames && fclose(frames) != 0) {
     rs_log(RS_LOG_ERR, "--frames-out %s: write failed", st.frames_path);

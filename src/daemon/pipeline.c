@@ -131,8 +131,11 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
   return RS_OK;
 }
 
-/* live: the kernel's drop counters, once per frame (the handle is the packet thread's) */
+/* live: the kernel's drop counters, once per frame (the handle is the packet thread's); and a copy
+ * of the stream's error counters the processing thread may read */
 static void poll_kstats(rs_pipeline_t *p) {
+  for (int i = 0; i < RS_ERR_COUNT; i++) /* and the error counters, for the statistics message */
+    atomic_store_explicit(&p->errors[i], p->stream.n.errors[i], memory_order_relaxed);
   if (rs_capture_kstats(&p->cap))
     atomic_store_explicit(&p->kernel_dropped, p->cap.kstats.dropped + p->cap.kstats.if_dropped, memory_order_relaxed);
 }
@@ -165,6 +168,7 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
     const rs_bg_model_t *bg = p->cfg.background;
     if (bg && (bg->model != p->stream.sensor.info->model || bg->rows != p->stream.sensor.lasers)) {
       p->input_status = RS_E_INVAL;
+      p->model_mismatch = true;
       snprintf(p->input_err, sizeof p->input_err, "the background model is for a %s (%u rows), the sensor is a %s",
                rs_model_name(bg->model), bg->rows, p->stream.sensor.info->name);
       atomic_store(&p->stop, true);
@@ -188,6 +192,7 @@ static void *packet_main(void *arg) {
   p->cur = rs_ring_acquire(&p->ring, &p->stop);
   const int linktype = p->cap.linktype;
   while (!atomic_load(&p->stop) && p->cur >= 0) {
+    atomic_store_explicit(&p->pkt_alive_ns, rs_now_ns(), memory_order_relaxed);
     rs_frame_in_t f;
     int rc = rs_capture_next(&p->cap, &f, &p->stop);
     if (rc == 0) continue;
@@ -234,6 +239,20 @@ static void *packet_main(void *arg) {
   return NULL;
 }
 
+/* The service manager's watchdog, fed by the processing thread while it runs
+ * and, live, while the packet thread still goes round its loop (it returns
+ * from the capture at least every 100 ms): a hang of either stops the feeding
+ * and systemd restarts the service. */
+static void feed_watchdog(rs_pipeline_t *p) {
+  rs_notify_t *n = p->cfg.notify;
+  if (n == NULL || n->watchdog_ns <= 0) return;
+  const int64_t now = rs_now_ns();
+  if (p->cfg.iface && !atomic_load(&p->input_done) &&
+      now - atomic_load_explicit(&p->pkt_alive_ns, memory_order_relaxed) > 2 * n->watchdog_ns)
+    return;
+  rs_notify_watchdog(n, now);
+}
+
 /* One log line per summary_s seconds: never one per frame or packet. */
 static void maybe_log_line(rs_pipeline_t *p) {
   if (p->cfg.summary_s <= 0) return;
@@ -249,6 +268,12 @@ static void maybe_log_line(rs_pipeline_t *p) {
          dt, frames, (double)frames / dt, objects, n->frames, rs_ring_dropped(&p->ring), p->overruns,
          n->missing_packets, p->cfg.publish ? p->cfg.publish->errors : 0, p->line.worst ? p->line.worst : "-",
          (double)p->line.worst_ns * 1e-6);
+  if (p->cfg.notify) {
+    char status[160];
+    snprintf(status, sizeof status, "STATUS=%" PRIu64 " frames, %" PRIu64 " dropped, %" PRIu64 " over budget; %.1f frames/s",
+             n->frames, rs_ring_dropped(&p->ring), p->overruns, (double)frames / dt);
+    rs_notify_send(p->cfg.notify, status);
+  }
   p->line.t0_ns = now;
   p->line.frames = n->frames;
   p->line.objects = n->objects;
@@ -285,6 +310,17 @@ static void publish_stats(rs_pipeline_t *p, const rs_slot_t *s, const rs_proc_re
   st.budget_ms = (float)budget_ms;
   st.kernel_dropped = (int64_t)atomic_load_explicit(&p->kernel_dropped, memory_order_relaxed);
   st.capture_buffer_kib = p->cap.live ? (int32_t)(p->cap.buffer_bytes / 1024) : 0;
+  st.objects = r->objects ? (int32_t)r->objects->count : 0;
+  int16_t k = 0;
+  for (int i = 0; i < RS_ERR_COUNT; i++) {
+    const uint64_t v = atomic_load_explicit(&p->errors[i], memory_order_relaxed);
+    if (v == 0) continue;
+    p->err_keys[k] = rs_err_key(rs_err_from_index(i));
+    p->err_counts[k++] = (int64_t)v;
+  }
+  st.num_errors = k;
+  st.error_kinds = (char **)p->err_keys;
+  st.error_counts = p->err_counts;
   rs_publish_stats(p->cfg.publish, &st);
 }
 
@@ -418,6 +454,7 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
 static void *proc_main(void *arg) {
   rs_pipeline_t *p = arg;
   for (;;) {
+    feed_watchdog(p);
     int idx = rs_ring_take(&p->ring, TAKE_TIMEOUT_MS);
     if (idx < 0) {
       if (atomic_load(&p->input_done)) {

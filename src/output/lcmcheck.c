@@ -50,6 +50,16 @@ static int32_t i32(rd_t *r) {
   return (int32_t)((uint32_t)b[0] << 24 | (uint32_t)b[1] << 16 | (uint32_t)b[2] << 8 | b[3]);
 }
 
+static int32_t i16(rd_t *r) {
+  if (!r->ok || r->len - r->pos < 2) {
+    fail(r, "the message ends inside a field");
+    return -1;
+  }
+  const uint8_t *b = r->p + r->pos;
+  r->pos += 2;
+  return (int16_t)((uint16_t)b[0] << 8 | b[1]);
+}
+
 static bool fingerprint(rd_t *r, int64_t want) {
   if (r->len < 8) return fail(r, "shorter than a fingerprint");
   uint64_t v = 0;
@@ -105,7 +115,8 @@ static int size_track(void) {
 }
 
 /* the fixed part of a message after its last string: its encoded size with
- * empty strings, less the fingerprint, what precedes and the strings */
+ * empty strings (and empty arrays), less the fingerprint, what precedes and
+ * the strings */
 static int tail_stats(void) {
   roadscan_frame_stats_t z;
   memset(&z, 0, sizeof z);
@@ -135,12 +146,20 @@ bool rs_lcm_check(rs_lcm_type_t type, const void *data, int len, char *err, size
     array(&r, num, size_object());
     return done(&r);
   }
-  case RS_LCM_FRAME_STATS:
+  case RS_LCM_FRAME_STATS: {
     if (!fingerprint(&r, __roadscan_frame_stats_t_get_hash())) return false;
     skip(&r, 8);
     str(&r);
-    skip(&r, tail_stats());
+    skip(&r, tail_stats() - 2); /* the fixed fields, up to num_errors */
+    const int32_t num = i16(&r);
+    if (r.ok && num < 0) return fail(&r, "a negative array length");
+    for (int32_t i = 0; i < num && r.ok; i++) { /* error_kinds: a string each (5 bytes at least) */
+      if (r.len - r.pos < 5) return fail(&r, "more error kinds than the message holds");
+      str(&r);
+    }
+    array(&r, num, 8); /* error_counts */
     return done(&r);
+  }
   case RS_LCM_TRACK_LIST: {
     if (!fingerprint(&r, __roadscan_track_list_t_get_hash())) return false;
     skip(&r, 8);

@@ -7,7 +7,9 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <errno.h>
 #include <string.h>
+#include <unistd.h>
 #include <time.h>
 
 #define BEYOND 65535u
@@ -880,11 +882,28 @@ int rs_bg_save(const rs_bg_model_t *m, const char *path, char *err, size_t n) {
     put16(s + 4 * i + 2, m->hi[i]);
   }
   put32(b + size - 4, crc32_update(0, b, size - 4));
-  FILE *fp = fopen(path, "wb");
+  /* atomically: a temporary file beside it, flushed to the disk, then renamed
+   * over the path; a crash or a full disk leaves the old model (or none),
+   * never half a model */
+  char tmp[4096];
+  if ((size_t)snprintf(tmp, sizeof tmp, "%s.tmp-%ld", path, (long)getpid()) >= sizeof tmp) {
+    free(b);
+    snprintf(err, n, "%s: path too long", path);
+    return RS_E_INVAL;
+  }
+  FILE *fp = fopen(tmp, "wb");
   int rc = RS_OK;
-  if (fp == NULL || fwrite(b, 1, size, fp) != size) rc = RS_E_IO;
-  if (fp && fclose(fp) != 0) rc = RS_E_IO;
-  if (rc != RS_OK) snprintf(err, n, "%s: cannot write the model", path);
+  const char *why = NULL;
+  if (fp == NULL) why = strerror(errno);
+  else if (fwrite(b, 1, size, fp) != size || fflush(fp) != 0) why = strerror(errno ? errno : EIO);
+  else if (fsync(fileno(fp)) != 0) why = strerror(errno);
+  if (fp && fclose(fp) != 0 && why == NULL) why = strerror(errno);
+  if (why == NULL && rename(tmp, path) != 0) why = strerror(errno);
+  if (why) {
+    snprintf(err, n, "%s: cannot write the model: %s", path, why);
+    if (fp) remove(tmp);
+    rc = RS_E_IO;
+  }
   free(b);
   return rc;
 }

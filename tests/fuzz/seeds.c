@@ -97,6 +97,11 @@ static void lcm_seeds(void) {
   roadscan_frame_stats_t st;
   memset(&st, 0, sizeof st);
   st.sensor_id = "north";
+  static char *kinds[2] = {"payload-short", "block-flag"}; /* the variable-length part */
+  static int64_t kind_counts[2] = {3, 7};
+  st.num_errors = 2;
+  st.error_kinds = kinds;
+  st.error_counts = kind_counts;
   sel = RS_LCM_FRAME_STATS;
   n = roadscan_frame_stats_t_encode(buf, 0, sizeof buf, &st);
   put("lcm", "frame_stats", &sel, 1, buf, (size_t)n);

@@ -19,6 +19,7 @@
 #include "roadscan/perception/bgupdate.h"
 #include "roadscan/capture/capture.h"
 #include "roadscan/perception/cluster.h"
+#include "roadscan/daemon/notify.h"
 #include "roadscan/frame/frame.h"
 #include "roadscan/output/labels.h"
 #include "roadscan/perception/objects.h"
@@ -60,6 +61,7 @@ typedef struct {
   double budget_ms;            /* per-frame processing budget; 0 = the frame period */
   double summary_s;            /* > 0: one log line every summary_s seconds */
   double stall_ms;             /* test hook (overload tests): the processing thread sleeps this long per frame */
+  rs_notify_t *notify;         /* optional: the service manager (watchdog fed by the processing thread) */
 } rs_pipeline_cfg_t;
 
 typedef struct {
@@ -76,8 +78,13 @@ typedef struct {
   _Atomic bool stop;
   _Atomic bool input_done;
   _Atomic uint64_t frames_done; /* frames processed so far (any thread may read it) */
+  _Atomic int64_t pkt_alive_ns; /* the packet thread's last loop (CLOCK_MONOTONIC), for the watchdog */
   _Atomic uint64_t kernel_dropped; /* live: packets the kernel or the interface dropped (packet thread, per frame) */
+  _Atomic uint64_t errors[RS_ERR_COUNT]; /* the stream's error counters, copied per frame (packet thread) */
+  const char *err_keys[RS_ERR_COUNT];   /* the statistics message's error arrays (processing thread) */
+  int64_t err_counts[RS_ERR_COUNT];
   int input_status;            /* RS_OK, or why the input ended badly */
+  bool model_mismatch;         /* the background model is not the sensor's (input_status RS_E_INVAL) */
   char input_err[RS_ERRMSG_SIZE];
   rs_timing_t t_packet;        /* decode + assembly per data packet (packet thread) */
   /* processing thread: the stages (proc.h), then the sinks */

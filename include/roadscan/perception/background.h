@@ -104,6 +104,9 @@ void rs_bg_rules_default(rs_bg_rules_t *r);
 
 int rs_bg_model_alloc(rs_bg_model_t *m, rs_model_t model, int rows, int cols);
 void rs_bg_model_free(rs_bg_model_t *m);
+/* Writes the model atomically: PATH.tmp-PID beside it, flushed to the disk
+ * (fsync), renamed over PATH. A crash or a full disk leaves the previous model
+ * or none, never part of one. */
 int rs_bg_save(const rs_bg_model_t *m, const char *path, char *err, size_t n);
 /* Checks magic, version, sizes, CRC and every interval; the message names the problem. */
 int rs_bg_load(rs_bg_model_t *m, const char *path, char *err, size_t n);
