@@ -7,7 +7,8 @@ pkgs=(build-essential cmake ninja-build pkg-config
       liblcm-dev liblcm-bin libglib2.0-dev
       tcpdump iproute2 util-linux python3-venv
       strace systemd
-      liblcm-java libjchart2d-java libmicrohttpd-dev curl)
+      liblcm-java libjchart2d-java libmicrohttpd-dev curl
+      libmosquitto-dev libjansson-dev mosquitto mosquitto-clients)
 # a JDK for the Java types (lcm-spy); kept when one is there
 command -v javac >/dev/null || pkgs+=(default-jdk-headless)
 missing=()

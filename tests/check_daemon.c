@@ -208,7 +208,7 @@ static char *lists_only(const char *s) {
   while (*s) {
     const char *e = strchr(s, '\n');
     size_t len = e ? (size_t)(e - s) + 1 : strlen(s);
-    if (strncmp(s, "{\"stats\"", 8) != 0) {
+    if (strncmp(s, "{\"schema\":\"roadscan.objects/1\"", 30) == 0) { /* object lists only */
       memcpy(w, s, len);
       w += len;
     }
@@ -227,7 +227,7 @@ static int count_lines(const char *s, const char *needle) {
 /* Objects of 50+ returns in the JSON lines of roadscan-listen against the site's true objects. */
 static void centroids_vs_truth(const char *json, tu_centroids_t *t) {
   tu_centroids_load(site.objects);
-  for (const char *l = json; (l = strstr(l, "{\"sensor_id\"")) != NULL; l++) {
+  for (const char *l = json; (l = strstr(l, "{\"schema\":\"roadscan.objects/1\"")) != NULL; l++) {
     const char *e = strchr(l, '\n'), *seq = strstr(l, "\"frame_seq\":"), *partial = strstr(l, "\"partial\":true");
     if (e == NULL) e = l + strlen(l);
     if (seq == NULL || seq > e) continue;
@@ -236,7 +236,8 @@ static void centroids_vs_truth(const char *json, tu_centroids_t *t) {
     for (const char *o = l; (o = strstr(o, "{\"id\":")) != NULL && o < e; o++) {
       int id, pts;
       float c[3];
-      if (sscanf(o, "{\"id\":%d,\"points\":%d,\"centroid\":[%f,%f,%f]", &id, &pts, &c[0], &c[1], &c[2]) != 5) continue;
+      if (sscanf(o, "{\"id\":%d,\"points\":%d,\"sensor\":{\"centroid_m\":[%f,%f,%f]", &id, &pts, &c[0], &c[1], &c[2]) != 5)
+        continue;
       if (pts >= 50) tu_centroid_add(t, frame, c);
     }
   }
@@ -272,7 +273,7 @@ START_TEST(t_udpm_in_netns) {
   char *live = slurp(F("live.json"));
   char *live_lists = lists_only(live);
   ck_assert_int_eq(count_lines(live_lists, "\"frame_seq\":"), frames);
-  ck_assert_int_eq(count_lines(live, "{\"stats\":true"), frames);
+  ck_assert_int_eq(count_lines(live, "\"schema\":\"roadscan.stats/1\""), frames);
   long present = 0; /* every processed frame's list arrived: the frame numbers but the dropped ones */
   for (long i = 0; i < frames + dropped; i++) {
     char want[64];

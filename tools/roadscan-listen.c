@@ -6,6 +6,7 @@
  * (gaps) per sensor id. Reads a live URL or an LCM log file (--log). */
 #include "roadscan/util/opts.h"
 #include "roadscan/util/error.h"
+#include "roadscan/output/json.h"
 #include "roadscan/output/lcmcheck.h"
 #include "roadscan/output/publish.h"
 
@@ -45,25 +46,18 @@ static double now_s(void) {
   return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
 
-static void json_floats(const char *prefix, const char *name, const float *v, int n) {
-  printf("\"%s%s\":[", prefix, name);
-  for (int i = 0; i < n; i++) printf("%s%.4f", i ? "," : "", (double)v[i]);
-  printf("]");
-}
-
-/* One frame's geometry of an object: "centroid", ... or "site_centroid", ... */
-static void json_geom(const char *prefix, const float *centroid, const float *bmin, const float *bmax, const float *oc,
-                      float len, float wid, float head) {
-  json_floats(prefix, "centroid", centroid, 3);
-  printf(",");
-  json_floats(prefix, "box_min", bmin, 3);
-  printf(",");
-  json_floats(prefix, "box_max", bmax, 3);
-  printf(",");
-  json_floats(prefix, "obb_center", oc, 2);
-  /* degrees, as in the table; the key says so (the LCM field is in radians) */
-  printf(",\"%sobb_length\":%.4f,\"%sobb_width\":%.4f,\"%sobb_heading_deg\":%.3f", prefix, (double)len, prefix,
-         (double)wid, prefix, (double)head * 180.0 / M_PI);
+/* One JSON document per line (src/output/json.c: the schema of docs/bridge-schema.json, also the
+ * bridge's); a message whose text is not UTF-8 is said and counted. */
+static void emit(json_t *j, const char *channel) {
+  char *text = j ? json_dumps(j, RS_JSON_DUMP_FLAGS) : NULL;
+  json_decref(j);
+  if (text == NULL) {
+    L.malformed++;
+    fprintf(stderr, "roadscan-listen: %s: a message whose text is not UTF-8; not printed as JSON\n", channel);
+    return;
+  }
+  puts(text);
+  free(text);
 }
 
 /* Frames missed since the previous list of the same sensor. */
@@ -79,52 +73,6 @@ static int64_t gap_of(const char *id, int64_t seq) {
     L.sensors[L.nsensors++].last_seq = seq;
   }
   return 0;
-}
-
-/* a string as a JSON string: quotes, backslashes and control characters escaped (into one of two buffers) */
-static const char *js(const char *s) {
-  static char buf[2][4 * 4096 + 8];
-  static int which;
-  char *o = buf[which ^= 1];
-  size_t n = 0;
-  for (const unsigned char *p = (const unsigned char *)s; *p && n + 7 < sizeof buf[0]; p++) {
-    if (*p == '"' || *p == '\\') {
-      o[n++] = '\\';
-      o[n++] = (char)*p;
-    } else if (*p < 0x20) {
-      n += (size_t)snprintf(o + n, 7, "\\u%04x", *p);
-    } else {
-      o[n++] = (char)*p;
-    }
-  }
-  o[n] = '\0';
-  return o;
-}
-
-static void print_json(const roadscan_object_list_t *m, int64_t gap) {
-  printf("{\"sensor_id\":\"%s\",\"sensor_model\":\"%s\",\"frame_seq\":%" PRId64 ",\"utime\":%" PRId64
-         ",\"t_first\":%" PRId64 ",\"t_last\":%" PRId64 ",\"packets\":%d,\"packets_missing\":%d,"
-         "\"columns_covered\":%d,\"columns\":%d,\"partial\":%s,\"truncated\":%s,\"num_clusters\":%d,"
-         "\"site_valid\":%s,\"gap\":%" PRId64 ",\"objects\":[",
-         js(m->sensor_id), js(m->sensor_model), m->frame_seq, m->utime, m->t_first, m->t_last, m->packets, m->packets_missing,
-         m->columns_covered, m->columns, m->partial ? "true" : "false", m->truncated ? "true" : "false",
-         m->num_clusters, m->site_valid ? "true" : "false", gap);
-  for (int i = 0; i < m->num_objects; i++) {
-    const roadscan_object_t *o = &m->objects[i];
-    printf("%s{\"id\":%d,\"points\":%d,", i ? "," : "", o->id, o->points);
-    json_geom("", o->centroid, o->box_min, o->box_max, o->obb_center, o->obb_length, o->obb_width, o->obb_heading);
-    printf(",\"range_min\":%.4f,\"azimuth_start\":%.3f,\"azimuth_end\":%.3f,\"rows\":[%d,%d],\"cols\":[%d,%d],"
-           "\"intensity_mean\":%.2f,\"t_first\":%" PRId64 ",\"t_last\":%" PRId64,
-           (double)o->range_min, (double)o->azimuth_start, (double)o->azimuth_end, o->row_min, o->row_max, o->col_start,
-           o->col_end, (double)o->intensity_mean, o->t_first, o->t_last);
-    if (m->site_valid) {
-      printf(",");
-      json_geom("site_", o->site_centroid, o->site_box_min, o->site_box_max, o->site_obb_center, o->site_obb_length,
-                o->site_obb_width, o->site_obb_heading);
-    }
-    printf("}");
-  }
-  printf("]}\n");
 }
 
 static void print_table(const roadscan_object_list_t *m, int64_t gap) {
@@ -178,7 +126,7 @@ static void on_list(const lcm_recv_buf_t *rbuf, const char *channel, void *user)
   L.gaps += (uint64_t)gap;
   if (!L.quiet) {
     if (L.json)
-      print_json(&m, gap);
+      emit(rs_json_text_ok(m.sensor_id) && rs_json_text_ok(m.sensor_model) ? rs_json_objects(&m) : NULL, channel);
     else
       print_table(&m, gap);
     fflush(stdout);
@@ -206,20 +154,10 @@ static void on_stats(const lcm_recv_buf_t *rbuf, const char *channel, void *user
   }
   L.stats_msgs++;
   if (!L.quiet) {
-    if (L.json)
-      printf("{\"stats\":true,\"sensor_id\":\"%s\",\"frame_seq\":%" PRId64 ",\"background_us\":%d,\"cluster_us\":%d,"
-             "\"objects_us\":%d,\"publish_us\":%d,\"processing_us\":%d,\"latency_us\":%d,\"points\":%d,"
-             "\"foreground\":%d,\"clusters\":%d,\"noise\":%d,\"frames_processed\":%" PRId64 ",\"frames_dropped\":%" PRId64
-             ",\"deadline_overruns\":%" PRId64 ",\"packets_missing\":%" PRId64 ",\"truncated_lists\":%" PRId64
-             ",\"budget_ms\":%.2f,\"tracks_us\":%d,\"tracks\":%d,\"kernel_dropped\":%" PRId64
-             ",\"capture_buffer_kib\":%d,\"objects\":%d,\"errors\":{",
-             js(s.sensor_id), s.frame_seq, s.background_us, s.cluster_us, s.objects_us, s.publish_us, s.processing_us,
-             s.latency_us, s.points, s.foreground, s.clusters, s.noise, s.frames_processed, s.frames_dropped,
-             s.deadline_overruns, s.packets_missing, s.truncated_lists, (double)s.budget_ms, s.tracks_us, s.tracks,
-             s.kernel_dropped, s.capture_buffer_kib, s.objects);
+    bool text = rs_json_text_ok(s.sensor_id);
+    for (int i = 0; i < s.num_errors && text; i++) text = rs_json_text_ok(s.error_kinds[i]);
     if (L.json) {
-      for (int i = 0; i < s.num_errors; i++) printf("%s\"%s\":%" PRId64, i ? "," : "", js(s.error_kinds[i]), s.error_counts[i]);
-      printf("}}\n");
+      emit(text ? rs_json_stats(&s) : NULL, channel);
     } else
       printf("%s frame %" PRId64 " stats: processing %.2f ms (background %.2f, cluster %.2f, objects %.2f, publish "
              "%.2f) latency %.2f ms; %d foreground, %d clusters; %" PRId64 " dropped, %" PRId64 " over budget; %" PRId64
@@ -250,10 +188,7 @@ static void on_tracks(const lcm_recv_buf_t *rbuf, const char *channel, void *use
     L.track_ends++;
     if (!L.quiet) {
       if (L.json)
-        printf("{\"track_end\":true,\"sensor_id\":\"%s\",\"id\":%d,\"class_id\":%d,\"duration\":%.2f,\"distance\":%.2f,"
-               "\"mean_speed\":%.2f,\"max_speed\":%.2f}\n",
-               js(e.sensor_id), e.id, e.class_id, (double)e.duration, (double)e.distance, (double)e.mean_speed,
-               (double)e.max_speed);
+        emit(rs_json_text_ok(e.sensor_id) ? rs_json_track_end(&e) : NULL, channel);
       else
         printf("%s track %d ended: class %d, %.1f s, %.1f m, mean %.1f m/s, max %.1f m/s\n", e.sensor_id, e.id,
                e.class_id, (double)e.duration, (double)e.distance, (double)e.mean_speed, (double)e.max_speed);
@@ -267,16 +202,7 @@ static void on_tracks(const lcm_recv_buf_t *rbuf, const char *channel, void *use
   L.track_lists++;
   if (!L.quiet) {
     if (L.json) {
-      printf("{\"tracks\":true,\"sensor_id\":\"%s\",\"frame_seq\":%" PRId64 ",\"num_alive\":%d,\"list\":[", js(m.sensor_id),
-             m.frame_seq, m.num_alive);
-      for (int i = 0; i < m.num_tracks; i++) {
-        const roadscan_track_t *t = &m.tracks[i];
-        printf("%s{\"id\":%d,\"state\":%d,\"class_id\":%d,\"x\":%.2f,\"y\":%.2f,\"vx\":%.2f,\"vy\":%.2f,"
-               "\"speed\":%.2f,\"heading_deg\":%.2f}",
-               i ? "," : "", t->id, t->state, t->class_id, (double)t->position[0], (double)t->position[1],
-               (double)t->velocity[0], (double)t->velocity[1], (double)t->speed, (double)t->heading * 180.0 / M_PI);
-      }
-      printf("]}\n");
+      emit(rs_json_text_ok(m.sensor_id) ? rs_json_tracks(&m) : NULL, channel);
     } else {
       printf("%s frame %" PRId64 ": %d tracks\n", m.sensor_id, m.frame_seq, m.num_tracks);
       for (int i = 0; i < m.num_tracks; i++) {
@@ -304,20 +230,20 @@ static void on_counts(const lcm_recv_buf_t *rbuf, const char *channel, void *use
   roadscan_counts_t c;
   if (roadscan_counts_t_decode(rbuf->data, 0, (int)rbuf->data_size, &c) < 0) return;
   L.counts++;
-  if (!L.quiet) {
+  if (!L.quiet && L.json) {
+    bool text = rs_json_text_ok(c.sensor_id);
+    for (int l = 0; l < c.num_lines && text; l++) text = rs_json_text_ok(c.lines[l].name);
+    emit(text ? rs_json_counts(&c) : NULL, channel);
+    fflush(stdout);
+  } else if (!L.quiet) {
     for (int l = 0; l < c.num_lines; l++) {
       int fwd = 0, bwd = 0;
       for (int k = 0; k < 6; k++) {
         fwd += c.lines[l].forward[k];
         bwd += c.lines[l].backward[k];
       }
-      if (L.json)
-        printf("{\"counts\":true,\"sensor_id\":\"%s\",\"t_start\":%" PRId64 ",\"t_end\":%" PRId64
-               ",\"line\":\"%s\",\"forward\":%d,\"backward\":%d}\n",
-               js(c.sensor_id), c.t_start, c.t_end, js(c.lines[l].name), fwd, bwd);
-      else
-        printf("%s counts %.1f-%.1f s: line %s forward %d, backward %d\n", c.sensor_id, (double)c.t_start * 1e-6,
-               (double)c.t_end * 1e-6, c.lines[l].name, fwd, bwd);
+      printf("%s counts %.1f-%.1f s: line %s forward %d, backward %d\n", c.sensor_id, (double)c.t_start * 1e-6,
+             (double)c.t_end * 1e-6, c.lines[l].name, fwd, bwd);
     }
     fflush(stdout);
   }
