@@ -340,23 +340,29 @@ static void true_crossings(void) {
   }
 }
 
-static void print_counts(FILE *out, bool json) {
+static json_t *jnum(double v) { return isnan(v) || isinf(v) ? json_null() : json_real(v); }
+
+/* counts against the truth: printed, or (json) added to the report */
+static void print_counts(FILE *out, json_t *json) {
   for (int l = 0; l < nclines; l++)
     for (int d = 0; d < 2; d++) {
       const double err = true_count[l][d] ? fabs((double)pred_count[l][d] - (double)true_count[l][d]) / (double)true_count[l][d]
                                           : (pred_count[l][d] ? INFINITY : 0.0);
-      if (json)
-        fprintf(out, ", \"count_%s_%s\": {\"counted\": %llu, \"true\": %llu, \"error\": %.4f}", clines[l].name,
-                d == 0 ? "forward" : "backward", (unsigned long long)pred_count[l][d],
-                (unsigned long long)true_count[l][d], isfinite(err) ? err : -1.0);
-      else
+      if (json) {
+        char key[1100];
+        snprintf(key, sizeof key, "count_%s_%s", clines[l].name, d == 0 ? "forward" : "backward");
+        json_object_set_new(json, key, json_pack("{s:I, s:I, s:o}", "counted", (json_int_t)pred_count[l][d], "true",
+                                                 (json_int_t)true_count[l][d], "error", jnum(err)));
+      } else {
         fprintf(out, "  line %s %s: counted %llu, true %llu (error %.1f %%)\n", clines[l].name,
                 d == 0 ? "forward" : "backward", (unsigned long long)pred_count[l][d],
                 (unsigned long long)true_count[l][d], 100.0 * err);
+      }
     }
 }
 
-static void print_speeds(FILE *out, bool json) {
+/* speeds and confirmation delays against the truth: printed, or (json) added to the report */
+static void print_speeds(FILE *out, json_t *json) {
   size_t n = 0, within = 0;
   double *lat = malloc(sizeof *lat * ((size_t)sp.max_id + 1));
   for (uint32_t id = 0; lat && id <= sp.max_id; id++) {
@@ -373,12 +379,13 @@ static void print_speeds(FILE *out, bool json) {
   const double pos_a = sp.n_speed[1] ? sqrt(sp.se_pos[1] / sp.n_speed[1]) : NAN;
   const double bias_v = sp.n_speed[0] ? sp.abs_speed_sum[0] / sp.n_speed[0] : NAN;
   if (json) {
-    fprintf(out, "\"speed_rmse_vehicles_80m\": %.4f, \"speed_mae_vehicles_80m\": %.4f, \"speed_rmse_all\": %.4f, "
-                 "\"position_rmse_vehicles_80m\": %.4f, \"position_rmse_all\": %.4f, \"speed_samples_vehicles_80m\": %llu, "
-                 "\"confirmation_delay_median_s\": %.3f, \"confirmation_delay_p90_s\": %.3f, "
-                 "\"confirmed_within_0_3s\": %.4f, \"objects_confirmed\": %zu",
-            rmse_v, bias_v, rmse_a, pos_v, pos_a, (unsigned long long)sp.n_speed[0], med, p90,
-            n ? (double)within / (double)n : NAN, n);
+    json_object_update_new(
+        json, json_pack("{s:o, s:o, s:o, s:o, s:o, s:I, s:o, s:o, s:o, s:I}", "speed_rmse_vehicles_80m", jnum(rmse_v),
+                        "speed_mae_vehicles_80m", jnum(bias_v), "speed_rmse_all", jnum(rmse_a),
+                        "position_rmse_vehicles_80m", jnum(pos_v), "position_rmse_all", jnum(pos_a),
+                        "speed_samples_vehicles_80m", (json_int_t)sp.n_speed[0], "confirmation_delay_median_s",
+                        jnum(med), "confirmation_delay_p90_s", jnum(p90), "confirmed_within_0_3s",
+                        jnum(n ? (double)within / (double)n : NAN), "objects_confirmed", (json_int_t)n));
   } else {
     fprintf(out, "  speed of confirmed tracks against the truth: RMSE %.3f m/s (mean absolute %.3f) for vehicles within "
                  "80 m (%llu samples), %.3f m/s for all; position RMSE %.2f m (vehicles within 80 m), %.2f m (all)\n",
@@ -813,26 +820,25 @@ int main(int argc, char **argv) {
       fprintf(stderr, "roadscan-eval: out of memory\n");
       return 1;
     }
-    if (json && states_path) { /* one object: the tracking figures and the speeds' */
-      char *buf = NULL;
-      size_t len = 0;
-      FILE *mf = open_memstream(&buf, &len);
-      if (mf == NULL) return 1;
-      rs_mot_print_json(&mr, mf);
-      fclose(mf);
-      while (len > 0 && (buf[len - 1] == '\n' || buf[len - 1] == '}')) buf[--len] = '\0';
-      printf("%s, ", buf);
-      free(buf);
-      print_speeds(stdout, true);
-      print_counts(stdout, true);
-      printf("}\n");
+    if (json && (states_path || counts_path)) { /* one object: the tracking figures, the speeds', the counts' */
+      json_t *j = rs_mot_json(&mr);
+      if (states_path) print_speeds(stdout, j);
+      if (counts_path) print_counts(stdout, j);
+      char *t = j ? json_dumps(j, RS_EVAL_JSON_FLAGS) : NULL;
+      json_decref(j);
+      if (t == NULL) {
+        fprintf(stderr, "roadscan-eval: the JSON report could not be made (a counting line's name that is not UTF-8?)\n");
+        return 1;
+      }
+      printf("%s\n", t);
+      free(t);
     } else if (json) {
       rs_mot_print_json(&mr, stdout);
     } else {
       rs_eval_print(&c.ev.r, stdout);
       rs_mot_print(&mr, stdout);
-      if (states_path) print_speeds(stdout, false);
-      if (counts_path) print_counts(stdout, false);
+      if (states_path) print_speeds(stdout, NULL);
+      if (counts_path) print_counts(stdout, NULL);
     }
     rs_mot_free(mot);
     if (dump && fclose(dump) != 0) {

@@ -183,43 +183,39 @@ void rs_eval_print(const rs_eval_result_t *r, FILE *out) {
   fprintf(out, "\n");
 }
 
-static void jnum(FILE *out, double v) {
-  if (isnan(v)) fprintf(out, "null");
-  else fprintf(out, "%.6f", v);
+/* a ratio: null when undefined (NaN), else the number */
+static json_t *jnum(double v) { return isnan(v) || isinf(v) ? json_null() : json_real(v); }
+
+static void dump(json_t *j, FILE *out) {
+  char *t = j ? json_dumps(j, RS_EVAL_JSON_FLAGS) : NULL;
+  if (t) fprintf(out, "%s\n", t);
+  free(t);
+  json_decref(j);
 }
 
-void rs_eval_print_json(const rs_eval_result_t *r, FILE *out) {
-  fprintf(out, "{\"frames\": %llu, \"points\": %llu, \"target\": {\"precision\": ", (unsigned long long)r->frames,
-          (unsigned long long)r->points);
-  jnum(out, rs_eval_ratio(r->t_tp, r->t_tp + r->t_fp));
-  fprintf(out, ", \"recall\": ");
-  jnum(out, rs_eval_ratio(r->t_tp, r->t_tp + r->t_fn));
-  fprintf(out, ", \"iou\": ");
-  jnum(out, rs_eval_ratio(r->t_tp, r->t_tp + r->t_fp + r->t_fn));
-  fprintf(out, ", \"tp\": %llu, \"fp\": %llu, \"fn\": %llu}, \"non_target\": {\"precision\": ",
-          (unsigned long long)r->t_tp, (unsigned long long)r->t_fp, (unsigned long long)r->t_fn);
-  jnum(out, rs_eval_ratio(r->n_tp, r->n_tp + r->n_fp));
-  fprintf(out, ", \"recall\": ");
-  jnum(out, rs_eval_ratio(r->n_tp, r->n_tp + r->n_fn));
-  fprintf(out, ", \"iou\": ");
-  jnum(out, rs_eval_ratio(r->n_tp, r->n_tp + r->n_fp + r->n_fn));
-  fprintf(out,
-          "}, \"matched\": %llu, \"instances\": %llu, \"merged\": %llu, \"split\": %llu, \"missed\": %llu, "
-          "\"background\": {\"static_kept\": ",
-          (unsigned long long)r->matched, (unsigned long long)r->instances, (unsigned long long)r->merged,
-          (unsigned long long)r->split, (unsigned long long)r->missed);
-  jnum(out, rs_eval_ratio(r->static_kept, r->static_true));
-  fprintf(out, ", \"targets_kept\": ");
-  jnum(out, rs_eval_ratio(r->target_kept, r->target_true));
-  fprintf(out, ", \"foliage_background\": ");
-  jnum(out, rs_eval_ratio(r->foliage_background, r->foliage_true));
-  fprintf(out, "}, \"recall_by_range\": {");
+json_t *rs_eval_json(const rs_eval_result_t *r) {
+  json_t *bands = json_object();
   for (int b = 0; b < RS_EVAL_BANDS; b++) {
-    fprintf(out, "%s\"%g-%g\": ", b ? ", " : "", rs_eval_band_edges[b], rs_eval_band_edges[b + 1]);
-    jnum(out, rs_eval_ratio(r->band_hit[b], r->band_true[b]));
+    char k[32];
+    snprintf(k, sizeof k, "%g-%g", rs_eval_band_edges[b], rs_eval_band_edges[b + 1]);
+    json_object_set_new(bands, k, jnum(rs_eval_ratio(r->band_hit[b], r->band_true[b])));
   }
-  fprintf(out, "}}\n");
+  return json_pack(
+      "{s:I, s:I, s:{s:o, s:o, s:o, s:I, s:I, s:I}, s:{s:o, s:o, s:o}, s:I, s:I, s:I, s:I, s:I, s:{s:o, s:o, s:o}, "
+      "s:o}",
+      "frames", (json_int_t)r->frames, "points", (json_int_t)r->points, "target", "precision",
+      jnum(rs_eval_ratio(r->t_tp, r->t_tp + r->t_fp)), "recall", jnum(rs_eval_ratio(r->t_tp, r->t_tp + r->t_fn)), "iou",
+      jnum(rs_eval_ratio(r->t_tp, r->t_tp + r->t_fp + r->t_fn)), "tp", (json_int_t)r->t_tp, "fp", (json_int_t)r->t_fp,
+      "fn", (json_int_t)r->t_fn, "non_target", "precision", jnum(rs_eval_ratio(r->n_tp, r->n_tp + r->n_fp)), "recall",
+      jnum(rs_eval_ratio(r->n_tp, r->n_tp + r->n_fn)), "iou", jnum(rs_eval_ratio(r->n_tp, r->n_tp + r->n_fp + r->n_fn)),
+      "matched", (json_int_t)r->matched, "instances", (json_int_t)r->instances, "merged", (json_int_t)r->merged,
+      "split", (json_int_t)r->split, "missed", (json_int_t)r->missed, "background", "static_kept",
+      jnum(rs_eval_ratio(r->static_kept, r->static_true)), "targets_kept",
+      jnum(rs_eval_ratio(r->target_kept, r->target_true)), "foliage_background",
+      jnum(rs_eval_ratio(r->foliage_background, r->foliage_true)), "recall_by_range", bands);
 }
+
+void rs_eval_print_json(const rs_eval_result_t *r, FILE *out) { dump(rs_eval_json(r), out); }
 
 /* ---- tracking metrics ---------------------------------------------------- */
 
@@ -572,23 +568,15 @@ void rs_mot_print(const rs_mot_result_t *r, FILE *out) {
           (unsigned long long)r->mostly_lost, (unsigned long long)r->tracks);
 }
 
-void rs_mot_print_json(const rs_mot_result_t *r, FILE *out) {
-  fprintf(out, "{\"frames\": %llu, \"gt\": %llu, \"hyp\": %llu, \"matches\": %llu, \"misses\": %llu, \"false_positives\": %llu, "
-               "\"id_switches\": %llu, \"fragmentations\": %llu, \"objects\": %llu, \"mostly_tracked\": %llu, "
-               "\"partly_tracked\": %llu, \"mostly_lost\": %llu, \"tracks\": %llu, \"idtp\": %llu, \"mota\": ",
-          (unsigned long long)r->frames, (unsigned long long)r->gt, (unsigned long long)r->hyp,
-          (unsigned long long)r->matches, (unsigned long long)r->misses, (unsigned long long)r->false_pos,
-          (unsigned long long)r->switches, (unsigned long long)r->fragmentations, (unsigned long long)r->objects,
-          (unsigned long long)r->mostly_tracked, (unsigned long long)r->partly_tracked,
-          (unsigned long long)r->mostly_lost, (unsigned long long)r->tracks, (unsigned long long)r->idtp);
-  jnum(out, r->mota);
-  fprintf(out, ", \"motp_iou\": ");
-  jnum(out, r->motp_iou);
-  fprintf(out, ", \"idf1\": ");
-  jnum(out, r->idf1);
-  fprintf(out, ", \"idp\": ");
-  jnum(out, r->idp);
-  fprintf(out, ", \"idr\": ");
-  jnum(out, r->idr);
-  fprintf(out, "}\n");
+json_t *rs_mot_json(const rs_mot_result_t *r) {
+  return json_pack("{s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:o, s:o, s:o, s:o, s:o}",
+                   "frames", (json_int_t)r->frames, "gt", (json_int_t)r->gt, "hyp", (json_int_t)r->hyp, "matches",
+                   (json_int_t)r->matches, "misses", (json_int_t)r->misses, "false_positives", (json_int_t)r->false_pos,
+                   "id_switches", (json_int_t)r->switches, "fragmentations", (json_int_t)r->fragmentations, "objects",
+                   (json_int_t)r->objects, "mostly_tracked", (json_int_t)r->mostly_tracked, "partly_tracked",
+                   (json_int_t)r->partly_tracked, "mostly_lost", (json_int_t)r->mostly_lost, "tracks",
+                   (json_int_t)r->tracks, "idtp", (json_int_t)r->idtp, "mota", jnum(r->mota), "motp_iou",
+                   jnum(r->motp_iou), "idf1", jnum(r->idf1), "idp", jnum(r->idp), "idr", jnum(r->idr));
 }
+
+void rs_mot_print_json(const rs_mot_result_t *r, FILE *out) { dump(rs_mot_json(r), out); }

@@ -10,6 +10,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <jansson.h>
 #include <stdio.h>
 
 #define RS_EVAL_BANDS 4
@@ -83,6 +84,8 @@ void rs_eval_track(rs_eval_t *e, rs_mot_t *m);
 int rs_mot_finish(rs_mot_t *m, rs_mot_result_t *out);
 void rs_mot_print(const rs_mot_result_t *r, FILE *out);
 void rs_mot_print_json(const rs_mot_result_t *r, FILE *out);
+/* The same as a JSON object (jansson; undefined ratios are null); the caller owns it. */
+json_t *rs_mot_json(const rs_mot_result_t *r);
 
 extern const double rs_eval_band_edges[RS_EVAL_BANDS + 1]; /* 0 20 50 100 200 */
 
@@ -96,5 +99,8 @@ void rs_eval_end_frame(rs_eval_t *e, bool counted);
 double rs_eval_ratio(uint64_t num, uint64_t den);
 void rs_eval_print(const rs_eval_result_t *r, FILE *out);
 void rs_eval_print_json(const rs_eval_result_t *r, FILE *out);
+json_t *rs_eval_json(const rs_eval_result_t *r);
+/* json_dumps flags of the reports: one line, "key": value, 6 significant digits */
+#define RS_EVAL_JSON_FLAGS (JSON_INDENT(0) | JSON_REAL_PRECISION(6))
 
 #endif
