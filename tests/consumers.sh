@@ -48,6 +48,11 @@ if "$py" -c 'import lcm' 2>/dev/null; then
     fail "pip install $whl: $(cat "$t/pip.txt")"
   PYTHONPATH=$t/pysite "$py" -c 'import roadscan, os, sys; sys.exit(0 if os.path.dirname(roadscan.__file__).startswith(sys.argv[1]) else 1)' \
     "$t/pysite" || fail "Python imports roadscan from elsewhere than the pip-installed copy"
+  # and the same wheel from the build tree
+  "$py" -m pip install -q --disable-pip-version-check --no-deps --target "$t/pysite-build" "$build"/python/dist/roadscan_lcmtypes-*.whl \
+    >"$t/pip2.txt" 2>&1 || fail "pip install from the build tree: $(cat "$t/pip2.txt")"
+  PYTHONPATH=$t/pysite-build "$py" -c 'from roadscan import object_list_t, frame_stats_t, track_list_t' ||
+    fail "the build tree's wheel does not import"
   PYTHONPATH=$t/pysite "$py" "$src/examples/listen.py" --url "file://$t/run.lcmlog?speed=0" --count "$lists" \
     >"$t/py.out" 2>"$t/py.err" || fail "examples/listen.py on the pip-installed types: $(cat "$t/py.err")"
   n=$(grep -c . "$t/py.out")
