@@ -3,6 +3,7 @@
  * returns; determinism; presets; storm packet loss; bad options. */
 #include "roadscan/util/error.h"
 #include "roadscan/capture/stream.h"
+#include "roadscan/perception/count.h"
 #include "testutil.h"
 
 #include <png.h>
@@ -452,6 +453,112 @@ START_TEST(t_background_tools) {
 }
 END_TEST
 
+/* The simulator's true crossings of counting lines (--truth-crossings) are the crossings of its own
+ * true states (--truth-states) under the counter's rule (once per road user and line, the step from
+ * one turn's position to the next meeting the line): the same file roadscan-eval scores counts with.
+ * A line across no road is crossed by nobody; lines given without the file are refused. */
+START_TEST(t_truth_crossings) {
+  const char *pcap = tu_tmp("xing.pcap"), *labels = tu_tmp("xing.csv"), *states = tu_tmp("xing-states.csv"),
+             *xing = tu_tmp("xing-cross.csv");
+  static const char *lines[] = {"east 41.5 4.5 41.5 18.5", "west -18.5 4.5 -18.5 18.5", "north 4.5 41.5 18.5 41.5",
+                                "south 4.5 -18.5 18.5 -18.5", "nowhere 200 200 201 201"};
+  char cmd[4096];
+  const char *out;
+  snprintf(cmd, sizeof cmd,
+           "./roadscan-sim --sensor VLP-16 --scenario light --seconds 40 --seed 3 -o %s --labels %s --truth-states %s "
+           "--truth-crossings %s --count-line '%s' --count-line '%s' --count-line '%s' --count-line '%s' "
+           "--count-line '%s'",
+           pcap, labels, states, xing, lines[0], lines[1], lines[2], lines[3], lines[4]);
+  ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
+  rs_count_line_t l[5];
+  char err[256];
+  for (int i = 0; i < 5; i++) ck_assert_int_eq(rs_count_parse_line(lines[i], &l[i], err, sizeof err), RS_OK);
+  /* the crossings from the states: rows are in time order; per id the previous position */
+  enum { MAXID = 20000 };
+  static double px[MAXID], py[MAXID];
+  static bool seen[MAXID];
+  static uint8_t counted[MAXID];
+  static int expect[MAXID][5]; /* 0 none, 1 forward, -1 backward */
+  memset(seen, 0, sizeof seen);
+  memset(counted, 0, sizeof counted);
+  memset(expect, 0, sizeof expect);
+  FILE *f = fopen(states, "r");
+  ck_assert_ptr_nonnull(f);
+  char line[512];
+  ck_assert_ptr_nonnull(fgets(line, sizeof line, f));
+  int n_expect = 0;
+  while (fgets(line, sizeof line, f)) {
+    double t, x, y;
+    unsigned id;
+    char cls[32];
+    ck_assert_int_eq(sscanf(line, "%lf,%u,%31[^,],%lf,%lf", &t, &id, cls, &x, &y), 5);
+    ck_assert_uint_lt(id, MAXID);
+    for (int k = 0; k < 5 && seen[id]; k++) {
+      if (counted[id] & (1u << k)) continue;
+      const int d = rs_count_crosses(&l[k], px[id], py[id], x, y);
+      if (d == 0) continue;
+      counted[id] |= (uint8_t)(1u << k);
+      expect[id][k] = d;
+      n_expect++;
+    }
+    px[id] = x;
+    py[id] = y;
+    seen[id] = true;
+  }
+  fclose(f);
+  /* the file: each crossing expected, each (id, line) once, both directions present */
+  f = fopen(xing, "r");
+  ck_assert_ptr_nonnull(f);
+  ck_assert_ptr_nonnull(fgets(line, sizeof line, f));
+  ck_assert_str_eq(line, "t,id,class,line,direction\n");
+  int n = 0, fwd = 0, bwd = 0;
+  while (fgets(line, sizeof line, f)) {
+    double t;
+    unsigned id;
+    char cls[32], name[40], dir[16];
+    ck_assert_int_eq(sscanf(line, "%lf,%u,%31[^,],%39[^,],%15s", &t, &id, cls, name, dir), 5);
+    int k = 0;
+    while (k < 5 && strcmp(l[k].name, name) != 0) k++;
+    ck_assert_int_lt(k, 4); /* never the line across no road */
+    const int d = strcmp(dir, "forward") == 0 ? 1 : -1;
+    ck_assert_msg(expect[id][k] == d, "%s: not a crossing of the states", line);
+    expect[id][k] = 2; /* once */
+    fwd += d > 0;
+    bwd += d < 0;
+    n++;
+  }
+  fclose(f);
+  ck_assert_int_eq(n, n_expect);
+  ck_assert_int_ge(fwd, 3);
+  ck_assert_int_ge(bwd, 3);
+  /* roadscan-eval scores counts with the file or with the states: the same true counts */
+  const char *pred = tu_tmp("xing-pred.csv"), *tracks = tu_tmp("xing-tracks.csv"), *counts = tu_tmp("xing-counts.csv");
+  char lineargs[600];
+  snprintf(lineargs, sizeof lineargs, "--count-line '%s' --count-line '%s' --count-line '%s' --count-line '%s'", lines[0],
+           lines[1], lines[2], lines[3]);
+  snprintf(cmd, sizeof cmd,
+           "./roadscand --pcap %s --fast --no-publish --quiet --learn-seconds 5 --relearn --learn-out %s.bg "
+           "--labels-out %s --tracks-out %s --counts-out %s %s",
+           pcap, pcap, pred, tracks, counts, lineargs);
+  ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
+  char a[8192], b[8192];
+  snprintf(cmd, sizeof cmd, "./roadscan-eval %s %s %s --tracking --json --truth-states %s --tracks %s --counts %s %s",
+           pcap, labels, pred, states, tracks, counts, lineargs);
+  ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
+  snprintf(a, sizeof a, "%s", out);
+  ck_assert_msg(strstr(a, "\"count_east_forward\": {\"counted\": ") != NULL, "%s", a);
+  char cmd2[4200];
+  snprintf(cmd2, sizeof cmd2, "%s --truth-crossings %s", cmd, xing);
+  ck_assert_msg(tu_exec(cmd2, &out) == 0, "%s", out);
+  snprintf(b, sizeof b, "%s", out);
+  ck_assert_str_eq(a, b);
+  snprintf(cmd, sizeof cmd, "./roadscan-sim --sensor VLP-16 --seconds 1 -o %s --labels %s --truth-crossings %s", pcap,
+           labels, xing);
+  ck_assert_int_eq(tu_exec(cmd, &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "--truth-crossings needs a --count-line"));
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("sim");
   TCase *tc = tcase_create("programs");
@@ -462,6 +569,7 @@ int main(void) {
   tcase_add_test(tc, t_presets);
   tcase_add_test(tc, t_bad_options);
   tcase_add_test(tc, t_background_tools);
+  tcase_add_test(tc, t_truth_crossings);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

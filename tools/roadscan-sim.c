@@ -11,6 +11,7 @@
 #include "roadscan/capture/net.h"
 #include "roadscan/sensor/packet.h"
 #include "roadscan/offline/pcapw.h"
+#include "roadscan/perception/count.h"
 #include "roadscan/sim/scene.h"
 #include "roadscan/util/timing.h"
 
@@ -33,9 +34,11 @@ static int cmp_u32(const void *a, const void *b) {
 #define MAX_SETS 64
 typedef struct {
   rs_model_t model;
-  const char *scenario, *sfile, *out, *labels, *states_path;
+  const char *scenario, *sfile, *out, *labels, *states_path, *crossings_path;
   char sets[MAX_SETS][128]; /* --set KEY=VALUE, applied after the preset and the scenario file */
   int nsets;
+  rs_count_line_t lines[RS_COUNT_LINES]; /* --count-line, for --truth-crossings */
+  int nlines;
   double seconds, t0;
   int hz_i, mode_i, seed;
 } settings_t;
@@ -71,6 +74,15 @@ static int add_set(void *t, const char *key, const char *v, char *err, size_t n)
   return RS_OK;
 }
 
+static int add_line(void *t, const char *key, const char *v, char *err, size_t n) {
+  settings_t *s = (settings_t *)(void *)((char *)t - offsetof(settings_t, lines));
+  if (s->nlines == RS_COUNT_LINES) {
+    snprintf(err, n, "%s: at most %d lines", key, RS_COUNT_LINES);
+    return RS_E_INVAL;
+  }
+  return rs_count_parse_line(v, &s->lines[s->nlines++], err, n);
+}
+
 #define T settings_t
 static const rs_opt_t table[] = {
     {.type = RS_OPT_MODEL, .name = "sensor", .arg = "NAME", .off = offsetof(T, model), .help = "the sensor"},
@@ -93,6 +105,14 @@ static const rs_opt_t table[] = {
     RS_OPT_STR_("truth-states", "FILE", T, states_path,
                 "every road user's true state at the start of every turn (CSV t,id,class,x,y,vx,vy,heading,"
                 "length,width,height; sensor frame, capture time)"),
+    {.type = RS_OPT_FUNC, .name = "count-line", .arg = "\"NAME X1 Y1 X2 Y2\"", .off = offsetof(T, lines),
+     .fn = add_line, .flags = RS_OPT_REPEAT,
+     .help = "a counting line (metres, sensor frame), as roadscand's --count-line: its true crossings go to "
+             "--truth-crossings"},
+    RS_OPT_STR_("truth-crossings", "FILE", T, crossings_path,
+                "every road user's true crossing of each --count-line (CSV t,id,class,line,direction; once per "
+                "user and line, at the first turn its centre is past the line; forward: from the right of "
+                "X1 Y1 -> X2 Y2 to its left)"),
 };
 #undef T
 
@@ -178,8 +198,29 @@ int main(int argc, char **argv) {
     fprintf(stderr, "roadscan-sim: %s: cannot write\n", labels);
     return 1;
   }
-  FILE *states = NULL;
+  FILE *states = NULL, *crossings = NULL;
   static rs_agent_state_t agents[4096];
+  /* the true crossings: each road user's previous position (by id) and the lines it has crossed */
+  typedef struct {
+    double x, y;
+    bool seen;
+    uint16_t counted;
+  } prev_t;
+  prev_t *prev = NULL;
+  size_t nprev = 0;
+  uint64_t ncross = 0;
+  if (st.crossings_path && st.nlines == 0) {
+    snprintf(err, sizeof err, "--truth-crossings needs a --count-line");
+    goto bad;
+  }
+  if (st.crossings_path) {
+    crossings = fopen(st.crossings_path, "w");
+    if (crossings == NULL) {
+      fprintf(stderr, "roadscan-sim: %s: cannot write\n", st.crossings_path);
+      return 1;
+    }
+    fprintf(crossings, "t,id,class,line,direction\n");
+  }
   if (states_path) {
     states = fopen(states_path, "w");
     if (states == NULL) {
@@ -221,13 +262,40 @@ int main(int argc, char **argv) {
       if (turns < MAX_TURNS) turn_points[turns++] = cur_turn;
       cur_turn = 0;
       rs_scene_new_turn(sc);
-      if (states) { /* the road users at the turn's start */
+      if (states || crossings) { /* the road users at the turn's start */
         rs_scene_prepare(sc, t_pkt * 1e-6, 0.0, 0.0);
         const int na = rs_scene_states(sc, t_pkt * 1e-6, agents, (int)(sizeof agents / sizeof agents[0]));
-        for (int i = 0; i < na; i++)
+        for (int i = 0; i < na && states; i++)
           fprintf(states, "%.6f,%u,%s,%.3f,%.3f,%.3f,%.3f,%.4f,%.2f,%.2f,%.2f\n", t0 + t_pkt * 1e-6, agents[i].id,
                   agents[i].cls, agents[i].x, agents[i].y, agents[i].vx, agents[i].vy, agents[i].heading,
                   agents[i].length, agents[i].width, agents[i].height);
+        for (int i = 0; i < na && crossings; i++) {
+          const uint32_t id = agents[i].id;
+          if (id >= nprev) { /* ids grow one by one: a table indexed by id */
+            const size_t n2 = (id + 1) * 2;
+            prev_t *np = realloc(prev, n2 * sizeof *np);
+            if (np == NULL) {
+              fprintf(stderr, "roadscan-sim: out of memory for the crossings\n");
+              return 1;
+            }
+            memset(np + nprev, 0, (n2 - nprev) * sizeof *np);
+            prev = np;
+            nprev = n2;
+          }
+          prev_t *p = &prev[id];
+          for (int l = 0; l < st.nlines && p->seen; l++) {
+            if (p->counted & (1u << l)) continue;
+            const int d = rs_count_crosses(&st.lines[l], p->x, p->y, agents[i].x, agents[i].y);
+            if (d == 0) continue;
+            p->counted |= (uint16_t)(1u << l);
+            ncross++;
+            fprintf(crossings, "%.6f,%u,%s,%s,%s\n", t0 + t_pkt * 1e-6, id, agents[i].cls, st.lines[l].name,
+                    d > 0 ? "forward" : "backward");
+          }
+          p->x = agents[i].x;
+          p->y = agents[i].y;
+          p->seen = true;
+        }
       }
     }
     last_az = fmod(az0, 360.0);
@@ -308,6 +376,15 @@ int main(int argc, char **argv) {
   if (states && fclose(states) != 0) {
     fprintf(stderr, "roadscan-sim: %s: write failed\n", states_path);
     return 1;
+  }
+  free(prev);
+  if (crossings) {
+    if (fclose(crossings) != 0) {
+      fprintf(stderr, "roadscan-sim: %s: write failed\n", st.crossings_path);
+      return 1;
+    }
+    fprintf(stderr, "roadscan-sim: %llu true crossings of %d lines written to %s\n", (unsigned long long)ncross,
+            st.nlines, st.crossings_path);
   }
   if (lrc != RS_OK || lw.rejected) {
     fprintf(stderr, "roadscan-sim: %s: write failed\n", labels);
