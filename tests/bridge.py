@@ -158,7 +158,8 @@ def main():
     subprocess.run([f"{bindir}/roadscan-learn", cap, "-o", f"{tmp}/cap.model"], check=True, capture_output=True)
     env = dict(os.environ, ROADSCAN_ALLOW_ROOT="1")
     d = subprocess.run([f"{bindir}/roadscand", "--pcap", cap, "--fast", "--background", f"{tmp}/cap.model",
-                        "--count-line", "l 0 -30 0 30", "--count-interval", "1", "--lcm-url",
+                        "--count-line", "l 0 -30 0 30", "--count-zone", "box -20 -20 20 -20 20 20 -20 20",
+                        "--count-interval", "1", "--lcm-url",
                         f"file://{log}?mode=w"], env=env, capture_output=True, text=True)
     if d.returncode != 0:
         fail(f"roadscand: {d.stderr}")

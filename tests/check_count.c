@@ -1,7 +1,9 @@
 /* check_count - counting lines on hand-built track lists with known answers:
  * direction, once per track and line, crossings made while tentative,
  * coasting tracks not counted, intervals on multiples of the interval,
- * tracks forgotten, the site frame of a pose, bad lines. */
+ * tracks forgotten, the site frame of a pose, bad lines; zones: entries,
+ * exits, occupancy, a track first seen inside, tentative and coasting
+ * tracks, bad zones. */
 #include "roadscan/perception/count.h"
 #include "roadscan/util/error.h"
 #include "testutil.h"
@@ -150,6 +152,71 @@ START_TEST(t_site_frame) {
 }
 END_TEST
 
+/* A square zone 10 m wide around the origin: car 1 drives through it (entered, exited), pedestrian 2
+ * is first seen inside and walks out (exited only), car 3 enters while tentative (counted entered when
+ * confirmed), car 4 coasts out (not exited until seen outside); occupancy counts the confirmed inside. */
+START_TEST(t_zones) {
+  static const char *const l[] = {"gate 100 0 100 10"};
+  setup(l, 1, NULL, 60);
+  rs_count_zone_t z[2];
+  char err[RS_ERRMSG_SIZE];
+  ck_assert_int_eq(rs_count_parse_zone("box -5 -5 5 -5 5 5 -5 5", &z[0], err, sizeof err), RS_OK);
+  ck_assert_int_eq(rs_count_parse_zone("tri 20 0 30 0 25 8", &z[1], err, sizeof err), RS_OK);
+  ck_assert_int_eq(rs_count_add_zones(&cnt, z, 2, err, sizeof err), RS_OK);
+  ck_assert(rs_count_inside(&z[0], 0, 0) && !rs_count_inside(&z[0], 6, 0) && rs_count_inside(&z[1], 25, 3));
+  ck_assert(!rs_count_inside(&z[1], 21, 7));
+  uint32_t occ_max = 0;
+  for (int f = 0; f < 30; f++) {
+    tl.count = 0;
+    one(1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, -10.0 + f, 0.0);                     /* in at x = -5, out at 5 */
+    one(2, RS_TRACK_CONFIRMED, RS_CLASS_PEDESTRIAN, 0.0, 0.5 * f);                /* out at y = 5 */
+    one(3, f < 8 ? RS_TRACK_TENTATIVE : RS_TRACK_CONFIRMED, RS_CLASS_CAR, 0.0, -12.0 + f); /* in at y = -5 (f 7) */
+    one(4, f >= 2 && f < 9 ? RS_TRACK_COASTING : RS_TRACK_CONFIRMED, RS_CLASS_VAN_TRUCK, 3.0 + f, 2.0); /* out at x = 5 */
+    rs_count_frame(&cnt, &tl, 10.0 + 0.1 * f);
+    if (cnt.cur.zone[0].occupancy > occ_max) occ_max = cnt.cur.zone[0].occupancy;
+    if (f == 0) ck_assert_uint_eq(cnt.cur.zone[0].occupancy, 2); /* 2 and 4: 3 tentative, 1 outside */
+    if (f == 3) ck_assert_uint_eq(sum(cnt.zone_total[0].exited), 0);   /* 4 coasts out: not yet */
+    if (f == 9) ck_assert_uint_eq(cnt.zone_total[0].exited[RS_CLASS_VAN_TRUCK], 1); /* seen again outside */
+  }
+  const rs_zone_tally_t *t = &cnt.zone_total[0];
+  ck_assert_uint_eq(t->entered[RS_CLASS_CAR], 2); /* 1, and 3 once confirmed */
+  ck_assert_uint_eq(sum(t->entered), 2);          /* 2 was first seen inside, 4 too */
+  ck_assert_uint_eq(t->exited[RS_CLASS_CAR], 2);  /* 1 at x = 5, 3 at y = 5 */
+  ck_assert_uint_eq(t->exited[RS_CLASS_PEDESTRIAN], 1);
+  ck_assert_uint_eq(t->exited[RS_CLASS_VAN_TRUCK], 1);
+  ck_assert_uint_eq(sum(t->exited), 4);
+  ck_assert_uint_eq(t->occupancy, 0);
+  ck_assert_uint_eq(t->occupancy_max, occ_max);
+  ck_assert_uint_ge(occ_max, 3); /* 1, 2 and 3 inside together */
+  /* the van drives on through the triangle (y = 2: from x = 21.25 to 28.75) */
+  ck_assert_uint_eq(cnt.zone_total[1].entered[RS_CLASS_VAN_TRUCK], 1);
+  ck_assert_uint_eq(cnt.zone_total[1].exited[RS_CLASS_VAN_TRUCK], 1);
+  ck_assert_uint_eq(sum(cnt.zone_total[1].entered) + sum(cnt.zone_total[1].exited), 2);
+  ck_assert_uint_eq(cnt.zone_events, 8);
+  /* intervals carry the zone tallies */
+  ck_assert(rs_count_flush(&cnt, 20.0));
+  ck_assert_uint_eq(sum(cnt.closed.zone[0].entered), 2);
+  ck_assert_uint_eq(cnt.closed.zone[0].occupancy_max, occ_max);
+  /* bad zones, each named */
+  static const struct {
+    const char *text, *why;
+  } bad[] = {{"z 0 0 1 1", "3 to 16 corners"},
+             {"z 0 0 1 1 2", "3 to 16 corners"},
+             {"z 0 0 1 1 2 2", "no area"},
+             {"z 0 0 4 4 4 0 0 6", "its edges cross"},
+             {"z 0 0 1 0 x 1", "pairs of numbers"},
+             {"z 0 0 1 0 1 1 0 1 0 2 1 2 0 3 1 3 0 4 1 4 0 5 1 5 0 6 1 6 0 7 1 7 0 8", "more than 16 corners"},
+             {"a-name-much-longer-than-thirty-one 0 0 1 0 0 1", "longer than 31"}};
+  for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+    ck_assert_int_eq(rs_count_parse_zone(bad[i].text, &z[0], err, sizeof err), RS_E_INVAL);
+    ck_assert_msg(strstr(err, bad[i].why) != NULL, "%s: %s", bad[i].text, err);
+  }
+  ck_assert_int_eq(rs_count_parse_zone("box -5 -5 5 -5 5 5 -5 5", &z[0], err, sizeof err), RS_OK);
+  ck_assert_int_eq(rs_count_add_zones(&cnt, z, 1, err, sizeof err), RS_E_INVAL); /* the name is taken */
+  ck_assert_ptr_nonnull(strstr(err, "two zones of that name"));
+}
+END_TEST
+
 START_TEST(t_bad_lines) {
   rs_count_line_t line;
   char err[RS_ERRMSG_SIZE];
@@ -178,6 +245,7 @@ int main(void) {
   tcase_add_test(tc, t_many_tracks);
   tcase_add_test(tc, t_site_frame);
   tcase_add_test(tc, t_bad_lines);
+  tcase_add_test(tc, t_zones);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

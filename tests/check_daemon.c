@@ -137,7 +137,7 @@ START_TEST(t_help_covers_every_option) {
                                 "cluster", "window", "eps", "min-pts", "seed-surfaces", "border-eps", "sparse-min-pts", "min-half-width", "lcm-url", "channel", "stats-channel",
                                 "sensor-id", "max-datagram", "no-publish", "budget-ms", "summary-seconds", "syslog",
                                 "frames-out", "labels-out", "quiet", "capture-buffer-kib", "allow-root", "stall-ms",
-                                "relearn",
+                                "relearn", "count-zone",
                                 "config", "help", "version"};
   for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
     char opt[64];
@@ -692,9 +692,28 @@ START_TEST(t_tracks_outputs) {
   ck_assert_int_eq(all_rows % 4, 0);
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --count-line \"a 1 2 3\"", &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "not NAME X1 Y1 X2 Y2"));
+  /* a zone: entered, exited and the most inside, per interval, and in the summary */
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s --no-publish --count-zone \"centre 4.5 4.5 18.5 "
+           "4.5 18.5 18.5 4.5 18.5\" --count-interval 1 --counts-out %s", cap, model, cf);
+  ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
+  ck_assert_msg(strstr(out, "zone centre entered ") != NULL, "%s", out);
+  f = fopen(cf, "r");
+  ck_assert_ptr_nonnull(f);
+  int entered = 0, exited = 0, occ = 0;
+  while (fgets(line, sizeof line, f)) {
+    entered += strstr(line, ",centre,entered,all,") != NULL;
+    exited += strstr(line, ",centre,exited,all,") != NULL;
+    occ += strstr(line, ",centre,occupancy_max,all,") != NULL;
+  }
+  fclose(f);
+  ck_assert_int_ge(entered, 3);
+  ck_assert_int_eq(entered, exited);
+  ck_assert_int_eq(entered, occ);
+  ck_assert_int_eq(tu_exec("./roadscand --pcap x --count-zone \"z 0 0 1 1\"", &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "3 to 16 corners"));
   snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --background %s --counts-out %s", cap, model, cf);
   ck_assert_int_eq(tu_exec(cmd, &out), 2);
-  ck_assert_ptr_nonnull(strstr(out, "--counts-out needs a --count-line"));
+  ck_assert_ptr_nonnull(strstr(out, "--counts-out needs a --count-line or --count-zone"));
   /* errors */
   snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --tracks-out %s", cap, b);
   ck_assert_int_eq(tu_exec(cmd, &out), 2);

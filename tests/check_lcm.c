@@ -47,7 +47,7 @@ static struct {
 
 static struct {
   int n;
-  long forward, backward;
+  long forward, backward, entered;
 } crx;
 
 static void on_tracks(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
@@ -56,6 +56,10 @@ static void on_tracks(const lcm_recv_buf_t *rbuf, const char *channel, void *use
     roadscan_counts_t c;
     ck_assert_int_eq(roadscan_counts_t_decode(rbuf->data, 0, (int)rbuf->data_size, &c), (int)rbuf->data_size);
     ck_assert_int_eq(c.num_lines, 2);
+    ck_assert_int_eq(c.num_zones, 1);
+    ck_assert_str_eq(c.zones[0].name, "centre");
+    ck_assert_int_ge(c.zones[0].occupancy_max, c.zones[0].occupancy);
+    for (int k = 0; k < 6; k++) crx.entered += c.zones[0].entered[k];
     ck_assert_int_gt(c.t_end, c.t_start);
     for (int l = 0; l < c.num_lines; l++)
       for (int k = 0; k < 6; k++) {
@@ -381,6 +385,13 @@ START_TEST(t_checked_decode_survives_mutations) {
   cm.sensor_id = "north";
   cm.num_lines = 2;
   cm.lines = lines;
+  roadscan_count_zone_t zones[1]; /* and a zone: the second variable-length part */
+  memset(zones, 0, sizeof zones);
+  zones[0].name = "box";
+  zones[0].entered[3] = 2;
+  zones[0].occupancy_max = 1;
+  cm.num_zones = 1;
+  cm.zones = zones;
   glen[RS_LCM_COUNTS] = roadscan_counts_t_encode(good[RS_LCM_COUNTS], 0, 4096, &cm);
   rs_publish_deinit(&pub);
   char why[RS_ERRMSG_SIZE];
@@ -436,6 +447,7 @@ START_TEST(t_checked_decode_survives_mutations) {
         roadscan_counts_t d;
         ck_assert_int_eq(roadscan_counts_t_decode(heap, 0, len, &d), len);
         for (int l = 0; l < d.num_lines; l++) ck_assert_ptr_nonnull(memchr(d.lines[l].name, 0, 4097));
+        for (int z = 0; z < d.num_zones; z++) ck_assert_ptr_nonnull(memchr(d.zones[z].name, 0, 4097));
         roadscan_counts_t_decode_cleanup(&d);
         break;
       }
@@ -581,6 +593,9 @@ START_TEST(t_pipeline_end_to_end) {
   ck_assert_int_eq(rs_count_parse_line("east 31.5 4.5 31.5 18.5", &lines[0], lerr, sizeof lerr), RS_OK);
   ck_assert_int_eq(rs_count_parse_line("west -8.5 4.5 -8.5 18.5", &lines[1], lerr, sizeof lerr), RS_OK);
   ck_assert_int_eq(rs_count_init(&counter, lines, 2, NULL, 1.0, lerr, sizeof lerr), RS_OK);
+  rs_count_zone_t centre; /* the intersection's box */
+  ck_assert_int_eq(rs_count_parse_zone("centre 4.5 4.5 18.5 4.5 18.5 18.5 4.5 18.5", &centre, lerr, sizeof lerr), RS_OK);
+  ck_assert_int_eq(rs_count_add_zones(&counter, &centre, 1, lerr, sizeof lerr), RS_OK);
   rs_track_cfg_t tcfg;
   rs_track_cfg_default(&tcfg);
   ck_assert_int_eq(rs_track_init(&tracker, &tcfg), RS_OK);
@@ -673,7 +688,12 @@ START_TEST(t_pipeline_end_to_end) {
     }
   ck_assert_int_eq(crx.forward, fwd);
   ck_assert_int_eq(crx.backward, bwd);
-  printf("lcm: %d counts messages, %ld forward and %ld backward crossings\n", crx.n, fwd, bwd);
+  long entered = 0;
+  for (int k = 0; k < RS_CLASS_COUNT; k++) entered += counter.zone_total[0].entered[k];
+  ck_assert_int_eq(crx.entered, entered);
+  ck_assert_int_gt(entered, 0); /* traffic crosses the intersection */
+  printf("lcm: %d counts messages, %ld forward and %ld backward crossings, %ld entered the centre\n", crx.n, fwd, bwd,
+         entered);
   for (int i = 0; i < trx.n; i++) free(trx.data[i]);
   trx.n = 0;
   lcm_unsubscribe(lcm, tsub);

@@ -266,6 +266,7 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel, void *us
     if (roadscan_counts_t_decode(d, 0, n, &m.c) < 0) return;
     text = utf8(m.c.sensor_id);
     for (int i = 0; i < m.c.num_lines && text; i++) text = utf8(m.c.lines[i].name);
+    for (int i = 0; i < m.c.num_zones && text; i++) text = utf8(m.c.zones[i].name);
     j = text ? rs_json_counts(&m.c) : NULL;
     break;
   default:

@@ -233,6 +233,7 @@ static void on_counts(const lcm_recv_buf_t *rbuf, const char *channel, void *use
   if (!L.quiet && L.json) {
     bool text = rs_json_text_ok(c.sensor_id);
     for (int l = 0; l < c.num_lines && text; l++) text = rs_json_text_ok(c.lines[l].name);
+    for (int z = 0; z < c.num_zones && text; z++) text = rs_json_text_ok(c.zones[z].name);
     emit(text ? rs_json_counts(&c) : NULL, channel);
     fflush(stdout);
   } else if (!L.quiet) {
@@ -244,6 +245,16 @@ static void on_counts(const lcm_recv_buf_t *rbuf, const char *channel, void *use
       }
       printf("%s counts %.1f-%.1f s: line %s forward %d, backward %d\n", c.sensor_id, (double)c.t_start * 1e-6,
              (double)c.t_end * 1e-6, c.lines[l].name, fwd, bwd);
+    }
+    for (int z = 0; z < c.num_zones; z++) {
+      int in = 0, out = 0;
+      for (int k = 0; k < 6; k++) {
+        in += c.zones[z].entered[k];
+        out += c.zones[z].exited[k];
+      }
+      printf("%s counts %.1f-%.1f s: zone %s entered %d, exited %d, inside %d (at most %d)\n", c.sensor_id,
+             (double)c.t_start * 1e-6, (double)c.t_end * 1e-6, c.zones[z].name, in, out, c.zones[z].occupancy,
+             c.zones[z].occupancy_max);
     }
     fflush(stdout);
   }

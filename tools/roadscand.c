@@ -57,6 +57,10 @@ typedef struct {
     rs_count_line_t line[RS_COUNT_LINES];
     int n;
   } lines;
+  struct {
+    rs_count_zone_t zone[RS_COUNT_ZONES];
+    int n;
+  } zones;
   double count_interval;
   int method;            /* rs_cluster_method_t */
   double eps;            /* the method's, when given */
@@ -125,6 +129,17 @@ static int parse_count_line(void *t, const char *key, const char *v, char *err, 
   }
   if (rs_count_parse_line(v, &s->lines.line[s->lines.n], err, n) != RS_OK) return RS_E_INVAL;
   s->lines.n++;
+  return RS_OK;
+}
+
+static int parse_count_zone(void *t, const char *key, const char *v, char *err, size_t n) {
+  settings_t *s = (settings_t *)(void *)((char *)t - offsetof(settings_t, zones));
+  if (s->zones.n == RS_COUNT_ZONES) {
+    snprintf(err, n, "%s: at most %d zones", key, RS_COUNT_ZONES);
+    return RS_E_INVAL;
+  }
+  if (rs_count_parse_zone(v, &s->zones.zone[s->zones.n], err, n) != RS_OK) return RS_E_INVAL;
+  s->zones.n++;
   return RS_OK;
 }
 
@@ -222,6 +237,10 @@ static const rs_opt_t table[] = {
      .help = "a line from (X1, Y1) to (X2, Y2), metres, in the site frame with --pose (the sensor frame "
              "otherwise); up to 16; each track counts once per line, forward (from the right of the line to "
              "its left, looking from X1 Y1 to X2 Y2) or backward, by class"},
+    {.type = RS_OPT_FUNC, .name = "count-zone", .arg = "\"NAME X1 Y1 X2 Y2 X3 Y3 ...\"", .off = offsetof(T, zones),
+     .fn = parse_count_zone, .flags = RS_OPT_REPEAT,
+     .help = "a zone: a polygon of 3 to 16 corners in order (metres, the frame of --count-line); up to 8; confirmed "
+             "tracks that enter and exit it, by class, and the most inside at once"},
     D("count-interval", "S", count_interval, 1.0, 86400.0, "counts per interval of S seconds of sensor time"),
     S("counts-out", "FILE", cfg.counts_out, "CSV t_start,t_end,line,direction,class,count per closed interval"),
     RS_OPT_HEAD("lcm", "LCM: per frame an object list, a track list and a statistics message; an event per "
@@ -430,12 +449,13 @@ int main(int argc, char **argv) {
     }
   }
   if (cfg->tracks_out && cfg->tracker == NULL) return bad("--tracks-out needs tracking (clustering, no --no-tracking)");
-  if ((st.lines.n > 0 || cfg->counts_out) && cfg->tracker == NULL)
+  if ((st.lines.n > 0 || st.zones.n > 0 || cfg->counts_out) && cfg->tracker == NULL)
     return bad("counting needs tracking (clustering, no --no-tracking)");
-  if (cfg->counts_out && st.lines.n == 0) return bad("--counts-out needs a --count-line");
-  if (st.lines.n > 0) {
+  if (cfg->counts_out && st.lines.n == 0 && st.zones.n == 0) return bad("--counts-out needs a --count-line or --count-zone");
+  if (st.lines.n > 0 || st.zones.n > 0) {
     if (rs_count_init(&counter, st.lines.line, st.lines.n, have_pose ? &st.pose : NULL, st.count_interval, err,
-                      sizeof err) != RS_OK)
+                      sizeof err) != RS_OK ||
+        rs_count_add_zones(&counter, st.zones.zone, st.zones.n, err, sizeof err) != RS_OK)
       return bad(err);
     cfg->counter = &counter;
   }

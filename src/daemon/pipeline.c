@@ -378,6 +378,23 @@ static void write_counts(FILE *f, const rs_counter_t *c, const rs_count_interval
       fprintf(f, "%.3f,%.3f,%s,%s,all,%u\n", iv->t_start, iv->t_end, c->lines[l].name, d == 0 ? "forward" : "backward",
               sum);
     }
+  /* zones: entered and exited likewise; the most inside at once (class all) */
+  for (int z = 0; z < c->nzones; z++) {
+    for (int d = 0; d < 2; d++) {
+      const uint32_t *v = d == 0 ? iv->zone[z].entered : iv->zone[z].exited;
+      uint32_t sum = 0;
+      for (int k = 0; k < RS_CLASS_COUNT; k++) {
+        sum += v[k];
+        if (v[k])
+          fprintf(f, "%.3f,%.3f,%s,%s,%s,%u\n", iv->t_start, iv->t_end, c->zones[z].name, d == 0 ? "entered" : "exited",
+                  rs_class_name((rs_class_t)k), v[k]);
+      }
+      fprintf(f, "%.3f,%.3f,%s,%s,all,%u\n", iv->t_start, iv->t_end, c->zones[z].name, d == 0 ? "entered" : "exited",
+              sum);
+    }
+    fprintf(f, "%.3f,%.3f,%s,occupancy_max,all,%u\n", iv->t_start, iv->t_end, c->zones[z].name,
+            iv->zone[z].occupancy_max);
+  }
 }
 
 static void count_sinks(rs_pipeline_t *p, const rs_count_interval_t *iv) {
@@ -614,6 +631,15 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
           }
         if (any) fprintf(out, ")");
       }
+    }
+    for (int z = 0; z < c->nzones; z++) {
+      uint32_t in = 0, out_n = 0;
+      for (int k = 0; k < RS_CLASS_COUNT; k++) {
+        in += c->zone_total[z].entered[k];
+        out_n += c->zone_total[z].exited[k];
+      }
+      fprintf(out, "%s zone %s entered %u, exited %u, inside now %u (at most %u)", c->nlines || z ? ";" : "",
+              c->zones[z].name, in, out_n, c->zone_total[z].occupancy, c->zone_total[z].occupancy_max);
     }
     fprintf(out, "\n");
   }

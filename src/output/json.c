@@ -110,6 +110,13 @@ json_t *rs_json_counts(const roadscan_counts_t *c) {
     json_array_append_new(a, json_pack("{s:s, s:o, s:o}", "name", c->lines[i].name, "forward",
                                        by_class(c->lines[i].forward), "backward", by_class(c->lines[i].backward)));
   json_object_set_new(j, "lines", a);
+  json_t *zs = json_array();
+  for (int i = 0; i < c->num_zones; i++)
+    json_array_append_new(zs, json_pack("{s:s, s:o, s:o, s:i, s:i}", "name", c->zones[i].name, "entered",
+                                        by_class(c->zones[i].entered), "exited", by_class(c->zones[i].exited),
+                                        "occupancy", c->zones[i].occupancy, "occupancy_max",
+                                        c->zones[i].occupancy_max));
+  json_object_set_new(j, "zones", zs);
   return j;
 }
 

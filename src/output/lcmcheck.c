@@ -7,6 +7,7 @@
 #include "roadscan/output/lcmcheck.h"
 
 #include <roadscan_count_line_t.h>
+#include <roadscan_count_zone_t.h>
 #include <roadscan_counts_t.h>
 #include <roadscan_frame_stats_t.h>
 #include <roadscan_object_list_t.h>
@@ -186,6 +187,13 @@ bool rs_lcm_check(rs_lcm_type_t type, const void *data, int len, char *err, size
       if (r.len - r.pos < 5 + 48) return fail(&r, "more lines than the message holds");
       str(&r);
       skip(&r, 48);
+    }
+    const int32_t nz = i32(&r);
+    if (r.ok && nz < 0) return fail(&r, "a negative array length");
+    for (int32_t i = 0; i < nz && r.ok; i++) { /* count_zone_t: a name, 6 + 6 + 2 int32 */
+      if (r.len - r.pos < 5 + 56) return fail(&r, "more zones than the message holds");
+      str(&r);
+      skip(&r, 56);
     }
     return done(&r);
   }

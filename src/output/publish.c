@@ -398,6 +398,18 @@ int rs_publish_counts(rs_publish_t *p, const rs_counter_t *c, const rs_count_int
     }
   }
   msg.lines = p->count_wire;
+  msg.num_zones = c->nzones;
+  for (int z = 0; z < c->nzones; z++) {
+    roadscan_count_zone_t *w = &p->zone_wire[z];
+    w->name = (char *)c->zones[z].name;
+    for (int k = 0; k < RS_CLASS_COUNT; k++) {
+      w->entered[k] = (int32_t)iv->zone[z].entered[k];
+      w->exited[k] = (int32_t)iv->zone[z].exited[k];
+    }
+    w->occupancy = (int32_t)iv->zone[z].occupancy;
+    w->occupancy_max = (int32_t)iv->zone[z].occupancy_max;
+  }
+  msg.zones = p->zone_wire;
   int len = roadscan_counts_t_encode(p->buf, 0, (int)sizeof p->buf, &msg);
   if (len < 0 || lcm_publish(p->lcm, p->counts_channel, p->buf, (unsigned)len) != 0) {
     p->errors++;

@@ -1,4 +1,4 @@
-/* count.c - counting lines (processing thread; no allocation).
+/* count.c - counting lines and zones (processing thread; no allocation).
  *
  * Per frame: every track of the list is looked up in the slot table (by id,
  * linear probing); a confirmed one whose path since its last position (or,
@@ -41,6 +41,104 @@ int rs_count_parse_line(const char *text, rs_count_line_t *out, char *err, size_
   out->ay = v[1];
   out->bx = v[2];
   out->by = v[3];
+  return RS_OK;
+}
+
+/* do segments P1P2 and P3P4 cross (properly)? */
+static bool segments_cross(double x1, double y1, double x2, double y2, double x3, double y3, double x4, double y4) {
+  const double d1 = (x2 - x1) * (y3 - y1) - (y2 - y1) * (x3 - x1), d2 = (x2 - x1) * (y4 - y1) - (y2 - y1) * (x4 - x1);
+  const double d3 = (x4 - x3) * (y1 - y3) - (y4 - y3) * (x1 - x3), d4 = (x4 - x3) * (y2 - y3) - (y4 - y3) * (x2 - x3);
+  return ((d1 > 0) != (d2 > 0)) && ((d3 > 0) != (d4 > 0)) && d1 != 0 && d2 != 0 && d3 != 0 && d4 != 0;
+}
+
+int rs_count_parse_zone(const char *text, rs_count_zone_t *out, char *err, size_t n) {
+  memset(out, 0, sizeof *out);
+  char name[RS_COUNT_NAME + 1];
+  int used = 0;
+  if (sscanf(text, "%32s %n", name, &used) != 1) {
+    snprintf(err, n, "count zone '%s': not NAME X1 Y1 X2 Y2 X3 Y3 ... (metres)", text);
+    return RS_E_INVAL;
+  }
+  if (strlen(name) >= RS_COUNT_NAME) {
+    snprintf(err, n, "count zone '%s': the name is longer than %d characters", text, RS_COUNT_NAME - 1);
+    return RS_E_INVAL;
+  }
+  const char *p = text + used;
+  double v[2 * RS_COUNT_ZONE_VERTICES + 1];
+  int k = 0;
+  while (*p) {
+    if (k == 2 * RS_COUNT_ZONE_VERTICES) {
+      snprintf(err, n, "count zone '%s': more than %d corners", text, RS_COUNT_ZONE_VERTICES);
+      return RS_E_INVAL;
+    }
+    char *end;
+    v[k] = strtod(p, &end);
+    if (end == p || !isfinite(v[k]) || fabs(v[k]) > 10000.0) {
+      snprintf(err, n, "count zone '%s': corners are pairs of numbers, metres within 10 km", text);
+      return RS_E_INVAL;
+    }
+    k++;
+    p = end;
+    while (*p == ' ' || *p == '\t') p++;
+  }
+  if (k % 2 != 0 || k < 6) {
+    snprintf(err, n, "count zone '%s': not NAME and 3 to %d corners X Y", text, RS_COUNT_ZONE_VERTICES);
+    return RS_E_INVAL;
+  }
+  out->n = k / 2;
+  for (int i = 0; i < out->n; i++) {
+    out->x[i] = v[2 * i];
+    out->y[i] = v[2 * i + 1];
+  }
+  double area = 0;
+  for (int i = 0; i < out->n; i++) {
+    const int j = (i + 1) % out->n;
+    area += out->x[i] * out->y[j] - out->x[j] * out->y[i];
+  }
+  if (fabs(area) / 2 < 0.01) {
+    snprintf(err, n, "count zone '%s': no area (corners on one line, or repeated)", text);
+    return RS_E_INVAL;
+  }
+  for (int i = 0; i < out->n; i++) /* edges that do not touch must not cross */
+    for (int j = i + 2; j < out->n; j++) {
+      if (i == 0 && j == out->n - 1) continue;
+      const int i2 = (i + 1) % out->n, j2 = (j + 1) % out->n;
+      if (segments_cross(out->x[i], out->y[i], out->x[i2], out->y[i2], out->x[j], out->y[j], out->x[j2], out->y[j2])) {
+        snprintf(err, n, "count zone '%s': its edges cross (give the corners in order around it)", text);
+        return RS_E_INVAL;
+      }
+    }
+  memcpy(out->name, name, strlen(name) + 1);
+  return RS_OK;
+}
+
+bool rs_count_inside(const rs_count_zone_t *z, double x, double y) {
+  bool in = false;
+  for (int i = 0, j = z->n - 1; i < z->n; j = i++) {
+    if ((z->y[i] > y) != (z->y[j] > y) &&
+        x < (z->x[j] - z->x[i]) * (y - z->y[i]) / (z->y[j] - z->y[i]) + z->x[i])
+      in = !in;
+  }
+  return in;
+}
+
+int rs_count_add_zones(rs_counter_t *c, const rs_count_zone_t *zones, int nzones, char *err, size_t n) {
+  if (nzones < 0 || c->nzones + nzones > RS_COUNT_ZONES) {
+    snprintf(err, n, "at most %d count zones", RS_COUNT_ZONES);
+    return RS_E_INVAL;
+  }
+  for (int i = 0; i < nzones; i++) {
+    if (zones[i].n < 3 || zones[i].n > RS_COUNT_ZONE_VERTICES) {
+      snprintf(err, n, "count zone %s: %d corners", zones[i].name, zones[i].n);
+      return RS_E_INVAL;
+    }
+    for (int j = 0; j < c->nzones; j++)
+      if (strcmp(zones[i].name, c->zones[j].name) == 0) {
+        snprintf(err, n, "count zone %s: two zones of that name", zones[i].name);
+        return RS_E_INVAL;
+      }
+    c->zones[c->nzones++] = zones[i];
+  }
   return RS_OK;
 }
 
@@ -102,6 +200,14 @@ int rs_count_crosses(const rs_count_line_t *l, double x0, double y0, double x1, 
   return crosses(l, x0, y0, x1, y1);
 }
 
+/* the zones (x, y) is inside, as a mask */
+static uint8_t zones_at(const rs_counter_t *c, double x, double y) {
+  uint8_t m = 0;
+  for (int z = 0; z < c->nzones; z++)
+    if (rs_count_inside(&c->zones[z], x, y)) m |= (uint8_t)(1u << z);
+  return m;
+}
+
 static uint32_t hash_id(uint32_t id) { return (id * 2654435761u) & (RS_COUNT_SLOTS - 1); }
 
 static void close_interval(rs_counter_t *c, double t_end) {
@@ -141,6 +247,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
     closed = true;
   }
   c->frame_no++;
+  uint32_t occupancy[RS_COUNT_ZONES] = {0};
   const uint32_t n = tl->count < RS_TRACK_MAX ? tl->count : RS_TRACK_MAX;
   for (uint32_t k = 0; k < n; k++) {
     const rs_track_t *tr = &tl->track[k];
@@ -161,6 +268,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       }
       c->slot[i].id = tr->id;
       c->slot[i].counted = 0;
+      c->slot[i].inside = zones_at(c, x, y); /* inside when first seen: not an entry */
       c->slot[i].x = x; /* where it was first seen: crossings while tentative count when it is confirmed */
       c->slot[i].y = y;
     }
@@ -183,6 +291,29 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
     }
     c->slot[i].x = x;
     c->slot[i].y = y;
+    /* zones: the change since its last confirmed frame (or where it was first seen) */
+    const uint8_t now = zones_at(c, x, y), was = c->slot[i].inside;
+    const unsigned cls = (unsigned)tr->cls < RS_CLASS_COUNT ? (unsigned)tr->cls : 0;
+    for (int z = 0; z < c->nzones; z++) {
+      const uint8_t bit = (uint8_t)(1u << z);
+      if (now & bit) occupancy[z]++;
+      if ((now & bit) == (was & bit)) continue;
+      if (now & bit) {
+        c->cur.zone[z].entered[cls]++;
+        c->zone_total[z].entered[cls]++;
+      } else {
+        c->cur.zone[z].exited[cls]++;
+        c->zone_total[z].exited[cls]++;
+      }
+      c->zone_events++;
+    }
+    c->slot[i].inside = now;
+  }
+  for (int z = 0; z < c->nzones; z++) {
+    c->cur.zone[z].occupancy = occupancy[z];
+    if (occupancy[z] > c->cur.zone[z].occupancy_max) c->cur.zone[z].occupancy_max = occupancy[z];
+    c->zone_total[z].occupancy = occupancy[z];
+    if (occupancy[z] > c->zone_total[z].occupancy_max) c->zone_total[z].occupancy_max = occupancy[z];
   }
   /* tracks no longer listed are forgotten */
   for (uint32_t i = 0; i < RS_COUNT_SLOTS; i++) {

@@ -36,6 +36,7 @@ static json_t *as_json_e(const roadscan_track_end_t *m) {
 static json_t *as_json_c(const roadscan_counts_t *m) {
   bool ok = rs_json_text_ok(m->sensor_id);
   for (int i = 0; i < m->num_lines && ok; i++) ok = rs_json_text_ok(m->lines[i].name);
+  for (int i = 0; i < m->num_zones && ok; i++) ok = rs_json_text_ok(m->zones[i].name);
   return ok ? rs_json_counts(m) : NULL;
 }
 

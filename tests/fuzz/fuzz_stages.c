@@ -36,6 +36,9 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
   char err[256];
   rs_count_parse_line("gate 0 -50 0 50", &line, err, sizeof err);
   rs_count_init(&cnt, &line, 1, NULL, 10.0, err, sizeof err);
+  rs_count_zone_t zone; /* and a zone around the sensor */
+  rs_count_parse_zone("near -20 -20 20 -20 20 20 -20 20", &zone, err, sizeof err);
+  rs_count_add_zones(&cnt, &zone, 1, err, sizeof err);
   size_t at = 1;
   const size_t per = (size_t)rows * cols * 2;
   for (int f = 0; f < 8 && at < size; f++) {

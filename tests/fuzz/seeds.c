@@ -130,6 +130,13 @@ static void lcm_seeds(void) {
   cm.sensor_id = "north";
   cm.num_lines = 2;
   cm.lines = lines;
+  roadscan_count_zone_t zones[1]; /* and a zone: the second variable-length part */
+  memset(zones, 0, sizeof zones);
+  zones[0].name = "box";
+  zones[0].entered[3] = 2;
+  zones[0].occupancy_max = 1;
+  cm.num_zones = 1;
+  cm.zones = zones;
   sel = RS_LCM_COUNTS;
   n = roadscan_counts_t_encode(buf, 0, sizeof buf, &cm);
   put("lcm", "counts", &sel, 1, buf, (size_t)n);

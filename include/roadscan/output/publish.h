@@ -60,6 +60,7 @@ typedef struct {
   uint64_t lists, stats, truncated_lists, objects_dropped, errors;
   uint64_t track_lists, track_ends, truncated_track_lists, counts;
   roadscan_count_line_t count_wire[RS_COUNT_LINES];
+  roadscan_count_zone_t zone_wire[RS_COUNT_ZONES];
   uint16_t track_order[RS_TRACK_MAX];
   roadscan_track_t track_wire[RS_TRACK_MAX];
   uint16_t order[RS_OBJ_MAX];

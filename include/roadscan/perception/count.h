@@ -11,8 +11,16 @@
  * interval ends, rs_count_frame says so and the closed interval's counts
  * are in `closed` for the sinks (LCM, CSV). Totals over the run are kept.
  *
- * Per-track memory (last position, lines already counted) lives in a fixed
- * table keyed by track id; a track no longer in the list is forgotten. */
+ * Zones: a polygon of the site (3 to RS_COUNT_ZONE_VERTICES corners). A
+ * confirmed track whose position moves from outside to inside is counted as
+ * entered, from inside to outside as exited, under its class (a track first
+ * seen inside entered nothing; one that vanishes inside exited nothing); the
+ * confirmed tracks inside are its occupancy, and the interval keeps the
+ * largest occupancy it saw. Whether a track was inside is remembered from its
+ * first position, as the last position is for lines.
+ *
+ * Per-track memory (last position, lines already counted, zones inside) lives
+ * in a fixed table keyed by track id; a track no longer in the list is forgotten. */
 #ifndef ROADSCAN_COUNT_H
 #define ROADSCAN_COUNT_H
 
@@ -23,10 +31,13 @@
 #include <stdint.h>
 
 #define RS_COUNT_LINES 16
+#define RS_COUNT_ZONES 8
+#define RS_COUNT_ZONE_VERTICES 16
 #define RS_COUNT_NAME 32
 #define RS_COUNT_SLOTS (2 * RS_TRACK_MAX) /* open addressing: at most half full */
 
 _Static_assert(RS_COUNT_LINES <= 16, "lines counted per track fit in a uint16_t mask");
+_Static_assert(RS_COUNT_ZONES <= 8, "zones a track is inside fit in a uint8_t mask");
 _Static_assert((RS_COUNT_SLOTS & (RS_COUNT_SLOTS - 1)) == 0, "slots: a power of two");
 
 typedef struct {
@@ -35,26 +46,43 @@ typedef struct {
 } rs_count_line_t;
 
 typedef struct {
+  char name[RS_COUNT_NAME];
+  int n;                                 /* corners, 3 .. RS_COUNT_ZONE_VERTICES */
+  double x[RS_COUNT_ZONE_VERTICES], y[RS_COUNT_ZONE_VERTICES]; /* metres, site frame (sensor frame without a pose) */
+} rs_count_zone_t;
+
+typedef struct {
   uint32_t forward[RS_CLASS_COUNT], backward[RS_CLASS_COUNT];
 } rs_count_tally_t;
 
 typedef struct {
+  uint32_t entered[RS_CLASS_COUNT], exited[RS_CLASS_COUNT];
+  uint32_t occupancy;                    /* confirmed tracks inside at the interval's last frame */
+  uint32_t occupancy_max;                /* the most at once during the interval */
+} rs_zone_tally_t;
+
+typedef struct {
   double t_start, t_end;                 /* capture time (s) */
   rs_count_tally_t line[RS_COUNT_LINES];
+  rs_zone_tally_t zone[RS_COUNT_ZONES];
 } rs_count_interval_t;
 
 typedef struct {
   int nlines;
   rs_count_line_t lines[RS_COUNT_LINES];
+  int nzones;
+  rs_count_zone_t zones[RS_COUNT_ZONES];
+  rs_zone_tally_t zone_total[RS_COUNT_ZONES]; /* occupancy: now; occupancy_max: over the run */
   double interval_s;                     /* default 60 */
   bool have_pose;
   double rot[4], trans[2];               /* sensor -> site on the ground plane (from the pose's full rotation) */
   rs_count_interval_t cur, closed;       /* the open interval, the last closed one */
   rs_count_tally_t total[RS_COUNT_LINES];
-  uint64_t intervals, crossings, forgotten_full;
+  uint64_t intervals, crossings, zone_events, forgotten_full;
   struct {
     uint32_t id;                         /* 0 = free */
     uint16_t counted;                    /* lines this track was counted on */
+    uint8_t inside;                      /* zones it is inside (as of its last confirmed frame, or first seen) */
     uint32_t frame;                      /* last frame it was seen (low 32 bits) */
     double x, y;                         /* last position, site frame */
   } slot[RS_COUNT_SLOTS];
@@ -63,6 +91,13 @@ typedef struct {
 
 /* Parses "NAME X1 Y1 X2 Y2" (metres) into a line; RS_E_INVAL with a message. */
 int rs_count_parse_line(const char *text, rs_count_line_t *out, char *err, size_t n);
+/* Parses "NAME X1 Y1 X2 Y2 X3 Y3 ..." (metres, 3 to RS_COUNT_ZONE_VERTICES corners, in order around it,
+ * not crossing itself) into a zone; RS_E_INVAL with a message. */
+int rs_count_parse_zone(const char *text, rs_count_zone_t *out, char *err, size_t n);
+/* Adds zones after rs_count_init (before the first frame); RS_E_INVAL for too many, a name taken. */
+int rs_count_add_zones(rs_counter_t *c, const rs_count_zone_t *zones, int nzones, char *err, size_t n);
+/* Is (x, y) inside zone z (even-odd rule; on an edge counts as outside or inside, never both ways)? */
+bool rs_count_inside(const rs_count_zone_t *z, double x, double y);
 /* lines: nlines (<= RS_COUNT_LINES); pose: NULL or the sensor's pose in the site;
  * interval_s > 0. RS_E_INVAL for bad arguments (a line of zero length). */
 int rs_count_init(rs_counter_t *c, const rs_count_line_t *lines, int nlines, const rs_pose_t *pose, double interval_s,
