@@ -8,7 +8,8 @@ pkgs=(build-essential cmake ninja-build pkg-config
       tcpdump iproute2 util-linux python3-venv
       strace systemd
       liblcm-java libjchart2d-java libmicrohttpd-dev curl
-      libmosquitto-dev libjansson-dev mosquitto mosquitto-clients)
+      libmosquitto-dev libjansson-dev mosquitto mosquitto-clients
+      chromium chromium-driver)
 # a JDK for the Java types (lcm-spy); kept when one is there
 command -v javac >/dev/null || pkgs+=(default-jdk-headless)
 missing=()

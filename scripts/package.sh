@@ -32,6 +32,11 @@ if command -v systemd-analyze >/dev/null; then
          grep -v "Command /usr/bin/roadscand is not executable" || true)
   [ -z "$msgs" ] || { echo "package.sh: systemd-analyze verify: $msgs" >&2; exit 1; }
 fi
+# the live view: its page and its unit
+for f in ./usr/bin/roadscan-web ./usr/share/roadscan/www/index.html ./usr/share/roadscan/www/app.js \
+         ./usr/share/roadscan/www/style.css ./usr/lib/systemd/system/roadscan-web.service; do
+  grep -qx "$f" <<<"$contents" || { echo "package.sh: $deb lacks $f" >&2; exit 1; }
+done
 # the consumer libraries: C (shared, static, pkg-config), Python (a wheel), Java (with a JDK and liblcm-java)
 for f in libroadscan-lcmtypes.so.0 libroadscan-lcmtypes.a pkgconfig/roadscan-lcmtypes.pc; do
   grep -q "^./usr/lib/.*/$f\$" <<<"$contents" || { echo "package.sh: $deb lacks the consumer library's $f" >&2; exit 1; }

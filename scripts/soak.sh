@@ -3,7 +3,7 @@
 # everything on (background kept current, clustering, tracking, counting,
 # LCM over udpm:// with a subscriber), in a private network namespace;
 # its resident memory sampled every 5 s. Passes when the daemon is still
-# running at the end, never stopped making frames, and its resident memory at
+# running at the end, never stopped making frames (for 2 minutes), and its resident memory at
 # the end is within 1 % of what it was after the warm-up (the first fifth,
 # at least 60 s: the background updater's first relearns, the allocator's
 # arenas). The test command runs 5 minutes of it (scripts/test.sh); results
@@ -61,10 +61,11 @@ while :; do
   frames=$({ grep -ao 'totals: [0-9]* frames' "$out/daemon.txt" || true; } | tail -1 | tr -dc 0-9)
   frames=${frames:-0}
   echo "$now,$rss,$frames" >>"$out/rss.csv"
-  # progress: the daemon logs its totals every 5 s; every 30 s they must have grown
-  if [ $((now - last_check)) -ge 30 ]; then
+  # progress: the daemon logs its totals every 5 s; every 120 s they must have grown (a flat-out
+  # replay waits for each relearn of the background, which takes long on a loaded machine)
+  if [ $((now - last_check)) -ge 120 ]; then
     if [ "$frames" -le "$last_frames" ]; then
-      echo "soak.sh: no frame processed in the 30 s before $now s" >&2
+      echo "soak.sh: no frame processed in the 120 s before $now s" >&2
       status=1
       break
     fi

@@ -10,12 +10,12 @@ bash scripts/install-deps.sh
 jobs=$(nproc)
 # PyPI's lcm for the Python example's test, velodyne-decoder and scipy for the
 # decoder cross-check, motmetrics for the tracking cross-check, prometheus-client
-# to parse the exporter's page, jsonschema for the bridge's messages (each
-# skipped, and said so, without them)
-if [ ! -x build/pyvenv/bin/python ] || ! build/pyvenv/bin/python -c 'import lcm, velodyne_decoder, scipy, motmetrics, prometheus_client, jsonschema' 2>/dev/null; then
+# to parse the exporter's page, jsonschema for the bridge's messages, selenium
+# to drive chromium on the live view (each skipped, and said so, without them)
+if [ ! -x build/pyvenv/bin/python ] || ! build/pyvenv/bin/python -c 'import lcm, velodyne_decoder, scipy, motmetrics, prometheus_client, jsonschema, selenium' 2>/dev/null; then
   mkdir -p build
   { [ -x build/pyvenv/bin/python ] || python3 -m venv build/pyvenv; } &&
-    build/pyvenv/bin/pip install -q --disable-pip-version-check lcm velodyne-decoder scipy motmetrics prometheus-client jsonschema ||
+    build/pyvenv/bin/pip install -q --disable-pip-version-check lcm velodyne-decoder scipy motmetrics prometheus-client jsonschema selenium ||
     echo "== note: PyPI packages missing; the Python example's test or a cross-check will be skipped"
 fi
 export RS_PYTHON=$PWD/build/pyvenv/bin/python

@@ -211,6 +211,8 @@ static const field_t fields[] = {
     {"roadscan_frame_budget_seconds", "gauge", "The processing budget of a frame.", FS(budget_ms), F_F32, 1e-3},
     {"roadscan_capture_buffer_bytes", "gauge", "The kernel's capture buffer (live; 0 in a replay).",
      FS(capture_buffer_kib), F_I32, 1024},
+    {"roadscan_background_model_age_seconds", "gauge",
+     "Since the background model in use was learned or last updated (-1: no model yet).", FS(model_age_s), F_F32, 1},
 };
 
 static double field_value(const roadscan_frame_stats_t *m, const field_t *f) {

@@ -319,6 +319,10 @@ static void publish_stats(rs_pipeline_t *p, const rs_slot_t *s, const rs_proc_re
     p->err_counts[k++] = (int64_t)v;
   }
   st.num_errors = k;
+  const rs_bg_model_t *model = rs_proc_model(&p->proc);
+  if (model == NULL) st.model_age_s = -1.0f;
+  else if (p->proc.bgu.changed_at > 0) st.model_age_s = (float)(m->t_last - p->proc.bgu.changed_at);
+  else st.model_age_s = (float)((double)time(NULL) - (double)model->created);
   st.error_kinds = (char **)p->err_keys;
   st.error_counts = p->err_counts;
   rs_publish_stats(p->cfg.publish, &st);

@@ -139,6 +139,7 @@ json_t *rs_json_stats(const roadscan_frame_stats_t *s) {
   json_t *e = json_object();
   for (int i = 0; i < s->num_errors; i++) json_object_set_new(e, s->error_kinds[i], json_integer(s->error_counts[i]));
   json_object_set_new(j, "input_errors", e);
+  json_object_set_new(j, "model_age_s", s->model_age_s >= 0 ? real(s->model_age_s) : json_null());
   return j;
 }
 

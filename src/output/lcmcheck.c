@@ -151,7 +151,7 @@ bool rs_lcm_check(rs_lcm_type_t type, const void *data, int len, char *err, size
     if (!fingerprint(&r, __roadscan_frame_stats_t_get_hash())) return false;
     skip(&r, 8);
     str(&r);
-    skip(&r, tail_stats() - 2); /* the fixed fields, up to num_errors */
+    skip(&r, tail_stats() - 2 - 4); /* the fixed fields up to num_errors (model_age_s comes after the arrays) */
     const int32_t num = i16(&r);
     if (r.ok && num < 0) return fail(&r, "a negative array length");
     for (int32_t i = 0; i < num && r.ok; i++) { /* error_kinds: a string each (5 bytes at least) */
@@ -159,6 +159,7 @@ bool rs_lcm_check(rs_lcm_type_t type, const void *data, int len, char *err, size
       str(&r);
     }
     array(&r, num, 8); /* error_counts */
+    skip(&r, 4);       /* model_age_s */
     return done(&r);
   }
   case RS_LCM_TRACK_LIST: {
