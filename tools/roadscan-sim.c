@@ -146,6 +146,10 @@ int main(int argc, char **argv) {
     snprintf(err, sizeof err, "-o OUT.pcap and --labels OUT.csv are required");
     goto bad;
   }
+  if (st.crossings_path && st.nlines == 0) {
+    snprintf(err, sizeof err, "--truth-crossings needs a --count-line");
+    goto bad;
+  }
   const rs_model_t model = st.model;
   const char *scenario = st.scenario, *out = st.out, *labels = st.labels, *states_path = st.states_path;
   const double seconds = st.seconds, hz = hz_of[st.hz_i], t0 = st.t0;
@@ -209,10 +213,6 @@ int main(int argc, char **argv) {
   prev_t *prev = NULL;
   size_t nprev = 0;
   uint64_t ncross = 0;
-  if (st.crossings_path && st.nlines == 0) {
-    snprintf(err, sizeof err, "--truth-crossings needs a --count-line");
-    goto bad;
-  }
   if (st.crossings_path) {
     crossings = fopen(st.crossings_path, "w");
     if (crossings == NULL) {
