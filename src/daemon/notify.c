@@ -58,7 +58,8 @@ bool rs_notify_send(rs_notify_t *n, const char *msg) {
   memcpy(a.sun_path, n->path, len);
   if (n->path[0] == '@') a.sun_path[0] = '\0'; /* abstract: no terminating NUL in the length */
   const socklen_t alen = (socklen_t)(offsetof(struct sockaddr_un, sun_path) + len);
-  if (sendto(n->fd, msg, strlen(msg), MSG_NOSIGNAL, (const struct sockaddr *)&a, alen) < 0) {
+  /* never waits: a full queue at the manager loses this datagram (counted), not the processing thread's time */
+  if (sendto(n->fd, msg, strlen(msg), MSG_NOSIGNAL | MSG_DONTWAIT, (const struct sockaddr *)&a, alen) < 0) {
     n->failed++;
     return false;
   }
