@@ -363,6 +363,88 @@ static void see_through_probe(const rs_bg_model_t *m, int see, uint16_t out[4]) 
   for (int i = 0; i < 4; i++) out[i] = slot.label[probe[i][0] * COLS + probe[i][1]];
 }
 
+/* one row of a wall at 10 m (columns 500-599) in front of one at 30 m
+ * (400-499, 600-699), 0.2 degree columns, seen turned by `shift` columns;
+ * `obj` (m, 0 = none) a return in column 650 */
+#define SCOLS 1800
+static void displaced_frame(int shift, float obj) {
+  memset(&slot, 0, sizeof slot);
+  slot.meta.rows = ROWS;
+  slot.meta.cols = SCOLS;
+  for (int c = 400; c < 700; c++) {
+    const int w = c - shift; /* where the firing of column c falls in the learned scene */
+    slot.range[3 * SCOLS + c] = w >= 500 && w < 600 ? 10.02f : 30.02f;
+  }
+  if (obj > 0) slot.range[3 * SCOLS + 650] = obj;
+  slot.meta.points = 300;
+}
+
+/* The shift rule (background.h): a frame whose edges show their far side
+ * where the near side was learned is displaced, and returns within the
+ * tolerance of a surface nearby in the row are background; a still frame
+ * is labelled as without the rule; an object away from every surface stays
+ * foreground either way. */
+START_TEST(t_subtract_displaced) {
+  rs_bg_model_t m;
+  ck_assert_int_eq(rs_bg_model_alloc(&m, RS_MODEL_VLP16, ROWS, SCOLS), RS_OK);
+  const uint16_t near[2] = {995, 1010}, far[2] = {2995, 3010};
+  for (int c = 400; c < 700; c++) {
+    set_cell(&m, 3, c, 1, c >= 500 && c < 600 ? near : far);
+    m.far_seen[3 * SCOLS + c] = 100;
+  }
+  rs_bg_rules_t r;
+  rs_bg_rules_default(&r);
+  ck_assert_double_eq(r.shift_tol, RS_BG_SHIFT_TOL);
+  rs_bg_counts_t c = {0};
+  /* still: all background but the object at 20 m */
+  displaced_frame(0, 20.0f);
+  rs_bg_subtract(&m, &r, &slot, &c);
+  ck_assert(!c.displaced);
+  ck_assert_uint_eq(c.foreground, 1);
+  ck_assert_int_eq(slot.label[3 * SCOLS + 650], RS_LABEL_NOISE);
+  /* turned by 3 columns (0.6 degree): columns 500-502 see the far wall behind
+   * the near one (evidence), 600-602 the near wall in front of the far one */
+  memset(&c, 0, sizeof c);
+  displaced_frame(3, 20.0f);
+  rs_bg_subtract(&m, &r, &slot, &c);
+  ck_assert(c.displaced);
+  ck_assert_uint_eq(c.displaced_frames, 1);
+  ck_assert_uint_eq(c.shifted, 3);
+  for (int k = 600; k < 603; k++) ck_assert_int_eq(slot.label[3 * SCOLS + k], RS_LABEL_BACKGROUND);
+  ck_assert_int_eq(slot.label[3 * SCOLS + 650], RS_LABEL_NOISE); /* the object stays */
+  ck_assert_uint_eq(c.foreground, 1);
+  /* an object within the tolerance of the far wall is taken for it (the rule's cost) */
+  displaced_frame(3, 29.95f);
+  rs_bg_subtract(&m, &r, &slot, &c);
+  ck_assert_int_eq(slot.label[3 * SCOLS + 650], RS_LABEL_BACKGROUND);
+  /* off: the edge is foreground */
+  rs_bg_rules_t off = r;
+  off.shift_tol = 0;
+  memset(&c, 0, sizeof c);
+  displaced_frame(3, 0);
+  rs_bg_subtract(&m, &off, &slot, &c);
+  ck_assert(!c.displaced);
+  ck_assert_uint_eq(c.foreground, 3);
+  /* not enough evidence (a gate of half the returns): not displaced */
+  off = r;
+  off.shift_gate = 0.5;
+  memset(&c, 0, sizeof c);
+  rs_bg_subtract(&m, &off, &slot, &c);
+  ck_assert(!c.displaced);
+  ck_assert_uint_eq(c.foreground, 3);
+  /* turned by 12 columns (2.4 degrees): of the 12 columns of the near wall in front of
+   * the far one, the 4 within 0.15 m of column 599 (at most 0.7 degree: 0.12 m at 10 m)
+   * are background, the other 8 are not */
+  memset(&c, 0, sizeof c);
+  displaced_frame(12, 0);
+  rs_bg_subtract(&m, &r, &slot, &c);
+  ck_assert(c.displaced);
+  ck_assert_uint_eq(c.foreground, 8);
+  for (int k = 600; k < 612; k++) ck_assert_int_eq(slot.label[3 * SCOLS + k], k < 604 ? RS_LABEL_BACKGROUND : RS_LABEL_NOISE);
+  rs_bg_model_free(&m);
+}
+END_TEST
+
 /* Leaves at 15 m learned in the cell beside: background in a cell the sensor
  * sees through (two surfaces), not in a cell of one surface, not from the
  * rows above and below; the row wraps at column 0. */
@@ -551,6 +633,7 @@ int main(void) {
   tcase_add_test(tc, t_learn_short);
   tcase_add_test(tc, t_subtract);
   tcase_add_test(tc, t_subtract_see_through);
+  tcase_add_test(tc, t_subtract_displaced);
   tcase_add_test(tc, t_model_file);
   tcase_add_test(tc, t_model_save_is_atomic);
   tcase_add_test(tc, t_percentile_and_reservoir);

@@ -304,6 +304,8 @@ int main(int argc, char **argv) {
     memset(&enc, 0, sizeof enc);
     enc.mode_byte = mode;
     enc.timestamp_us = (uint32_t)fmod(t0 * 1e6 + t_pkt, 3600e6);
+    const double yaw = rs_scene_yaw(&scfg, t_pkt * 1e-6);
+    const long yaw_c = lround(yaw * 100.0) % 36000L;
     for (int b = 0; b < RS_BLOCKS; b++) {
       const int g = rs_layout_group(mi, dual, b < nb ? b : nb - 1);
       double azg = az0 + rate * g * group_us;
@@ -316,8 +318,11 @@ int main(int argc, char **argv) {
           int laser;
           float tf;
           rs_sensor_record(&sensor, bank, ch, &laser, &tf);
-          double az = (double)enc.block_azimuth[b] / 100.0 + sensor.azimuth_offset_deg[laser] + rate * tf;
-          rs_scene_cast(sc, bank * RS_RECORDS + ch, enc.block_azimuth[b], laser, az, &fx, &rays[ch]);
+          /* the sensor turned against its mount by yaw: the ray leaves at its azimuth field
+           * plus yaw, the field reads as ever */
+          double az = (double)enc.block_azimuth[b] / 100.0 + yaw + sensor.azimuth_offset_deg[laser] + rate * tf;
+          rs_scene_cast(sc, bank * RS_RECORDS + ch, (int)(((long)enc.block_azimuth[b] + yaw_c + 36000L) % 36000L), laser,
+                        az, &fx, &rays[ch]);
         }
       }
       for (int ch = 0; ch < RS_RECORDS; ch++) {

@@ -67,6 +67,7 @@ typedef struct {
   int min_pts;           /* the method's, when given */
   int window[2];         /* the method's, when given */
   int port, see_through, labels_confirmed;
+  double shift_gate_pct;
 } settings_t;
 static settings_t st;
 static rs_opts_t opts;
@@ -195,6 +196,15 @@ static const rs_opt_t table[] = {
     F("beyond-foreground", cfg.bg_beyond_foreground,
       "returns just beyond their cell's farthest static surface (within max(0.3 m, 3 %)) are foreground "
       "(default: background: the surface seen from a sensor that moved a little); all beyond it are counted"),
+    D("shift-tol", "M", cfg.bg_shift_tol, 0.0, 2.0,
+      "a displaced sensor (knocked, a pole twisting): in a frame where the far sides of edges appear where "
+      "their near sides were learned, a foreground return within M (3D) of a static surface of a cell nearby "
+      "in its row is background (0 = off)"),
+    D("shift-deg", "DEG", cfg.bg_shift_deg, 0.0, 5.0,
+      "... or within the range x tan(DEG) when more: a sensor that turned moves far surfaces most"),
+    D("shift-gate", "PERCENT", shift_gate_pct, 0.001, 100.0,
+      "how much evidence makes a frame displaced: returns beyond their cell's farthest surface and within "
+      "--shift-tol of a surface nearby, as a share of the frame's returns"),
     RS_OPT_HEAD("cluster", "Clustering of the foreground"),
     {.type = RS_OPT_CHOICE, .name = "cluster", .arg = "METHOD", .off = offsetof(T, method),
      .choices = "none|fspc|fspc-adaptive|dbscan|ccl", .def = "fspc-adaptive with a background, else none",
@@ -322,6 +332,9 @@ int main(int argc, char **argv) {
   cfg->update_window_s = bgu.window_s;
   cfg->update_every_s = bgu.every_s;
   st.see_through = RS_BG_SEE_THROUGH;
+  cfg->bg_shift_tol = RS_BG_SHIFT_TOL;
+  cfg->bg_shift_deg = RS_BG_SHIFT_DEG;
+  st.shift_gate_pct = RS_BG_SHIFT_GATE * 100.0;
   cfg->summary_s = 10.0;
   rs_cluster_cfg_default(&st.ccfg);
   rs_track_cfg_default(&st.tcfg);
@@ -341,6 +354,9 @@ int main(int argc, char **argv) {
   cfg->capture.data_port = (uint16_t)st.port;
   cfg->capture.buffer_bytes = st.buffer_kib * 1024;
   cfg->bg_see_through = st.see_through == 0 ? -1 : st.see_through;
+  if (cfg->bg_shift_tol == 0) cfg->bg_shift_tol = -1;
+  if (cfg->bg_shift_deg == 0) cfg->bg_shift_deg = -1;
+  cfg->bg_shift_gate = st.shift_gate_pct / 100.0;
   cfg->labels_confirmed_only = st.labels_confirmed == 1;
   st.pub.stats_channel = channel_or_off(st.pub.stats_channel);
   st.pub.tracks_channel = channel_or_off(st.pub.tracks_channel);

@@ -26,7 +26,8 @@ const char *rs_pipeline_tracks_header(void) {
 const char *rs_pipeline_csv_header(void) {
   return "frame,t_first,t_last,packets,points,columns,missing_packets,dropped_frames,"
          "out_of_order,duplicates,late_points,shifted,collisions,partial,rows,cols,rate_hz,return_mode,"
-         "first_packet,last_packet,layer0_cells,layer1_cells,min_range,max_range,process_us,foreground,clusters";
+         "first_packet,last_packet,layer0_cells,layer1_cells,min_range,max_range,process_us,foreground,clusters,"
+         "displaced";
 }
 
 
@@ -117,6 +118,9 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
       .lossless = cfg->lossless,
       .see_through = cfg->bg_see_through,
       .beyond_foreground = cfg->bg_beyond_foreground,
+      .shift_tol = cfg->bg_shift_tol,
+      .shift_gate = cfg->bg_shift_gate,
+      .shift_deg = cfg->bg_shift_deg,
       .cluster = cfg->cluster,
       .objects = cfg->objects,
       .object_list = cfg->object_list,
@@ -412,12 +416,12 @@ static void write_frame_line(FILE *f, const rs_slot_t *s, const rs_proc_report_t
   const rs_frame_meta_t *m = &s->meta;
   fprintf(f,
           "%" PRIu64 ",%.6f,%.6f,%u,%u,%u,%u,%" PRIu64 ",%u,%u,%u,%u,%u,%d,%u,%u,%.3f,%s,%u,%u,%u,%u,%.3f,%.3f,%.1f,%u"
-          ",%u\n",
+          ",%u,%d\n",
           m->seq, m->t_first, m->t_last, m->packets, m->points, m->columns, m->missing_packets, m->dropped_frames,
           m->out_of_order, m->duplicates, m->late_points, m->shifted, m->collisions, m->partial ? 1 : 0, m->rows, m->cols,
           (double)m->rate_hz, rs_return_mode_name(m->mode_byte), m->first_packet, m->last_packet, r->filled[0],
           r->filled[1], (double)r->min_range, (double)r->max_range, (double)frame_ns / 1000.0, r->foreground,
-          r->cluster.clusters);
+          r->cluster.clusters, r->displaced ? 1 : 0);
 }
 
 static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
@@ -603,6 +607,12 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
     if (changed > cells / 100)
       fprintf(out, "; in %zu cells more than every other frame: the scene changed, relearn the model", changed);
     fprintf(out, "\n");
+    if (pr->bg.displaced_frames > 0)
+      fprintf(out,
+              "  the sensor was displaced against the model in %llu of %llu frames (edges seen from another place; "
+              "%llu returns background by --shift-tol): was it knocked, does its mount sway?\n",
+              (unsigned long long)pr->bg.displaced_frames, (unsigned long long)pr->n.frames,
+              (unsigned long long)pr->bg.shifted);
   }
   if (p->cfg.cluster && p->cfg.cluster->cfg.method != RS_CLUSTER_NONE)
     fprintf(out, "  clusters: %s, %llu clusters (%.1f per frame), %llu returns clustered, %llu noise, %llu beyond the cluster cap\n",

@@ -63,7 +63,13 @@ int rs_bg_model_alloc(rs_bg_model_t *m, rs_model_t model, int rows, int cols) {
   return RS_OK;
 }
 
-void rs_bg_rules_default(rs_bg_rules_t *r) { *r = (rs_bg_rules_t){.see_through = RS_BG_SEE_THROUGH, .beyond_static = true}; }
+void rs_bg_rules_default(rs_bg_rules_t *r) {
+  *r = (rs_bg_rules_t){.see_through = RS_BG_SEE_THROUGH,
+                       .beyond_static = true,
+                       .shift_tol = RS_BG_SHIFT_TOL,
+                       .shift_gate = RS_BG_SHIFT_GATE,
+                       .shift_deg = RS_BG_SHIFT_DEG};
+}
 
 void rs_bg_model_free(rs_bg_model_t *m) {
   free(m->n);
@@ -132,26 +138,90 @@ bool rs_bg_return_static(const rs_bg_model_t *m, const rs_bg_rules_t *rules, int
   return st;
 }
 
+/* A displaced sensor. A return anywhere in its column and a surface anywhere
+ * in a column k away are (|k| - 1/2) column widths apart at least, in the
+ * row (the elevation is the same). cosk[k]: the cosine of that angle. */
+typedef struct {
+  double cosk[RS_BG_SHIFT_COLS + 1];
+  double w, tol, share;
+} shift_t;
+
+static void shift_init(shift_t *sh, const rs_bg_model_t *m, double tol, double deg) {
+  sh->w = 2.0 * M_PI / m->cols;
+  sh->tol = tol;
+  sh->share = tan(deg * M_PI / 180.0);
+  for (int k = 0; k <= RS_BG_SHIFT_COLS; k++) sh->cosk[k] = cos(fmax(0.0, (k - 0.5) * sh->w));
+}
+
+/* is a return of cm in (row, col) within tol (3D) of a surface of a cell
+ * nearby in the row? The distance from the return to the segment of a
+ * surface's ranges along the other column's direction. */
+static bool match_shifted(const rs_bg_model_t *m, const shift_t *sh, int row, int col, uint32_t cm) {
+  const double r = cm / 100.0, tol = fmax(sh->tol, r * sh->share);
+  if (r <= 0.0) return false;
+  int kmax = (int)ceil(asin(fmin(1.0, tol / r)) / sh->w + 0.5);
+  if (kmax > RS_BG_SHIFT_COLS) kmax = RS_BG_SHIFT_COLS;
+  const int cols = m->cols;
+  if (kmax > cols / 2) kmax = cols / 2;
+  const uint32_t base = (uint32_t)row * (uint32_t)cols;
+  for (int k = -kmax; k <= kmax; k++) {
+    if (k == 0) continue;
+    const double ca = sh->cosk[k < 0 ? -k : k];
+    const int c = ((col + k) % cols + cols) % cols;
+    const uint32_t cell = base + (uint32_t)c, b = cell * RS_BG_SURFACES;
+    for (int j = 0; j < m->n[cell]; j++) {
+      const double lo = m->lo[b + j] / 100.0, hi = m->hi[b + j] == BEYOND ? 655.35 : m->hi[b + j] / 100.0;
+      const double t = fmin(hi, fmax(lo, r * ca));
+      if (r * r + t * t - 2.0 * r * t * ca <= tol * tol) return true;
+    }
+  }
+  return false;
+}
+
 void rs_bg_subtract(const rs_bg_model_t *m, const rs_bg_rules_t *rules, rs_slot_t *s, rs_bg_counts_t *c) {
   const int rows = s->meta.rows, cols = s->meta.cols;
+  const bool shift_on = rules->shift_tol > 0.0 && rules->shift_gate > 0.0;
+  shift_t sh;
+  if (shift_on) shift_init(&sh, m, rules->shift_tol, rules->shift_deg);
+  /* evidence of displacement: enough of it, and it is no longer gathered */
+  const uint64_t need = shift_on ? (uint64_t)ceil(rules->shift_gate * (double)(s->meta.points ? s->meta.points : 1)) : 0;
+  uint64_t evidence = 0, fg = 0;
   for (int l = 0; l < RS_LAYERS; l++)
     for (int r = 0; r < rows; r++) {
       const uint32_t base = (uint32_t)l * RS_MAX_CELLS + (uint32_t)r * (uint32_t)cols;
       for (int col = 0; col < cols; col++) {
         const float range = s->range[base + (uint32_t)col];
         if (range == 0.0f) continue;
-        const uint32_t cell = (uint32_t)r * (uint32_t)cols + (uint32_t)col;
+        const uint32_t cell = (uint32_t)r * (uint32_t)cols + (uint32_t)col, cm = to_cm(range);
         bool beyond;
-        const bool st = classify(m, rules, r, col, cell, to_cm(range), &beyond);
+        const bool st = classify(m, rules, r, col, cell, cm, &beyond);
         if (beyond) {
           if (c->beyond_cells) c->beyond_cells[cell]++;
           c->beyond++;
+          if (evidence < need && match_shifted(m, &sh, r, col, cm)) evidence++;
         }
         s->label[base + (uint32_t)col] = st ? RS_LABEL_BACKGROUND : RS_LABEL_NOISE;
         if (st) c->background++;
-        else c->foreground++;
+        else fg++;
       }
     }
+  c->displaced = shift_on && evidence >= need;
+  if (c->displaced) {
+    c->displaced_frames++;
+    for (int l = 0; l < RS_LAYERS && fg > 0; l++)
+      for (int r = 0; r < rows; r++) {
+        const uint32_t base = (uint32_t)l * RS_MAX_CELLS + (uint32_t)r * (uint32_t)cols;
+        for (int col = 0; col < cols; col++) {
+          const uint32_t i = base + (uint32_t)col;
+          if (s->label[i] != RS_LABEL_NOISE || !match_shifted(m, &sh, r, col, to_cm(s->range[i]))) continue;
+          s->label[i] = RS_LABEL_BACKGROUND;
+          c->background++;
+          c->shifted++;
+          fg--;
+        }
+      }
+  }
+  c->foreground += fg;
 }
 
 int rs_bg_model_copy(rs_bg_model_t *dst, const rs_bg_model_t *src) {

@@ -88,6 +88,13 @@ static void defaults(rs_scene_cfg_t *c) {
   c->mix_depth = 0.6;
   c->rpm_offset = -0.0005;
   c->rpm_jitter = 0.0005;
+  c->sway_period = 4.0;
+}
+
+double rs_scene_yaw(const rs_scene_cfg_t *c, double t) {
+  double y = c->sway_deg * sin(2.0 * M_PI * t / c->sway_period);
+  if (c->knock_deg != 0.0 && t > c->knock_at) y += c->knock_deg * fmin(1.0, (t - c->knock_at) / 0.5);
+  return y;
 }
 
 bool rs_scene_preset(const char *name, rs_scene_cfg_t *c) {
@@ -139,6 +146,8 @@ static const rs_opt_t knobs[] = {
     KNOB(max_range, 0.0, 400.0),          KNOB(beam_div_h, 0.0, 20.0),    KNOB(beam_div_v, 0.0, 20.0),
     KNOB_INT(beam_samples, 1, 9),         KNOB(mix_depth, 0.0, 5.0),
     KNOB(rpm_offset, -0.05, 0.05),        KNOB(rpm_jitter, 0.0, 0.01),
+    KNOB(sway_deg, 0.0, 2.0),             KNOB(sway_period, 0.5, 60.0),
+    KNOB(knock_deg, -5.0, 5.0),           KNOB(knock_at, 0.0, 7200.0),
 };
 #define NKNOBS ((int)(sizeof knobs / sizeof knobs[0]))
 

@@ -40,6 +40,9 @@ typedef struct {
   bool lossless;               /* every frame matters: a relearn is waited for (replays, tools) */
   int see_through;             /* 0: the model's own (RS_BG_SEE_THROUGH); N > 0: N; < 0: off */
   bool beyond_foreground;      /* returns beyond the farthest surface are foreground */
+  double shift_tol;            /* a displaced sensor (background.h): 0 = RS_BG_SHIFT_TOL, < 0 = off */
+  double shift_gate;           /* 0 = RS_BG_SHIFT_GATE */
+  double shift_deg;            /* 0 = RS_BG_SHIFT_DEG, < 0 = none */
   rs_cluster_t *cluster;       /* optional: configured clustering work area */
   rs_objects_t *objects;       /* optional with cluster: rs_objects_init done */
   rs_object_list_t *object_list; /* required with objects */
@@ -54,6 +57,7 @@ typedef struct {
   int64_t stage_ns[RS_STAGES];
   int64_t total_ns;                  /* every stage and the census (the sinks come after) */
   uint32_t foreground;               /* returns left by the background (both layers) */
+  bool displaced;                    /* the background judged the sensor displaced (background.h) */
   rs_cluster_stats_t cluster;
   const rs_object_list_t *objects;   /* never NULL: an empty list when no stage made one */
   const rs_track_list_t *tracks;     /* NULL without a tracker (or before the first clustering) */

@@ -58,7 +58,16 @@ typedef struct {
                                 (default 0.6); farther apart, the strongest (or the last) wins */
   double rpm_offset;         /* the motor's rate against the nominal, fraction (default -0.0005) */
   double rpm_jitter;         /* sd of its slow wander (2 s correlation), fraction (default 0.0005) */
+  /* the sensor's mount: it turns about the vertical (a pole twisting in the wind, a bracket
+     knocked), so every surface moves against the model by the same angle */
+  double sway_deg;           /* amplitude of a yaw oscillation, degrees (default 0) */
+  double sway_period;        /* its period, s (default 4) */
+  double knock_deg;          /* a step of the yaw, degrees, ramped over 0.5 s (default 0: none) */
+  double knock_at;           /* when, s from the capture's start (default 0) */
 } rs_scene_cfg_t;
+
+/* the sensor's yaw against its mount (degrees) t seconds into the capture */
+double rs_scene_yaw(const rs_scene_cfg_t *cfg, double t);
 
 /* light, rush, far, storm; false for an unknown name */
 bool rs_scene_preset(const char *name, rs_scene_cfg_t *cfg);
