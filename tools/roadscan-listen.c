@@ -345,6 +345,12 @@ int main(int argc, char **argv) {
   lcm_subscription_t *esub =
       tracks ? lcm_subscribe(lcm, ends_channel[0] ? ends_channel : RS_PUB_DEFAULT_TRACK_ENDS, on_tracks, NULL) : NULL;
   lcm_subscription_t *csub = counts ? lcm_subscribe(lcm, counts, on_counts, NULL) : NULL;
+  /* subscribed: from here on nothing published is missed (scripts wait for this line
+   * before they start a publisher) */
+  if (!log && !L.quiet) {
+    fprintf(stderr, "roadscan-listen: listening on %s\n", url);
+    fflush(stderr);
+  }
   struct sigaction sa;
   memset(&sa, 0, sizeof sa);
   sa.sa_handler = on_signal;
