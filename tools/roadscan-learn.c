@@ -152,6 +152,9 @@ static const rs_opt_t table[] = {
                 "DBSCAN minPts floor (minPts = max(floor, 1 % of samples))"),
     RS_OPT_DBL_("chain-gap", "M", T, params.chain_gap, 0, 5,
                 "clusters of a cell less than M metres apart are judged as one surface (0 = off)"),
+    RS_OPT_DBL_("occluded", "SHARE", T, params.occluded_max, 0, 1,
+                "a nearer cluster seen throughout, at one range, with at most SHARE of the returns behind it when "
+                "it is not seen (the rest in front: traffic hiding it) is a surface (0 = off)"),
     {.type = RS_OPT_BOOL, .name = "support", .arg = "on|off", .off = offsetof(T, params.support),
      .help = "a nearer cluster that a neighbouring cell sees as static in half its frames or more is static too "
              "(edges)"},

@@ -32,6 +32,10 @@ void rs_bg_params_default(rs_bg_params_t *p) {
   p->merge_gap_min = 0.5;
   p->merge_gap_share = 0.02;
   p->chain_gap = 0.20;
+  p->occluded_max = 0.2;
+  p->occluded_seen = 0.1;
+  p->occluded_windows = 0.5;
+  p->occluded_spread = 0.15;
   p->support = true;
   p->support_tol_min = 0.3;
   p->support_tol_share = 0.03;
@@ -420,6 +424,7 @@ typedef struct {
   uint32_t pairs, stay;  /* consecutive-sample pairs starting in the cluster, and staying */
   uint32_t second;       /* pairs (of any start) whose second sample is in the cluster */
   uint32_t windows;      /* time windows in which it appears */
+  uint32_t front, behind; /* samples not in it with a return nearer than it, farther than it */
 } clus_t;
 
 /* Chooses eps and clusters one cell; returns the number of clusters. */
@@ -548,6 +553,15 @@ static uint32_t cell_stats(const cell_in_t *in, const int16_t *label, int k, clu
     }
   }
   cl[k].count = (uint32_t)(in->nf - in->nz);
+  for (int i = 0; i < in->nf; i++) {
+    const uint16_t x = in->smp[in->order[i]];
+    if (x == 0) continue;
+    for (int j = 0; j < k; j++) {
+      if (memb[i] == j) continue;
+      if ((int32_t)x < cl[j].lo) cl[j].front++;
+      else if ((int32_t)x > cl[j].hi) cl[j].behind++;
+    }
+  }
   bool seen_in_win[MAXK + 1] = {false};
   uint32_t npairs = 0;
   for (int i = 0; i < in->nf; i++) {
@@ -698,6 +712,19 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
     for (int j = 0; j < k; j++) {
       fl[j] = flickers(&cl[j], npairs, p->flicker_lift);
       bg[j] = !wide[j] && ((j == k - 1 && !sky) || (fl[j] && (double)cl[j].windows / nwin >= p->coverage_min));
+      /* hidden, not gone: a nearer cluster seen in a good share of the frames,
+       * throughout the capture, at one range, and when it is not seen the
+       * cell mostly returns something nearer (traffic in front of it; not
+       * nothing: a truck against the sky), hardly ever something farther: a surface behind a lane, occluded by queues in
+       * runs of frames (so it does not flicker). A vehicle that stops in the
+       * cell leaves what it hides (the road behind it) to be seen when it is
+       * not there. */
+      if (!bg[j] && !wide[j] && p->occluded_max > 0 && nf >= RS_BG_JUDGE_FRAMES &&
+          cl[j].count >= p->occluded_seen * nf && (double)cl[j].windows / nwin >= p->occluded_windows &&
+          cl[j].hi - cl[j].lo <= (int32_t)lround(fmax(p->occluded_spread * 100.0, 0.01 * cl[j].lo)) &&
+          cl[j].front >= 0.5 * (double)(nf - (int)cl[j].count) &&
+          cl[j].behind <= p->occluded_max * (double)(cl[j].front + cl[j].behind))
+        bg[j] = true;
       /* under RS_BG_JUDGE_FRAMES frames nothing tells what stays from what
        * flickers: everything seen is the scene */
       if (nf < RS_BG_JUDGE_FRAMES) bg[j] = !wide[j];

@@ -77,6 +77,12 @@ typedef struct {
   double chain_gap;       /* clusters of a cell less than this apart (m) are one for the decision
                              (a surface at a grazing angle comes in clumps); default 0.20, 0 = off;
                              not stored in the model file */
+  double occluded_max;    /* a nearer cluster is a surface hidden by traffic (background) when, in
+                             the frames it is not seen, at most this share of the returns lie behind
+                             it (the rest in front: what hides it); default 0.2, 0 = off; and it is */
+  double occluded_seen;   /* seen in this share of the frames (0.1), */
+  double occluded_windows;/* in this share of the 5 s windows (0.5), */
+  double occluded_spread; /* within max(this, 1 % of the range) (0.15 m). Not stored in the model file */
   bool support;           /* a nearer cluster within support_tol of a background cluster that the
                              cell beside it in the row sees in half its frames or more is background
                              too, unless it stays for several frames (edges); default on; not stored
