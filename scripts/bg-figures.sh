@@ -2,6 +2,7 @@
 # Background subtraction figures: for each preset, learn on one simulated
 # capture of the site (150 s, seed 11) and evaluate on another (30 s, seed 12),
 # with the learned (DBSCAN) model and with the per-cell percentile baseline.
+# The captures are made when absent (FRESH=1: always; the simulator is deterministic).
 # Usage: scripts/bg-figures.sh [SENSOR] [OUTDIR]   (default VLP-32C, out/bg)
 set -euo pipefail
 # roadscand refuses to run as root unless told (it needs no privilege to replay a file): these
@@ -15,8 +16,10 @@ mkdir -p "$out"
 printf '| scenario | model | static as background | objects kept | foliage/noise as background | learn time |\n'
 printf '|---|---|---|---|---|---|\n'
 for sc in light rush far storm; do
-  $bin/roadscan-sim --sensor "$sensor" --scenario $sc --seconds 150 --seed 11 -o "$out/$sc-learn.pcap" --labels "$out/$sc-learn.csv" 2>/dev/null
-  $bin/roadscan-sim --sensor "$sensor" --scenario $sc --seconds 30 --seed 12 -o "$out/$sc-test.pcap" --labels "$out/$sc-test.csv" 2>/dev/null
+  if [ "${FRESH:-0}" = 1 ] || [ ! -s "$out/$sc-learn.pcap" ] || [ ! -s "$out/$sc-test.csv" ]; then
+    $bin/roadscan-sim --sensor "$sensor" --scenario $sc --seconds 150 --seed 11 -o "$out/$sc-learn.pcap" --labels "$out/$sc-learn.csv" 2>/dev/null
+    $bin/roadscan-sim --sensor "$sensor" --scenario $sc --seconds 30 --seed 12 -o "$out/$sc-test.pcap" --labels "$out/$sc-test.csv" 2>/dev/null
+  fi
   for method in dbscan percentile; do
     t0=$(date +%s.%N)
     $bin/roadscan-learn "$out/$sc-learn.pcap" -o "$out/$sc-$method.bg" --method $method 2>/dev/null
