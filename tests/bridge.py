@@ -26,39 +26,16 @@ import subprocess
 import sys
 import time
 
+from testutil import fail, free_port, named, wait_for, skip
+
+named("bridge")
+
 try:
     import jsonschema
 except ImportError:
     jsonschema = None
 
 KINDS = ("objects", "tracks", "track_ends", "counts", "stats")
-
-
-def skip(why):
-    print(f"bridge: skipped: {why}")
-    sys.exit(77)
-
-
-def fail(why):
-    print(f"bridge: FAIL: {why}")
-    sys.exit(1)
-
-
-def free_port():
-    s = socket.socket()
-    s.bind(("127.0.0.1", 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
-
-
-def wait_for(pred, timeout, what):
-    end = time.monotonic() + timeout
-    while time.monotonic() < end:
-        if pred():
-            return
-        time.sleep(0.05)
-    fail(f"waited {timeout} s for {what}")
 
 
 class Broker:

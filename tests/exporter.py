@@ -23,28 +23,14 @@ import sys
 import threading
 import time
 
+from testutil import fail, free_port, named, raw, skip
+
+named("exporter")
+
 try:
     from prometheus_client.parser import text_string_to_metric_families
 except ImportError:
     text_string_to_metric_families = None
-
-
-def skip(why):
-    print(f"exporter: skipped: {why}")
-    sys.exit(77)
-
-
-def fail(why):
-    print(f"exporter: FAIL: {why}")
-    sys.exit(1)
-
-
-def free_port():
-    s = socket.socket()
-    s.bind(("127.0.0.1", 0))
-    port = s.getsockname()[1]
-    s.close()
-    return port
 
 
 def curl(url, *extra):
@@ -54,23 +40,6 @@ def curl(url, *extra):
         fail(f"curl {url}: {st.stderr}")
     body, _, code = st.stdout.rpartition("\n")
     return int(code), body
-
-
-def raw(port, data, read=True):
-    s = socket.create_connection(("127.0.0.1", port), timeout=30)
-    s.sendall(data)
-    out = b""
-    if read:
-        try:
-            while True:
-                b = s.recv(65536)
-                if not b:
-                    break
-                out += b
-        except socket.timeout:
-            pass
-    s.close()
-    return out
 
 
 def main():

@@ -32,6 +32,10 @@ import sys
 import threading
 import time
 
+from testutil import fail, free_port, named, raw, skip
+
+named("web")
+
 try:
     from selenium import webdriver
     from selenium.webdriver.chrome.service import Service
@@ -40,46 +44,11 @@ except ImportError:
     webdriver = None
 
 
-def skip(why):
-    print(f"web: skipped: {why}")
-    sys.exit(77)
-
-
-def fail(why):
-    print(f"web: FAIL: {why}")
-    sys.exit(1)
-
-
-def free_port():
-    s = socket.socket()
-    s.bind(("127.0.0.1", 0))
-    p = s.getsockname()[1]
-    s.close()
-    return p
-
-
 def rss_kib(pid):
     for line in open(f"/proc/{pid}/status"):
         if line.startswith("VmRSS:"):
             return int(line.split()[1])
     return 0
-
-
-def raw(port, data, read=True, timeout=30):
-    s = socket.create_connection(("127.0.0.1", port), timeout=timeout)
-    s.sendall(data)
-    out = b""
-    if read:
-        try:
-            while True:
-                b = s.recv(65536)
-                if not b:
-                    break
-                out += b
-        except socket.timeout:
-            pass
-    s.close()
-    return out
 
 
 LINES = ["east 41.5 4.5 41.5 18.5", "west -18.5 4.5 -18.5 18.5", "north 4.5 41.5 18.5 41.5", "south 4.5 -18.5 18.5 -18.5"]
