@@ -256,6 +256,40 @@ START_TEST(t_split) {
 }
 END_TEST
 
+/* A car waiting at the line from the first frame (its centre within 3 cm)
+ * confirms at its third hit, 0.2 s; a small cluster as still (12 returns)
+ * only after 1.5 s; a car whose centre wanders by 0.4 m, or missed once (a
+ * miss also bars the 1.5 s rule: it confirms by moving), not at its third
+ * hit either; with confirm_still_spread 0, the car too waits 1.5 s. */
+START_TEST(t_still_vehicle_confirms_fast) {
+  for (int variant = 0; variant < 4; variant++) {
+    rs_track_cfg_t c;
+    rs_track_cfg_default(&c);
+    if (variant == 3) c.confirm_still_spread = 0;
+    ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+    int confirmed_at[2] = {-1, -1};
+    for (int f = 0; f < 20; f++) {
+      const double t = 50.0 + 0.1 * f, j = 0.03 * ((f % 3) - 1);
+      clear();
+      const double wander = variant == 1 ? (f % 2 ? 0.4 : 0.0) : 0.0;
+      if (!(variant == 2 && f == 1)) car(t, 20.0 + j + wander, 5.0 - j, 0.0);
+      put(t, -12.0 + j, 9.0, 0.6, 0.5, 0.0, 1.7, 12);
+      rs_track_frame(&tr, &objs, t + 0.05);
+      for (uint32_t i = 0; i < tr.list.count; i++) {
+        const rs_track_t *k = &tr.list.track[i];
+        const int which = k->x[0] > 0 ? 0 : 1;
+        if (k->state != RS_TRACK_TENTATIVE && confirmed_at[which] < 0) confirmed_at[which] = f;
+      }
+    }
+    ck_assert_int_eq(tr.n.born, 2);
+    if (variant == 0) ck_assert_int_eq(confirmed_at[0], 2);
+    else if (variant == 3) ck_assert_int_ge(confirmed_at[0], 14); /* after 1.5 s of hits */
+    else ck_assert(confirmed_at[0] < 0 || confirmed_at[0] >= 14); /* not at its third hit */
+    ck_assert_int_ge(confirmed_at[1], 14);
+  }
+}
+END_TEST
+
 /* foliage: a cluster at one place, there in half the frames, its centre
  * jittering by 0.3 m, for 20 s: never confirmed */
 START_TEST(t_foliage_never_confirms) {
@@ -405,6 +439,7 @@ int main(void) {
   tcase_add_test(tc, t_queued_merge);
   tcase_add_test(tc, t_split);
   tcase_add_test(tc, t_foliage_never_confirms);
+  tcase_add_test(tc, t_still_vehicle_confirms_fast);
   tcase_add_test(tc, t_across_column_zero);
   tcase_add_test(tc, t_lost_frame_dt);
   tcase_add_test(tc, t_capacity);

@@ -44,6 +44,8 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->lost_s = 2.0;
   c->still_speed = 0.3;
   c->size_weight = 2.0;
+  c->confirm_still_spread = 0.15;
+  c->confirm_still_points = 30;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -51,7 +53,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->meas_sd_per_m >= 0 && cfg->meas_sd_per_m < 10) || !(cfg->gate_chi2 > 0) || !(cfg->gate_m > 0 && cfg->gate_m <= 20) ||
       !(cfg->max_speed > 0 && cfg->max_speed <= 100) || !(cfg->init_speed_sd > 0) || !(cfg->init_small_speed_sd > 0) || cfg->birth_points < 1 ||
       cfg->confirm_hits < 1 || !(cfg->confirm_move_m >= 0) || !(cfg->confirm_still_s >= 0) ||
-      !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100))
+      !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100) ||
+      !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1)
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -72,7 +75,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(birth_points, 1, 10000), KNOB_INT(confirm_hits, 1, 100),
     KNOB(confirm_move_m, 0.0, 20.0),  KNOB(confirm_still_s, 0.0, 60.0), KNOB(tentative_miss_s, 0.01, 10.0),
     KNOB(coast_s, 0.01, 60.0),        KNOB(lost_s, 0.0, 60.0),          KNOB(still_speed, 0.0, 5.0),
-    KNOB(size_weight, 0.0, 100.0),
+    KNOB(size_weight, 0.0, 100.0),    KNOB(confirm_still_spread, 0.0, 5.0), KNOB_INT(confirm_still_points, 1, 100000),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -500,6 +503,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   meas_for(tr, t, o, z, &sd);
   t->last_z[0] = z[0];
   t->last_z[1] = z[1];
+  if (t->hits > 0) t->spread = fmax(t->spread, hypot(z[0] - t->px0, z[1] - t->py0));
   predict(tr, t, tk);
   update(t, z, sd);
   const bool first = t->hits == 0;
@@ -777,7 +781,9 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
         ends = true;
       } else if (updated && t->hits >= (uint32_t)cf->confirm_hits &&
                  ((moved >= cf->confirm_move_m && moved >= 0.5 * t->distance) ||
-                  (t->misses == 0 && t->t_update - t->t_birth >= cf->confirm_still_s))) {
+                  (t->misses == 0 && t->t_update - t->t_birth >= cf->confirm_still_s) ||
+                  (t->misses == 0 && cf->confirm_still_spread > 0 && t->points >= (uint32_t)cf->confirm_still_points &&
+                   t->spread <= cf->confirm_still_spread + 0.005 * hypot(t->px0, t->py0)))) {
         t->state = RS_TRACK_CONFIRMED;
         tr->n.confirmed++;
       }

@@ -106,6 +106,11 @@ typedef struct {
   double still_speed;      /* m/s, reported as 0 below (default 0.3) */
   double size_weight;      /* association cost per unit of |ln(points ratio)| to the track's last object, beyond
                               ln(1 + 3 / sqrt(smaller count)) (default 2) */
+  double confirm_still_spread; /* a still track whose every measurement lies within this of its first
+                                  (m, plus 0.5 % of the range), hit in every frame, confirms with its
+                                  confirm_hits (default 0.15; 0 = only after confirm_still_s) */
+  int confirm_still_points;    /* ... when its last object has this many returns or more (default 30):
+                                  a vehicle waiting at the line, not leaves */
 } rs_track_cfg_t;
 
 typedef struct {
@@ -117,6 +122,7 @@ typedef struct {
   double x[4];               /* px py vx vy, sensor frame */
   double P[4][4];
   double px0, py0;           /* where it was born */
+  double spread;             /* the farthest measurement from there, m */
   double last_z[2];          /* the last measurement */
   double prev[2];            /* position at the previous frame (path length) */
   float length, width, height, z_min; /* smoothed box */
