@@ -435,14 +435,23 @@ START_TEST(t_subtract_displaced) {
   displaced_frame(0, 20.0f);
   rs_bg_subtract(&m, &r, &slot, &c);
   ck_assert(!c.displaced);
+  ck_assert_uint_eq(c.evidence, 0);
   ck_assert_uint_eq(c.foreground, 1);
   ck_assert_int_eq(slot.label[3 * SCOLS + 650], RS_LABEL_NOISE);
+  /* no gate (shift_gate 0): every frame is judged displaced; the still object by the far wall goes */
+  rs_bg_rules_t ungated = r;
+  ungated.shift_gate = 0;
+  displaced_frame(0, 29.95f);
+  rs_bg_subtract(&m, &ungated, &slot, &c);
+  ck_assert(c.displaced);
+  ck_assert_int_eq(slot.label[3 * SCOLS + 650], RS_LABEL_BACKGROUND);
   /* turned by 3 columns (0.6 degree): columns 500-502 see the far wall behind
    * the near one (evidence), 600-602 the near wall in front of the far one */
   memset(&c, 0, sizeof c);
   displaced_frame(3, 20.0f);
   rs_bg_subtract(&m, &r, &slot, &c);
   ck_assert(c.displaced);
+  ck_assert_uint_eq(c.evidence, 1); /* gathered up to what the gate needs: 0.15 % of 300 returns */
   ck_assert_uint_eq(c.displaced_frames, 1);
   ck_assert_uint_eq(c.shifted, 3);
   for (int k = 600; k < 603; k++) ck_assert_int_eq(slot.label[3 * SCOLS + k], RS_LABEL_BACKGROUND);

@@ -9,6 +9,7 @@
 #include "testutil.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 static rs_counter_t cnt;
@@ -233,6 +234,32 @@ START_TEST(t_bad_lines) {
   ck_assert_int_eq(rs_count_init(&cnt, two, 2, NULL, 60, err, sizeof err), RS_E_INVAL);
   ck_assert_ptr_nonnull(strstr(err, "two lines of that name"));
   ck_assert_int_eq(rs_count_init(&cnt, two, 1, NULL, 0.5, err, sizeof err), RS_E_INVAL);
+  /* the option callbacks: a bad line or zone adds nothing; the 17th line, the 9th zone are refused by name */
+  static rs_count_lines_t ls;
+  static rs_count_zones_t zs;
+  memset(&ls, 0, sizeof ls);
+  memset(&zs, 0, sizeof zs);
+  ck_assert_int_eq(rs_count_opt_line(&ls, "--count-line", "x 1 2 3", err, sizeof err), RS_E_INVAL);
+  ck_assert_int_eq(ls.n, 0);
+  for (int i = 0; i < RS_COUNT_LINES; i++) {
+    char t[64];
+    snprintf(t, sizeof t, "l%d 0 %d 5 %d", i, i, i);
+    ck_assert_int_eq(rs_count_opt_line(&ls, "--count-line", t, err, sizeof err), RS_OK);
+  }
+  ck_assert_int_eq(ls.n, RS_COUNT_LINES);
+  ck_assert_str_eq(ls.line[3].name, "l3");
+  ck_assert_int_eq(rs_count_opt_line(&ls, "--count-line", "z 0 0 5 5", err, sizeof err), RS_E_INVAL);
+  ck_assert_ptr_nonnull(strstr(err, "--count-line: at most 16 lines"));
+  ck_assert_int_eq(rs_count_opt_zone(&zs, "--count-zone", "z 0 0 1", err, sizeof err), RS_E_INVAL);
+  ck_assert_int_eq(zs.n, 0);
+  for (int i = 0; i < RS_COUNT_ZONES; i++) {
+    char t[64];
+    snprintf(t, sizeof t, "z%d 0 0 4 0 4 4", i);
+    ck_assert_int_eq(rs_count_opt_zone(&zs, "--count-zone", t, err, sizeof err), RS_OK);
+  }
+  ck_assert_int_eq(rs_count_opt_zone(&zs, "--count-zone", "y 0 0 4 0 4 4", err, sizeof err), RS_E_INVAL);
+  ck_assert_ptr_nonnull(strstr(err, "--count-zone: at most"));
+  ck_assert_int_eq(zs.n, RS_COUNT_ZONES);
 }
 END_TEST
 

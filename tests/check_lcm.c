@@ -10,6 +10,7 @@
 #include "roadscan/daemon/pipeline.h"
 #include "roadscan/output/publish.h"
 #include "testutil.h"
+#include "lcmsample.h"
 
 #include <lcm/eventlog.h>
 #include <math.h>
@@ -377,21 +378,9 @@ START_TEST(t_checked_decode_survives_mutations) {
   te.sensor_id = "north";
   glen[RS_LCM_TRACK_END] = roadscan_track_end_t_encode(good[RS_LCM_TRACK_END], 0, 4096, &te);
   roadscan_count_line_t lines[2];
-  memset(lines, 0, sizeof lines);
-  lines[0].name = "east";
-  lines[1].name = "west";
+  roadscan_count_zone_t zones[1];
   roadscan_counts_t cm;
-  memset(&cm, 0, sizeof cm);
-  cm.sensor_id = "north";
-  cm.num_lines = 2;
-  cm.lines = lines;
-  roadscan_count_zone_t zones[1]; /* and a zone: the second variable-length part */
-  memset(zones, 0, sizeof zones);
-  zones[0].name = "box";
-  zones[0].entered[3] = 2;
-  zones[0].occupancy_max = 1;
-  cm.num_zones = 1;
-  cm.zones = zones;
+  ts_sample_counts(&cm, lines, zones);
   glen[RS_LCM_COUNTS] = roadscan_counts_t_encode(good[RS_LCM_COUNTS], 0, 4096, &cm);
   rs_publish_deinit(&pub);
   char why[RS_ERRMSG_SIZE];

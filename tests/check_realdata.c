@@ -168,7 +168,7 @@ static long foreground_in(const char *csv, int from, int to, long *points) {
     char *col[32];
     int n = 0;
     for (char *t = strtok(line, ","); t && n < 32; t = strtok(NULL, ",")) col[n++] = t;
-    ck_assert_int_eq(n, 28);
+    ck_assert_int_eq(n, 29);
     int fr = atoi(col[0]);
     if (fr < from || fr > to || atoi(col[13]) != 0) continue;
     *points += atol(col[4]);

@@ -289,8 +289,13 @@ static int cmp_dbl(const void *a, const void *b) {
 }
 
 /* ---- --counts with --count-line: true crossings from the states ---- */
-static rs_count_line_t clines[RS_COUNT_LINES];
-static int nclines;
+/* Everything the options set. */
+typedef struct {
+  bool json, diagnose, tracking;
+  const char *objects_path, *model_path, *dump_path, *states_path, *tracks_path, *counts_path, *crossings_path;
+  rs_count_lines_t lines; /* --count-line */
+} settings_t;
+static settings_t st;
 
 /* per line and direction: crossings counted (from the counts CSV) and true ones */
 static uint64_t pred_count[RS_COUNT_LINES][2], true_count[RS_COUNT_LINES][2];
@@ -319,8 +324,8 @@ static int load_counts(const char *path) {
       return -1;
     }
     if (strcmp(cls, "all") != 0) continue;
-    for (int l = 0; l < nclines; l++)
-      if (strcmp(clines[l].name, name) == 0) pred_count[l][strcmp(dir, "forward") == 0 ? 0 : 1] += n;
+    for (int l = 0; l < st.lines.n; l++)
+      if (strcmp(st.lines.line[l].name, name) == 0) pred_count[l][strcmp(dir, "forward") == 0 ? 0 : 1] += n;
   }
   fclose(f);
   return 0;
@@ -353,8 +358,8 @@ static int load_crossings(const char *path) {
       fclose(f);
       return -1;
     }
-    while (l < nclines && strcmp(clines[l].name, name) != 0) l++;
-    if (l == nclines) {
+    while (l < st.lines.n && strcmp(st.lines.line[l].name, name) != 0) l++;
+    if (l == st.lines.n) {
       snprintf(sp.err, sizeof sp.err, "--truth-crossings %s:%ld: line '%s' is not a --count-line", path, ln, name);
       fclose(f);
       return -1;
@@ -369,9 +374,9 @@ static int load_crossings(const char *path) {
 static void true_crossings(void) {
   for (uint32_t id = 0; id <= sp.max_id; id++) {
     const st_row_t *r = by_id + spans[id].first;
-    for (int l = 0; l < nclines; l++)
+    for (int l = 0; l < st.lines.n; l++)
       for (uint32_t k = 1; k < spans[id].count; k++) {
-        const int d = rs_count_crosses(&clines[l], r[k - 1].x, r[k - 1].y, r[k].x, r[k].y);
+        const int d = rs_count_crosses(&st.lines.line[l], r[k - 1].x, r[k - 1].y, r[k].x, r[k].y);
         if (d == 0) continue;
         true_count[l][d > 0 ? 0 : 1]++;
         break;
@@ -383,17 +388,17 @@ static json_t *jnum(double v) { return isnan(v) || isinf(v) ? json_null() : json
 
 /* counts against the truth: printed, or (json) added to the report */
 static void print_counts(FILE *out, json_t *json) {
-  for (int l = 0; l < nclines; l++)
+  for (int l = 0; l < st.lines.n; l++)
     for (int d = 0; d < 2; d++) {
       const double err = true_count[l][d] ? fabs((double)pred_count[l][d] - (double)true_count[l][d]) / (double)true_count[l][d]
                                           : (pred_count[l][d] ? INFINITY : 0.0);
       if (json) {
         char key[1100];
-        snprintf(key, sizeof key, "count_%s_%s", clines[l].name, d == 0 ? "forward" : "backward");
+        snprintf(key, sizeof key, "count_%s_%s", st.lines.line[l].name, d == 0 ? "forward" : "backward");
         json_object_set_new(json, key, json_pack("{s:I, s:I, s:o}", "counted", (json_int_t)pred_count[l][d], "true",
                                                  (json_int_t)true_count[l][d], "error", jnum(err)));
       } else {
-        fprintf(out, "  line %s %s: counted %llu, true %llu (error %.1f %%)\n", clines[l].name,
+        fprintf(out, "  line %s %s: counted %llu, true %llu (error %.1f %%)\n", st.lines.line[l].name,
                 d == 0 ? "forward" : "backward", (unsigned long long)pred_count[l][d],
                 (unsigned long long)true_count[l][d], 100.0 * err);
       }
@@ -666,24 +671,6 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
   }
 }
 
-static int add_count_line(void *t, const char *key, const char *v, char *err, size_t n) {
-  (void)t;
-  if (nclines == RS_COUNT_LINES) {
-    snprintf(err, n, "%s: at most %d lines", key, RS_COUNT_LINES);
-    return RS_E_INVAL;
-  }
-  if (rs_count_parse_line(v, &clines[nclines], err, n) != RS_OK) return RS_E_INVAL;
-  nclines++;
-  return RS_OK;
-}
-
-/* Everything the options set. */
-typedef struct {
-  bool json, diagnose, tracking;
-  const char *objects_path, *model_path, *dump_path, *states_path, *tracks_path, *counts_path, *crossings_path;
-  int lines; /* count lines: kept in clines */
-} settings_t;
-static settings_t st;
 static rs_opts_t opts;
 
 #define T settings_t
@@ -708,7 +695,7 @@ static const rs_opt_t table[] = {
                 "no --pose): per line and direction the crossings counted against the true ones (every road user "
                 "of the states once per line) and the relative error"),
     {.type = RS_OPT_FUNC, .name = "count-line", .arg = "\"NAME X1 Y1 X2 Y2\"", .off = offsetof(T, lines),
-     .fn = add_count_line, .flags = RS_OPT_REPEAT, .help = "a counting line, as roadscand's"},
+     .fn = rs_count_opt_line, .flags = RS_OPT_REPEAT, .help = "a counting line, as roadscand's"},
     RS_OPT_STR_("truth-crossings", "X", T, crossings_path,
                 "with --counts: the true crossings roadscan-sim wrote (--truth-crossings, the same lines) instead "
                 "of those derived here from --truth-states (the same rule: the two agree)"),
@@ -753,7 +740,7 @@ int main(int argc, char **argv) {
   const bool json = st.json, diagnose = st.diagnose, tracking = st.tracking;
   const char *objects_path = st.objects_path, *model_path = st.model_path, *dump_path = st.dump_path,
              *states_path = st.states_path, *tracks_path = st.tracks_path, *counts_path = st.counts_path;
-  if ((counts_path || nclines) && !(counts_path && nclines && states_path)) {
+  if ((counts_path || st.lines.n) && !(counts_path && st.lines.n && states_path)) {
     fprintf(stderr, "roadscan-eval: --counts and --count-line go together, with --truth-states\n");
     return 2;
   }

@@ -37,8 +37,7 @@ typedef struct {
   const char *scenario, *sfile, *out, *labels, *states_path, *crossings_path;
   char sets[MAX_SETS][128]; /* --set KEY=VALUE, applied after the preset and the scenario file */
   int nsets;
-  rs_count_line_t lines[RS_COUNT_LINES]; /* --count-line, for --truth-crossings */
-  int nlines;
+  rs_count_lines_t lines; /* --count-line, for --truth-crossings */
   double seconds, t0;
   int hz_i, mode_i, seed;
 } settings_t;
@@ -74,15 +73,6 @@ static int add_set(void *t, const char *key, const char *v, char *err, size_t n)
   return RS_OK;
 }
 
-static int add_line(void *t, const char *key, const char *v, char *err, size_t n) {
-  settings_t *s = (settings_t *)(void *)((char *)t - offsetof(settings_t, lines));
-  if (s->nlines == RS_COUNT_LINES) {
-    snprintf(err, n, "%s: at most %d lines", key, RS_COUNT_LINES);
-    return RS_E_INVAL;
-  }
-  return rs_count_parse_line(v, &s->lines[s->nlines++], err, n);
-}
-
 #define T settings_t
 static const rs_opt_t table[] = {
     {.type = RS_OPT_MODEL, .name = "sensor", .arg = "NAME", .off = offsetof(T, model), .help = "the sensor"},
@@ -106,7 +96,7 @@ static const rs_opt_t table[] = {
                 "every road user's true state at the start of every turn (CSV t,id,class,x,y,vx,vy,heading,"
                 "length,width,height; sensor frame, capture time)"),
     {.type = RS_OPT_FUNC, .name = "count-line", .arg = "\"NAME X1 Y1 X2 Y2\"", .off = offsetof(T, lines),
-     .fn = add_line, .flags = RS_OPT_REPEAT,
+     .fn = rs_count_opt_line, .flags = RS_OPT_REPEAT,
      .help = "a counting line (metres, sensor frame), as roadscand's --count-line: its true crossings go to "
              "--truth-crossings"},
     RS_OPT_STR_("truth-crossings", "FILE", T, crossings_path,
@@ -146,7 +136,7 @@ int main(int argc, char **argv) {
     snprintf(err, sizeof err, "-o OUT.pcap and --labels OUT.csv are required");
     goto bad;
   }
-  if (st.crossings_path && st.nlines == 0) {
+  if (st.crossings_path && st.lines.n == 0) {
     snprintf(err, sizeof err, "--truth-crossings needs a --count-line");
     goto bad;
   }
@@ -283,13 +273,13 @@ int main(int argc, char **argv) {
             nprev = n2;
           }
           prev_t *p = &prev[id];
-          for (int l = 0; l < st.nlines && p->seen; l++) {
+          for (int l = 0; l < st.lines.n && p->seen; l++) {
             if (p->counted & (1u << l)) continue;
-            const int d = rs_count_crosses(&st.lines[l], p->x, p->y, agents[i].x, agents[i].y);
+            const int d = rs_count_crosses(&st.lines.line[l], p->x, p->y, agents[i].x, agents[i].y);
             if (d == 0) continue;
             p->counted |= (uint16_t)(1u << l);
             ncross++;
-            fprintf(crossings, "%.6f,%u,%s,%s,%s\n", t0 + t_pkt * 1e-6, id, agents[i].cls, st.lines[l].name,
+            fprintf(crossings, "%.6f,%u,%s,%s,%s\n", t0 + t_pkt * 1e-6, id, agents[i].cls, st.lines.line[l].name,
                     d > 0 ? "forward" : "backward");
           }
           p->x = agents[i].x;
@@ -389,7 +379,7 @@ int main(int argc, char **argv) {
       return 1;
     }
     fprintf(stderr, "roadscan-sim: %llu true crossings of %d lines written to %s\n", (unsigned long long)ncross,
-            st.nlines, st.crossings_path);
+            st.lines.n, st.crossings_path);
   }
   if (lrc != RS_OK || lw.rejected) {
     fprintf(stderr, "roadscan-sim: %s: write failed\n", labels);

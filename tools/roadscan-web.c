@@ -320,35 +320,11 @@ typedef struct {
   const char *url, *log, *listen, *www;
   const char *ch[K_KINDS];
   int max_clients;
-  struct {
-    rs_count_line_t line[RS_COUNT_LINES];
-    int n;
-  } lines;
-  struct {
-    rs_count_zone_t zone[RS_COUNT_ZONES];
-    int n;
-  } zones;
+  rs_count_lines_t lines;
+  rs_count_zones_t zones;
 } settings_t;
 static settings_t st;
 static rs_opts_t opts;
-
-static int add_line(void *t, const char *key, const char *v, char *err, size_t n) {
-  settings_t *s = (settings_t *)(void *)((char *)t - offsetof(settings_t, lines));
-  if (s->lines.n == RS_COUNT_LINES) {
-    snprintf(err, n, "%s: at most %d", key, RS_COUNT_LINES);
-    return RS_E_INVAL;
-  }
-  return rs_count_parse_line(v, &s->lines.line[s->lines.n++], err, n);
-}
-
-static int add_zone(void *t, const char *key, const char *v, char *err, size_t n) {
-  settings_t *s = (settings_t *)(void *)((char *)t - offsetof(settings_t, zones));
-  if (s->zones.n == RS_COUNT_ZONES) {
-    snprintf(err, n, "%s: at most %d", key, RS_COUNT_ZONES);
-    return RS_E_INVAL;
-  }
-  return rs_count_parse_zone(v, &s->zones.zone[s->zones.n++], err, n);
-}
 
 #define T settings_t
 static const rs_opt_t table[] = {
@@ -362,8 +338,8 @@ static const rs_opt_t table[] = {
     RS_OPT_STR_("counts-channel", "NAME", T, ch[K_COUNTS], "counts"),
     RS_OPT_STR_("stats-channel", "NAME", T, ch[K_STATS], "statistics"),
     {.type = RS_OPT_FUNC, .name = "count-line", .arg = "\"NAME X1 Y1 X2 Y2\"", .off = offsetof(T, lines),
-     .fn = add_line, .flags = RS_OPT_REPEAT, .help = "a counting line to draw (the daemon's)"},
-    {.type = RS_OPT_FUNC, .name = "count-zone", .arg = "\"NAME X1 Y1 ...\"", .off = offsetof(T, zones), .fn = add_zone,
+     .fn = rs_count_opt_line, .flags = RS_OPT_REPEAT, .help = "a counting line to draw (the daemon's)"},
+    {.type = RS_OPT_FUNC, .name = "count-zone", .arg = "\"NAME X1 Y1 ...\"", .off = offsetof(T, zones), .fn = rs_count_opt_zone,
      .flags = RS_OPT_REPEAT, .help = "a counting zone to draw (the daemon's)"},
     RS_OPT_HEAD("http", "The page"),
     RS_OPT_STR_("listen", "ADDR:PORT", T, listen, "where the page is served (IPv4; 0.0.0.0 for every interface)"),

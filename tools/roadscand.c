@@ -53,14 +53,8 @@ typedef struct {
   bool quiet, fast, no_publish, use_syslog, no_tracking, allow_root, relearn;
   int buffer_kib;
   rs_track_cfg_t tcfg;
-  struct {
-    rs_count_line_t line[RS_COUNT_LINES];
-    int n;
-  } lines;
-  struct {
-    rs_count_zone_t zone[RS_COUNT_ZONES];
-    int n;
-  } zones;
+  rs_count_lines_t lines;
+  rs_count_zones_t zones;
   double count_interval;
   int method;            /* rs_cluster_method_t */
   double eps;            /* the method's, when given */
@@ -122,28 +116,6 @@ static int parse_track_set(void *t, const char *key, const char *v, char *err, s
   return rs_track_cfg_set(t, name, eq + 1, err, n);
 }
 
-static int parse_count_line(void *t, const char *key, const char *v, char *err, size_t n) {
-  settings_t *s = (settings_t *)(void *)((char *)t - offsetof(settings_t, lines));
-  if (s->lines.n == RS_COUNT_LINES) {
-    snprintf(err, n, "%s: at most %d lines", key, RS_COUNT_LINES);
-    return RS_E_INVAL;
-  }
-  if (rs_count_parse_line(v, &s->lines.line[s->lines.n], err, n) != RS_OK) return RS_E_INVAL;
-  s->lines.n++;
-  return RS_OK;
-}
-
-static int parse_count_zone(void *t, const char *key, const char *v, char *err, size_t n) {
-  settings_t *s = (settings_t *)(void *)((char *)t - offsetof(settings_t, zones));
-  if (s->zones.n == RS_COUNT_ZONES) {
-    snprintf(err, n, "%s: at most %d zones", key, RS_COUNT_ZONES);
-    return RS_E_INVAL;
-  }
-  if (rs_count_parse_zone(v, &s->zones.zone[s->zones.n], err, n) != RS_OK) return RS_E_INVAL;
-  s->zones.n++;
-  return RS_OK;
-}
-
 #define T settings_t
 #define F(nm, f, h) RS_OPT_FLAG_(nm, T, f, h)
 #define S(nm, a, f, h) RS_OPT_STR_(nm, a, T, f, h)
@@ -202,9 +174,9 @@ static const rs_opt_t table[] = {
       "in its row is background (0 = off)"),
     D("shift-deg", "DEG", cfg.bg_shift_deg, 0.0, 5.0,
       "... or within the range x tan(DEG) when more: a sensor that turned moves far surfaces most"),
-    D("shift-gate", "PERCENT", shift_gate_pct, 0.001, 100.0,
+    D("shift-gate", "PERCENT", shift_gate_pct, 0.0, 100.0,
       "how much evidence makes a frame displaced: returns beyond their cell's farthest surface and within "
-      "--shift-tol of a surface nearby, as a share of the frame's returns"),
+      "--shift-tol of a surface nearby, as a share of the frame's returns (0: no gate, every frame)"),
     RS_OPT_HEAD("cluster", "Clustering of the foreground"),
     {.type = RS_OPT_CHOICE, .name = "cluster", .arg = "METHOD", .off = offsetof(T, method),
      .choices = "none|fspc|fspc-adaptive|dbscan|ccl", .def = "fspc-adaptive with a background, else none",
@@ -243,12 +215,12 @@ static const rs_opt_t table[] = {
      .help = "one tracker parameter (docs/tracking.md; a wrong name lists them)"},
     RS_OPT_HEAD("count", "Counting: confirmed tracks crossing lines of the site"),
     {.type = RS_OPT_FUNC, .name = "count-line", .arg = "\"NAME X1 Y1 X2 Y2\"", .off = offsetof(T, lines),
-     .fn = parse_count_line, .flags = RS_OPT_REPEAT,
+     .fn = rs_count_opt_line, .flags = RS_OPT_REPEAT,
      .help = "a line from (X1, Y1) to (X2, Y2), metres, in the site frame with --pose (the sensor frame "
              "otherwise); up to 16; each track counts once per line, forward (from the right of the line to "
              "its left, looking from X1 Y1 to X2 Y2) or backward, by class"},
     {.type = RS_OPT_FUNC, .name = "count-zone", .arg = "\"NAME X1 Y1 X2 Y2 X3 Y3 ...\"", .off = offsetof(T, zones),
-     .fn = parse_count_zone, .flags = RS_OPT_REPEAT,
+     .fn = rs_count_opt_zone, .flags = RS_OPT_REPEAT,
      .help = "a zone: a polygon of 3 to 16 corners in order (metres, the frame of --count-line); up to 8; confirmed "
              "tracks that enter and exit it, by class, and the most inside at once"},
     D("count-interval", "S", count_interval, 1.0, 86400.0, "counts per interval of S seconds of sensor time"),
@@ -356,7 +328,7 @@ int main(int argc, char **argv) {
   cfg->bg_see_through = st.see_through == 0 ? -1 : st.see_through;
   if (cfg->bg_shift_tol == 0) cfg->bg_shift_tol = -1;
   if (cfg->bg_shift_deg == 0) cfg->bg_shift_deg = -1;
-  cfg->bg_shift_gate = st.shift_gate_pct / 100.0;
+  cfg->bg_shift_gate = st.shift_gate_pct > 0 ? st.shift_gate_pct / 100.0 : -1.0;
   cfg->labels_confirmed_only = st.labels_confirmed == 1;
   st.pub.stats_channel = channel_or_off(st.pub.stats_channel);
   st.pub.tracks_channel = channel_or_off(st.pub.tracks_channel);

@@ -27,7 +27,7 @@ const char *rs_pipeline_csv_header(void) {
   return "frame,t_first,t_last,packets,points,columns,missing_packets,dropped_frames,"
          "out_of_order,duplicates,late_points,shifted,collisions,partial,rows,cols,rate_hz,return_mode,"
          "first_packet,last_packet,layer0_cells,layer1_cells,min_range,max_range,process_us,foreground,clusters,"
-         "displaced";
+         "displaced,shift_evidence";
 }
 
 
@@ -416,12 +416,12 @@ static void write_frame_line(FILE *f, const rs_slot_t *s, const rs_proc_report_t
   const rs_frame_meta_t *m = &s->meta;
   fprintf(f,
           "%" PRIu64 ",%.6f,%.6f,%u,%u,%u,%u,%" PRIu64 ",%u,%u,%u,%u,%u,%d,%u,%u,%.3f,%s,%u,%u,%u,%u,%.3f,%.3f,%.1f,%u"
-          ",%u,%d\n",
+          ",%u,%d,%u\n",
           m->seq, m->t_first, m->t_last, m->packets, m->points, m->columns, m->missing_packets, m->dropped_frames,
           m->out_of_order, m->duplicates, m->late_points, m->shifted, m->collisions, m->partial ? 1 : 0, m->rows, m->cols,
           (double)m->rate_hz, rs_return_mode_name(m->mode_byte), m->first_packet, m->last_packet, r->filled[0],
           r->filled[1], (double)r->min_range, (double)r->max_range, (double)frame_ns / 1000.0, r->foreground,
-          r->cluster.clusters, r->displaced ? 1 : 0);
+          r->cluster.clusters, r->displaced ? 1 : 0, r->shift_evidence);
 }
 
 static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {

@@ -184,11 +184,11 @@ static bool match_shifted(const rs_bg_model_t *m, const shift_t *sh, int row, in
 
 void rs_bg_subtract(const rs_bg_model_t *m, const rs_bg_rules_t *rules, rs_slot_t *s, rs_bg_counts_t *c) {
   const int rows = s->meta.rows, cols = s->meta.cols;
-  const bool shift_on = rules->shift_tol > 0.0 && rules->shift_gate > 0.0;
+  const bool shift_on = rules->shift_tol > 0.0, gated = rules->shift_gate > 0.0;
   shift_t sh;
   if (shift_on) shift_init(&sh, m, rules->shift_tol, rules->shift_deg);
   /* evidence of displacement: enough of it, and it is no longer gathered */
-  const uint64_t need = shift_on ? (uint64_t)ceil(rules->shift_gate * (double)(s->meta.points ? s->meta.points : 1)) : 0;
+  const uint64_t need = shift_on && gated ? (uint64_t)ceil(rules->shift_gate * (double)(s->meta.points ? s->meta.points : 1)) : 0;
   uint64_t evidence = 0, fg = 0;
   for (int l = 0; l < RS_LAYERS; l++)
     for (int r = 0; r < rows; r++) {
@@ -209,7 +209,8 @@ void rs_bg_subtract(const rs_bg_model_t *m, const rs_bg_rules_t *rules, rs_slot_
         else fg++;
       }
     }
-  c->displaced = shift_on && evidence >= need;
+  c->evidence = (uint32_t)evidence;
+  c->displaced = shift_on && evidence >= need; /* ungated (shift_gate 0): every frame */
   if (c->displaced) {
     c->displaced_frames++;
     for (int l = 0; l < RS_LAYERS && fg > 0; l++)
@@ -424,7 +425,7 @@ typedef struct {
   uint32_t pairs, stay;  /* consecutive-sample pairs starting in the cluster, and staying */
   uint32_t second;       /* pairs (of any start) whose second sample is in the cluster */
   uint32_t windows;      /* time windows in which it appears */
-  uint32_t front, behind; /* samples not in it with a return nearer than it, farther than it */
+  uint32_t front, behind; /* returns nearer than it, farther than it */
 } clus_t;
 
 /* Chooses eps and clusters one cell; returns the number of clusters. */
@@ -553,15 +554,11 @@ static uint32_t cell_stats(const cell_in_t *in, const int16_t *label, int k, clu
     }
   }
   cl[k].count = (uint32_t)(in->nf - in->nz);
-  for (int i = 0; i < in->nf; i++) {
-    const uint16_t x = in->smp[in->order[i]];
-    if (x == 0) continue;
+  for (int i = 0; i < in->u; i++) /* the returns nearer and farther than each cluster */
     for (int j = 0; j < k; j++) {
-      if (memb[i] == j) continue;
-      if ((int32_t)x < cl[j].lo) cl[j].front++;
-      else if ((int32_t)x > cl[j].hi) cl[j].behind++;
+      if (in->v[i] < cl[j].lo) cl[j].front += in->cnt[i];
+      else if (in->v[i] > cl[j].hi) cl[j].behind += in->cnt[i];
     }
-  }
   bool seen_in_win[MAXK + 1] = {false};
   uint32_t npairs = 0;
   for (int i = 0; i < in->nf; i++) {
@@ -715,10 +712,10 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
       /* hidden, not gone: a nearer cluster seen in a good share of the frames,
        * throughout the capture, at one range, and when it is not seen the
        * cell mostly returns something nearer (traffic in front of it; not
-       * nothing: a truck against the sky), hardly ever something farther: a surface behind a lane, occluded by queues in
-       * runs of frames (so it does not flicker). A vehicle that stops in the
-       * cell leaves what it hides (the road behind it) to be seen when it is
-       * not there. */
+       * nothing: a truck against the sky), hardly ever something farther:
+       * a surface behind a lane, occluded by queues in runs of frames (so it
+       * does not flicker). A vehicle that stops in the cell leaves what it
+       * hides (the road behind it) to be seen when it is not there. */
       if (!bg[j] && !wide[j] && p->occluded_max > 0 && nf >= RS_BG_JUDGE_FRAMES &&
           cl[j].count >= p->occluded_seen * nf && (double)cl[j].windows / nwin >= p->occluded_windows &&
           cl[j].hi - cl[j].lo <= (int32_t)lround(fmax(p->occluded_spread * 100.0, 0.01 * cl[j].lo)) &&

@@ -112,6 +112,28 @@ int rs_count_parse_zone(const char *text, rs_count_zone_t *out, char *err, size_
   return RS_OK;
 }
 
+int rs_count_opt_line(void *lines, const char *key, const char *text, char *err, size_t n) {
+  rs_count_lines_t *l = lines;
+  if (l->n == RS_COUNT_LINES) {
+    snprintf(err, n, "%s: at most %d lines", key, RS_COUNT_LINES);
+    return RS_E_INVAL;
+  }
+  if (rs_count_parse_line(text, &l->line[l->n], err, n) != RS_OK) return RS_E_INVAL;
+  l->n++;
+  return RS_OK;
+}
+
+int rs_count_opt_zone(void *zones, const char *key, const char *text, char *err, size_t n) {
+  rs_count_zones_t *z = zones;
+  if (z->n == RS_COUNT_ZONES) {
+    snprintf(err, n, "%s: at most %d zones", key, RS_COUNT_ZONES);
+    return RS_E_INVAL;
+  }
+  if (rs_count_parse_zone(text, &z->zone[z->n], err, n) != RS_OK) return RS_E_INVAL;
+  z->n++;
+  return RS_OK;
+}
+
 bool rs_count_inside(const rs_count_zone_t *z, double x, double y) {
   bool in = false;
   for (int i = 0, j = z->n - 1; i < z->n; j = i++) {

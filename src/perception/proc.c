@@ -58,7 +58,7 @@ int rs_proc_init(rs_proc_t *p, const rs_proc_cfg_t *cfg, char *err, size_t errle
   bc.rules.see_through = cfg->see_through == 0 ? RS_BG_SEE_THROUGH : (cfg->see_through < 0 ? 0 : cfg->see_through);
   bc.rules.beyond_static = !cfg->beyond_foreground;
   if (cfg->shift_tol != 0) bc.rules.shift_tol = cfg->shift_tol < 0 ? 0.0 : cfg->shift_tol;
-  if (cfg->shift_gate > 0) bc.rules.shift_gate = cfg->shift_gate;
+  if (cfg->shift_gate != 0) bc.rules.shift_gate = cfg->shift_gate < 0 ? 0.0 : cfg->shift_gate;
   if (cfg->shift_deg != 0) bc.rules.shift_deg = cfg->shift_deg < 0 ? 0.0 : cfg->shift_deg;
   int rc = rs_bgu_init(&p->bgu, &bc, cfg->background);
   if (rc != RS_OK) {
@@ -160,6 +160,7 @@ void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_pro
     rs_bg_subtract(bgm, &p->bgu.cfg.rules, s, &p->bg);
     r->foreground = (uint32_t)(p->bg.foreground - fg0);
     r->displaced = p->bg.displaced;
+    r->shift_evidence = p->bg.evidence;
     t = stage_end(p, r, RS_STAGE_BACKGROUND, t);
   }
   rs_cluster_t *cl = p->cfg.cluster;

@@ -10,6 +10,7 @@
 #include "roadscan/capture/net.h"
 #include "roadscan/output/publish.h"
 #include "roadscan/sim/synth.h"
+#include "../lcmsample.h"
 
 #include <errno.h>
 #include <stdio.h>
@@ -122,21 +123,9 @@ static void lcm_seeds(void) {
   n = roadscan_track_end_t_encode(buf, 0, sizeof buf, &te);
   put("lcm", "track_end", &sel, 1, buf, (size_t)n);
   roadscan_count_line_t lines[2];
-  memset(lines, 0, sizeof lines);
-  lines[0].name = "east";
-  lines[1].name = "west";
+  roadscan_count_zone_t zones[1];
   roadscan_counts_t cm;
-  memset(&cm, 0, sizeof cm);
-  cm.sensor_id = "north";
-  cm.num_lines = 2;
-  cm.lines = lines;
-  roadscan_count_zone_t zones[1]; /* and a zone: the second variable-length part */
-  memset(zones, 0, sizeof zones);
-  zones[0].name = "box";
-  zones[0].entered[3] = 2;
-  zones[0].occupancy_max = 1;
-  cm.num_zones = 1;
-  cm.zones = zones;
+  ts_sample_counts(&cm, lines, zones);
   sel = RS_LCM_COUNTS;
   n = roadscan_counts_t_encode(buf, 0, sizeof buf, &cm);
   put("lcm", "counts", &sel, 1, buf, (size_t)n);

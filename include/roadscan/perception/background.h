@@ -123,7 +123,8 @@ typedef struct {
                              through (max(0.3 m, 3 %)), are background (default true) */
   double shift_tol;       /* a displaced sensor: m, default RS_BG_SHIFT_TOL; 0 = off */
   double shift_deg;       /* ... or the range x tan(shift_deg) when more (default RS_BG_SHIFT_DEG) */
-  double shift_gate;      /* share of the frame's returns that must be evidence (RS_BG_SHIFT_GATE) */
+  double shift_gate;      /* share of the frame's returns that must be evidence (RS_BG_SHIFT_GATE);
+                             0: no gate, every frame is judged displaced */
 } rs_bg_rules_t;
 
 void rs_bg_rules_default(rs_bg_rules_t *r);
@@ -153,6 +154,7 @@ typedef struct {
   uint64_t displaced_frames; /* frames judged taken by a displaced sensor */
   uint64_t shifted;         /* foreground returns of those frames made background by the shift rule */
   bool displaced;           /* the last frame was */
+  uint32_t evidence;        /* the last frame's evidence, returns (gathered up to what the gate needs) */
 } rs_bg_counts_t;
 
 /* Labels every return of the slot: 1 background, 2 foreground (until the

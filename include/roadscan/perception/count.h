@@ -94,6 +94,20 @@ int rs_count_parse_line(const char *text, rs_count_line_t *out, char *err, size_
 /* Parses "NAME X1 Y1 X2 Y2 X3 Y3 ..." (metres, 3 to RS_COUNT_ZONE_VERTICES corners, in order around it,
  * not crossing itself) into a zone; RS_E_INVAL with a message. */
 int rs_count_parse_zone(const char *text, rs_count_zone_t *out, char *err, size_t n);
+/* The lines and zones a program's options collect, and the option callbacks
+ * (util/opts.h RS_OPT_FUNC, .off = the field) that parse one more into them:
+ * too many, or one that does not parse, is refused with a message naming the
+ * option; nothing is added then. */
+typedef struct {
+  rs_count_line_t line[RS_COUNT_LINES];
+  int n;
+} rs_count_lines_t;
+typedef struct {
+  rs_count_zone_t zone[RS_COUNT_ZONES];
+  int n;
+} rs_count_zones_t;
+int rs_count_opt_line(void *lines, const char *key, const char *text, char *err, size_t n);
+int rs_count_opt_zone(void *zones, const char *key, const char *text, char *err, size_t n);
 /* Adds zones after rs_count_init (before the first frame); RS_E_INVAL for too many, a name taken. */
 int rs_count_add_zones(rs_counter_t *c, const rs_count_zone_t *zones, int nzones, char *err, size_t n);
 /* Is (x, y) inside zone z (even-odd rule; on an edge counts as outside or inside, never both ways)? */

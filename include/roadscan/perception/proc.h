@@ -41,7 +41,7 @@ typedef struct {
   int see_through;             /* 0: the model's own (RS_BG_SEE_THROUGH); N > 0: N; < 0: off */
   bool beyond_foreground;      /* returns beyond the farthest surface are foreground */
   double shift_tol;            /* a displaced sensor (background.h): 0 = RS_BG_SHIFT_TOL, < 0 = off */
-  double shift_gate;           /* 0 = RS_BG_SHIFT_GATE */
+  double shift_gate;           /* 0 = RS_BG_SHIFT_GATE, < 0 = no gate (every frame) */
   double shift_deg;            /* 0 = RS_BG_SHIFT_DEG, < 0 = none */
   rs_cluster_t *cluster;       /* optional: configured clustering work area */
   rs_objects_t *objects;       /* optional with cluster: rs_objects_init done */
@@ -58,6 +58,7 @@ typedef struct {
   int64_t total_ns;                  /* every stage and the census (the sinks come after) */
   uint32_t foreground;               /* returns left by the background (both layers) */
   bool displaced;                    /* the background judged the sensor displaced (background.h) */
+  uint32_t shift_evidence;           /* the returns that told it (up to what its gate needs) */
   rs_cluster_stats_t cluster;
   const rs_object_list_t *objects;   /* never NULL: an empty list when no stage made one */
   const rs_track_list_t *tracks;     /* NULL without a tracker (or before the first clustering) */
