@@ -46,3 +46,15 @@ run "VLP-16 90deg" "$v16" 1.5 31 50
 run "VLP-16 90deg, static part" "$v16" 1.0 21 34
 run "VLP-16 90deg" "$v16" 0 1 50
 if [ -f "$mrpt" ]; then run "MRPT VLP-16" "$mrpt" 0 1 99; fi
+# The pictures of docs/background.md (PICTURES=1): frame 45 of the 90-degree VLP-16, the sensor
+# about 5 cm from where it learned (learned from the first 1.5 s), without the shift rule, with the
+# shift rule alone, and with the defaults (what is seen behind near objects is background too)
+if [ "${PICTURES:-0}" = 1 ]; then
+  mkdir -p docs/img
+  for v in "noshift:--shift-tol 0" "shift:--no-shift-behind" "behind:"; do
+    name=${v%%:*} opts=${v#*:}
+    # shellcheck disable=SC2086 # the options are words
+    $bin/roadscand --pcap "$v16" --fast --learn-seconds 1.5 --no-publish --quiet --labels-out "$out/real-$name.csv" $opts 2>/dev/null
+    $bin/roadscan-render "$v16" --frame 45 --labels "$out/real-$name.csv" --range 12 -o "docs/img/real-$name-45.png" 2>&1 | tail -1
+  done
+fi

@@ -489,6 +489,75 @@ START_TEST(t_subtract_displaced) {
 }
 END_TEST
 
+/* What a displaced sensor sees behind a near object (background.h): an
+ * object 1.3 m away (columns 500-599, seen in 40 % of the learning frames)
+ * in front of a wall at 8 m. Moved, the sensor sees past the object's edge
+ * onto what it hid, set back at 8.6 m: background within the object's
+ * parallax band (atan(0.15 / 1.3): 33 columns of 0.2 degree); the same
+ * range deep behind the object, or a vehicle behind it nearer than the wall,
+ * stays foreground, as everything does in a still frame or with the rule off. */
+static void behind_frame(void) {
+  memset(&slot, 0, sizeof slot);
+  slot.meta.rows = ROWS;
+  slot.meta.cols = SCOLS;
+  for (int c = 400; c < 700; c++) slot.range[3 * SCOLS + c] = c >= 510 && c < 600 ? 1.30f : 8.05f;
+  for (int c = 500; c < 510; c++) slot.range[3 * SCOLS + c] = 8.6f; /* seen past the edge */
+  slot.range[3 * SCOLS + 520] = 5.0f;                               /* a vehicle behind the object */
+  slot.range[3 * SCOLS + 560] = 8.6f;                               /* deep behind it */
+  slot.meta.points = 300;
+}
+
+START_TEST(t_subtract_behind) {
+  rs_bg_model_t m;
+  ck_assert_int_eq(rs_bg_model_alloc(&m, RS_MODEL_VLP16, ROWS, SCOLS), RS_OK);
+  const uint16_t obj[2] = {128, 132}, wall[2] = {800, 810};
+  for (int c = 400; c < 700; c++) {
+    const bool o = c >= 500 && c < 600;
+    set_cell(&m, 3, c, 1, o ? obj : wall);
+    m.far_seen[3 * SCOLS + c] = o ? 40 : 100;
+  }
+  rs_bg_rules_t r;
+  rs_bg_rules_default(&r);
+  ck_assert(r.shift_behind);
+  r.shift_gate = 0; /* judged displaced: the gate has its own test */
+  rs_bg_counts_t c = {0};
+  behind_frame();
+  rs_bg_subtract(&m, &r, &slot, &c);
+  ck_assert(c.displaced);
+  ck_assert_uint_eq(c.behind, 10);
+  for (int k = 500; k < 510; k++) ck_assert_int_eq(slot.label[3 * SCOLS + k], RS_LABEL_BACKGROUND);
+  ck_assert_int_eq(slot.label[3 * SCOLS + 520], RS_LABEL_NOISE);
+  ck_assert_int_eq(slot.label[3 * SCOLS + 560], RS_LABEL_NOISE);
+  ck_assert_uint_eq(c.foreground, 2);
+  /* off */
+  rs_bg_rules_t off = r;
+  off.shift_behind = false;
+  memset(&c, 0, sizeof c);
+  rs_bg_subtract(&m, &off, &slot, &c);
+  ck_assert(c.displaced);
+  ck_assert_uint_eq(c.behind, 0);
+  ck_assert_uint_eq(c.foreground, 12);
+  /* a still sensor (the default gate; no evidence): the same returns are foreground */
+  rs_bg_rules_default(&r);
+  memset(&c, 0, sizeof c);
+  rs_bg_subtract(&m, &r, &slot, &c);
+  ck_assert(!c.displaced);
+  ck_assert_uint_eq(c.foreground, 12);
+  /* a wall farther away: the object's band is narrower (atan(0.15 / 5.3): 8 columns) */
+  const uint16_t obj5[2] = {528, 532};
+  for (int c2 = 500; c2 < 600; c2++) set_cell(&m, 3, c2, 1, obj5);
+  behind_frame();
+  for (int k = 510; k < 600; k++) slot.range[3 * SCOLS + k] = 5.3f;
+  slot.range[3 * SCOLS + 520] = 0.0f;
+  rs_bg_rules_default(&r);
+  r.shift_gate = 0;
+  memset(&c, 0, sizeof c);
+  rs_bg_subtract(&m, &r, &slot, &c);
+  for (int k = 500; k < 510; k++) ck_assert_int_eq(slot.label[3 * SCOLS + k], k < 508 ? RS_LABEL_BACKGROUND : RS_LABEL_NOISE);
+  rs_bg_model_free(&m);
+}
+END_TEST
+
 /* Leaves at 15 m learned in the cell beside: background in a cell the sensor
  * sees through (two surfaces), not in a cell of one surface, not from the
  * rows above and below; the row wraps at column 0. */
@@ -678,6 +747,7 @@ int main(void) {
   tcase_add_test(tc, t_subtract);
   tcase_add_test(tc, t_subtract_see_through);
   tcase_add_test(tc, t_subtract_displaced);
+  tcase_add_test(tc, t_subtract_behind);
   tcase_add_test(tc, t_model_file);
   tcase_add_test(tc, t_model_save_is_atomic);
   tcase_add_test(tc, t_percentile_and_reservoir);

@@ -177,6 +177,10 @@ static const rs_opt_t table[] = {
     D("shift-gate", "PERCENT", shift_gate_pct, 0.0, 100.0,
       "how much evidence makes a frame displaced: returns beyond their cell's farthest surface and within "
       "--shift-tol of a surface nearby, as a share of the frame's returns (0: no gate, every frame)"),
+    F("no-shift-behind", cfg.bg_no_behind,
+      "in a displaced frame, do not take for background what the sensor sees behind a near object it moved "
+      "around (a return past the model within the object's parallax band, atan(--shift-tol / its range), of "
+      "its edge, no nearer than the surface beside the edge)"),
     RS_OPT_HEAD("cluster", "Clustering of the foreground"),
     {.type = RS_OPT_CHOICE, .name = "cluster", .arg = "METHOD", .off = offsetof(T, method),
      .choices = "none|fspc|fspc-adaptive|dbscan|ccl", .def = "fspc-adaptive with a background, else none",

@@ -118,6 +118,7 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
       .lossless = cfg->lossless,
       .see_through = cfg->bg_see_through,
       .beyond_foreground = cfg->bg_beyond_foreground,
+      .no_behind = cfg->bg_no_behind,
       .shift_tol = cfg->bg_shift_tol,
       .shift_gate = cfg->bg_shift_gate,
       .shift_deg = cfg->bg_shift_deg,
@@ -610,9 +611,10 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
     if (pr->bg.displaced_frames > 0)
       fprintf(out,
               "  the sensor was displaced against the model in %llu of %llu frames (edges seen from another place; "
-              "%llu returns background by --shift-tol): was it knocked, does its mount sway?\n",
+              "%llu returns background by --shift-tol, %llu seen behind near objects): was it "
+              "knocked, does its mount sway?\n",
               (unsigned long long)pr->bg.displaced_frames, (unsigned long long)pr->n.frames,
-              (unsigned long long)pr->bg.shifted);
+              (unsigned long long)pr->bg.shifted, (unsigned long long)pr->bg.behind);
   }
   if (p->cfg.cluster && p->cfg.cluster->cfg.method != RS_CLUSTER_NONE)
     fprintf(out, "  clusters: %s, %llu clusters (%.1f per frame), %llu returns clustered, %llu noise, %llu beyond the cluster cap\n",

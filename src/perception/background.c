@@ -72,7 +72,8 @@ void rs_bg_rules_default(rs_bg_rules_t *r) {
                        .beyond_static = true,
                        .shift_tol = RS_BG_SHIFT_TOL,
                        .shift_gate = RS_BG_SHIFT_GATE,
-                       .shift_deg = RS_BG_SHIFT_DEG};
+                       .shift_deg = RS_BG_SHIFT_DEG,
+                       .shift_behind = true};
 }
 
 void rs_bg_model_free(rs_bg_model_t *m) {
@@ -182,6 +183,59 @@ static bool match_shifted(const rs_bg_model_t *m, const shift_t *sh, int row, in
   return false;
 }
 
+/* A displaced sensor also sees past a near object onto what the object hid
+ * while the model was learned: cells that learned only the object, or
+ * nothing, now return a wall behind it. A sensor displaced by up to the
+ * tolerance D sees past an object at range r_o by at most atan(D / r_o) of
+ * azimuth: the parallax band beside the object's edges (8 cm beside an
+ * object 1.3 m away: 3.5 degrees). Is a return of cm in (row, col) in that
+ * band of a depth edge: a cell nearby in the row whose farthest surface is
+ * nearer than the return (the object) and, within the same band, a cell
+ * whose farthest surface lies behind the object but no farther than the
+ * return (plus D)? What was hidden continues the far side of the edge, away
+ * from the sensor; a vehicle behind the object is nearer than the far side
+ * (a wall, the road beyond). Only past the model, only in displaced frames.
+ * Work: 2 x RS_BG_SHIFT_COLS + 1 cells, each looked at twice. */
+static bool match_behind(const rs_bg_model_t *m, const shift_t *sh, int row, int col, uint32_t cm) {
+  const double r = cm / 100.0;
+  const int cols = m->cols, kmax = RS_BG_SHIFT_COLS < cols / 2 ? RS_BG_SHIFT_COLS : cols / 2;
+  const uint32_t base = (uint32_t)row * (uint32_t)cols;
+  /* far[k + kmax]: the farthest surface of the cell k columns away (-1: none);
+   * reach[d]: the farthest of those within d columns that lie no farther
+   * than the return plus D (the far side of an edge it may continue) */
+  double far[2 * RS_BG_SHIFT_COLS + 1], reach[RS_BG_SHIFT_COLS + 1];
+  for (int k = -kmax; k <= kmax; k++) {
+    const uint32_t cell = base + (uint32_t)(((col + k) % cols + cols) % cols);
+    const int nk = m->n[cell];
+    const uint32_t b = cell * RS_BG_SURFACES + (uint32_t)nk - 1;
+    far[k + kmax] = nk == 0 || m->hi[b] == BEYOND ? -1.0 : (m->lo[b] + m->hi[b]) / 200.0;
+  }
+  for (int d = 0; d <= kmax; d++) {
+    reach[d] = d > 0 ? reach[d - 1] : -1.0;
+    for (int q = -1; q <= 1; q += 2) {
+      const double f = far[q * d + kmax];
+      if (f <= r + sh->tol && f > reach[d]) reach[d] = f;
+    }
+  }
+  for (int k = -kmax; k <= kmax; k++) {
+    const double ro = far[k + kmax];
+    if (ro <= 0.0 || r - ro <= fmax(RS_BG_BEHIND_JUMP, RS_BG_BEHIND_JUMP_SHARE * r)) continue; /* not in front */
+    int band = (int)(atan(sh->tol / ro) / sh->w + 0.5);
+    if (band > kmax) band = kmax;
+    if ((k < 0 ? -k : k) > band) continue;
+    /* the farthest surface in the band is the best far side: the jump grows slower than the range */
+    const double f = reach[band];
+    if (f - ro > fmax(RS_BG_BEHIND_JUMP, RS_BG_BEHIND_JUMP_SHARE * f)) return true;
+  }
+  return false;
+}
+
+/* the return lies beyond its cell's farthest surface, or the cell learned none */
+static bool past_model(const rs_bg_model_t *m, uint32_t cell, uint32_t cm) {
+  const uint32_t nk = m->n[cell];
+  return nk == 0 || (m->hi[cell * RS_BG_SURFACES + nk - 1] != BEYOND && cm > m->hi[cell * RS_BG_SURFACES + nk - 1]);
+}
+
 void rs_bg_subtract(const rs_bg_model_t *m, const rs_bg_rules_t *rules, rs_slot_t *s, rs_bg_counts_t *c) {
   const int rows = s->meta.rows, cols = s->meta.cols;
   const bool shift_on = rules->shift_tol > 0.0, gated = rules->shift_gate > 0.0;
@@ -218,10 +272,15 @@ void rs_bg_subtract(const rs_bg_model_t *m, const rs_bg_rules_t *rules, rs_slot_
         const uint32_t base = (uint32_t)l * RS_MAX_CELLS + (uint32_t)r * (uint32_t)cols;
         for (int col = 0; col < cols; col++) {
           const uint32_t i = base + (uint32_t)col;
-          if (s->label[i] != RS_LABEL_NOISE || !match_shifted(m, &sh, r, col, to_cm(s->range[i]))) continue;
+          if (s->label[i] != RS_LABEL_NOISE) continue;
+          const uint32_t cm = to_cm(s->range[i]), cell = (uint32_t)r * (uint32_t)cols + (uint32_t)col;
+          if (match_shifted(m, &sh, r, col, cm)) c->shifted++;
+          else if (rules->shift_behind && past_model(m, cell, cm) &&
+                   match_behind(m, &sh, r, col, cm))
+            c->behind++;
+          else continue;
           s->label[i] = RS_LABEL_BACKGROUND;
           c->background++;
-          c->shifted++;
           fg--;
         }
       }

@@ -57,6 +57,7 @@ int rs_proc_init(rs_proc_t *p, const rs_proc_cfg_t *cfg, char *err, size_t errle
   bc.sync = cfg->lossless;
   bc.rules.see_through = cfg->see_through == 0 ? RS_BG_SEE_THROUGH : (cfg->see_through < 0 ? 0 : cfg->see_through);
   bc.rules.beyond_static = !cfg->beyond_foreground;
+  bc.rules.shift_behind = !cfg->no_behind;
   if (cfg->shift_tol != 0) bc.rules.shift_tol = cfg->shift_tol < 0 ? 0.0 : cfg->shift_tol;
   if (cfg->shift_gate != 0) bc.rules.shift_gate = cfg->shift_gate < 0 ? 0.0 : cfg->shift_gate;
   if (cfg->shift_deg != 0) bc.rules.shift_deg = cfg->shift_deg < 0 ? 0.0 : cfg->shift_deg;

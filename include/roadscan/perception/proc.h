@@ -40,6 +40,7 @@ typedef struct {
   bool lossless;               /* every frame matters: a relearn is waited for (replays, tools) */
   int see_through;             /* 0: the model's own (RS_BG_SEE_THROUGH); N > 0: N; < 0: off */
   bool beyond_foreground;      /* returns beyond the farthest surface are foreground */
+  bool no_behind;            /* displaced frames: surfaces are not continued past near objects */
   double shift_tol;            /* a displaced sensor (background.h): 0 = RS_BG_SHIFT_TOL, < 0 = off */
   double shift_gate;           /* 0 = RS_BG_SHIFT_GATE, < 0 = no gate (every frame) */
   double shift_deg;            /* 0 = RS_BG_SHIFT_DEG, < 0 = none */
