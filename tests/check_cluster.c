@@ -242,6 +242,29 @@ START_TEST(t_adaptive_far_pairs) {
 }
 END_TEST
 
+/* Two people walking in file at 49 m, the one behind 1.4 m farther and a
+ * little to the side (adjacent columns, the same rows): two clusters with
+ * the default eps (0.025 x range: 1.24 m there); at the former 0.03 (1.49 m)
+ * they were one. */
+START_TEST(t_adaptive_people_in_file) {
+  rs_cluster_cfg_t cfg;
+  rs_cluster_stats_t st;
+  adaptive_vlp32c(&cfg);
+  ck_assert_float_eq_tol(cfg.adaptive.eps_share, 0.025f, 1e-6f);
+  block(14, 19, 700, 702, 48.2f);
+  block(14, 19, 703, 705, 49.6f);
+  run_adaptive(&cfg, &st);
+  ck_assert_uint_eq(st.clusters, 2);
+  ck_assert_int_ge(lab(16, 702), 3);
+  ck_assert_int_ge(lab(16, 703), 3);
+  ck_assert_int_ne(lab(16, 702), lab(16, 703));
+  cfg.adaptive.eps_share = 0.03f;
+  run_adaptive(&cfg, &st);
+  ck_assert_uint_eq(st.clusters, 1);
+  ck_assert_int_eq(lab(16, 702), lab(16, 703));
+}
+END_TEST
+
 /* A return 3.5 m behind the edge of an object at 150 m (eps there: 2.5 m) is
  * not a core; it joins the object within twice eps. An object whose own
  * cores are 3.5 m behind stays a separate cluster: core cells link within
@@ -418,6 +441,7 @@ int main(void) {
   tcase_add_test(tc, t_adaptive_sparse);
   tcase_add_test(tc, t_adaptive_far_pairs);
   tcase_add_test(tc, t_adaptive_border_eps);
+  tcase_add_test(tc, t_adaptive_people_in_file);
   tcase_add_test(tc, t_see_through_cells_do_not_seed);
   tcase_add_test(tc, t_dual_layer_and_config);
   tcase_add_test(tc, t_dual_layer_method_eps);

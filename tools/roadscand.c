@@ -199,6 +199,10 @@ static const rs_opt_t table[] = {
     RS_OPT_FLT_("border-eps", "F", T, ccfg.adaptive.border_eps, 1.0, 10.0,
                 "fspc-adaptive: a return that is not a core joins a cluster within F times eps of a core "
                 "return of it (core to core: eps)"),
+    RS_OPT_FLT_("eps-share", "F", T, ccfg.adaptive.eps_share, 0.005, 0.2,
+                "fspc-adaptive: eps is max(F, the sensor's median row spacing in radians) x range, within "
+                "0.5 m and --eps: lower keeps people and vehicles one behind the other apart, higher keeps a "
+                "long side seen at a grazing angle together"),
     I("sparse-min-pts", "N", ccfg.adaptive.sparse_min_pts, 1, 255,
       "fspc-adaptive: lowest minPts where the smallest object covers fewer than 3 cells (far away; 2: a "
       "pair of returns)"),

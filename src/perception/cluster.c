@@ -24,7 +24,7 @@ void rs_cluster_cfg_default(rs_cluster_cfg_t *c) {
                                          .sparse_cells = 3.0f,
                                          .sparse_min_pts = 2,
                                          .min_half_w = 2,
-                                         .eps_share = 0.03f,
+                                         .eps_share = 0.025f,
                                          .eps_rows = 1.0f,
                                          .eps_min = 0.5f,
                                          .eps_max = 2.5f,

@@ -23,8 +23,9 @@
  * side), minPts to share of the cells it would fill (at least min_pts, or
  * sparse_min_pts where it fills fewer than sparse_cells, at most
  * max_min_pts; the fields of rs_fspc_adaptive_cfg_t), and eps to
- * 0.03 x range (0.5 to 2.5 m): a car roof seen by one laser near the pole
- * and a pedestrian at 150 m are found; cars queued 2 m apart stay apart.
+ * max(0.025, the median row spacing in radians) x range (0.5 to 2.5 m): a
+ * car roof seen by one laser near the pole and a pedestrian at 150 m are
+ * found; cars queued 2 m apart and people walking 1.5 m apart stay apart.
  * Cells where the static scene has several surfaces (the sensor sees
  * through foliage, or past an edge, to what is behind) give intermittent
  * returns that the background cannot learn; with the model's surface
@@ -75,7 +76,7 @@ typedef struct {
   int min_half_w;        /* the window reaches at least this many columns either side (default
                             2: returns go missing beyond 120 m, a neighbour may be two columns away) */
   float eps_share;       /* eps = clamp(max(share, eps_rows x the sensor's median row spacing in */
-  float eps_rows;        /*   radians) x range, eps_min, eps_max): 0.03, 1.0, 0.5 m, 2.5 m */
+  float eps_rows;        /*   radians) x range, eps_min, eps_max): 0.025, 1.0, 0.5 m, 2.5 m */
   float eps_min;
   float eps_max;
   float border_eps;      /* a cell that is not a core joins a core cell's cluster within this many
