@@ -44,6 +44,8 @@ static long num_after(const char *s, const char *key) {
  * frame when the machine stalls the processing thread for longer than the ring holds, which the
  * tests cannot rule out on a shared machine; they account for it instead */
 static long dropped_frames(const char *s) {
+  const char *summary = strstr(s, "  frames: "); /* the summary's count, not a periodic line's */
+  if (summary != NULL) s = summary;
   const char *p = strstr(s, " dropped");
   ck_assert_msg(p != NULL, "no dropped count in: %s", s);
   while (p > s && p[-1] >= '0' && p[-1] <= '9') p--;
@@ -262,23 +264,34 @@ START_TEST(t_udpm_in_netns) {
   ck_assert_str_eq(slurp(F("noroute.status")), "1\n");
   ck_assert_msg(strstr(noroute, "ip route add 224.0.0.0/4 dev lo") != NULL, "%s", noroute);
   ck_assert_ptr_null(strstr(noroute, "roadscan summary"));
+  /* the frames the capture holds, from the run at full speed with nothing to drop (case 6) */
+  const char *dtrunc = slurp(F("daemon-trunc.txt"));
+  const long all_frames = num_after(dtrunc, "frames: ");
+  ck_assert_int_eq(dropped_frames(dtrunc), 0);
+  ck_assert_int_ge(all_frames, 30);
   /* 2. every frame's list arrived, in order, no gaps */
   const char *daemon = slurp(F("daemon.txt"));
   ck_assert_str_eq(slurp(F("daemon.status")), "0\n");
+  /* a paced replay may drop frames when the machine is busy (how many depends on its speed, so it is
+     reported, never bounded): every frame is either processed and published, or counted as dropped */
   long frames = num_after(daemon, "frames: ");
-  ck_assert_int_ge(frames, 29);
+  ck_assert_int_gt(frames, 0);
   ck_assert_int_eq(num_after(daemon, "lcm: "), frames);
   const long dropped = dropped_frames(daemon);
-  ck_assert_int_le(dropped, 2);
+  ck_assert_int_eq(frames + dropped, all_frames);
+  if (dropped > 0) printf("t_udpm_in_netns: the paced replay dropped %ld frames on this machine\n", dropped);
   char *live = slurp(F("live.json"));
   char *live_lists = lists_only(live);
   ck_assert_int_eq(count_lines(live_lists, "\"frame_seq\":"), frames);
   ck_assert_int_eq(count_lines(live, "\"schema\":\"roadscan.stats/1\""), frames);
-  long present = 0; /* every processed frame's list arrived: the frame numbers but the dropped ones */
+  long present = 0, first = -1, last = -1; /* every processed frame's list arrived: the frame numbers but the dropped ones */
   for (long i = 0; i < frames + dropped; i++) {
     char want[64];
     snprintf(want, sizeof want, "\"frame_seq\":%ld,", i);
-    present += strstr(live_lists, want) != NULL;
+    if (strstr(live_lists, want) == NULL) continue;
+    present++;
+    if (first < 0) first = i;
+    last = i;
   }
   ck_assert_int_eq(present, frames);
   /* the centroids received agree with the simulator's true objects */
@@ -286,8 +299,8 @@ START_TEST(t_udpm_in_netns) {
   centroids_vs_truth(live_lists, &cent);
   tu_centroids_check(&cent, "daemon over udpm");
   const char *live_err = slurp(F("live.err"));
-  char gaps_want[32]; /* the listener sees a dropped frame as a gap in the frame numbers, and nothing else */
-  snprintf(gaps_want, sizeof gaps_want, "gaps %ld,", dropped);
+  char gaps_want[32]; /* the listener sees a dropped frame between two it got as a gap in the frame numbers */
+  snprintf(gaps_want, sizeof gaps_want, "gaps %ld,", last - first + 1 - frames);
   ck_assert_msg(strstr(live_err, gaps_want) != NULL && strstr(live_err, "malformed 0") != NULL, "%s", live_err);
   ck_assert_int_ge(count_lines(daemon, "roadscand: last "), 2);
   /* 3. the lcm-logger log decodes to exactly the same object lists */
@@ -296,11 +309,12 @@ START_TEST(t_udpm_in_netns) {
   ck_assert_msg(strcmp(from_log, live_lists) == 0, "the logged lists differ from the live ones");
   /* 4. and lcm-logplayer plays them back unchanged */
   ck_assert_msg(strcmp(slurp(F("replay.json")), from_log) == 0, "the replayed lists differ from the log");
-  /* 5. a slow subscriber costs the daemon nothing; it reads late, or misses lists it counts as gaps */
+  /* 5. a slow subscriber never holds the daemon back: every processed frame is published, the rest are
+     counted as dropped; the subscriber reads late, or misses lists it counts as gaps */
   const char *dslow = slurp(F("daemon-slow.txt"));
   long sframes = num_after(dslow, "frames: ");
   const long sdropped = dropped_frames(dslow);
-  ck_assert_int_le(sdropped, 2);
+  ck_assert_int_eq(sframes + sdropped, all_frames);
   ck_assert_int_eq(num_after(dslow, "lcm: "), sframes);
   const char *slow_err = slurp(F("slow.err"));
   long got = num_after(slow_err, "lists "), gaps = num_after(slow_err, "gaps ");
@@ -308,7 +322,7 @@ START_TEST(t_udpm_in_netns) {
   ck_assert_int_le(got + gaps, sframes + sdropped); /* frame numbers: those published and those dropped */
   ck_assert_int_ge(got + gaps, sframes + sdropped - 1); /* only the tail can be lost unseen */
   /* 6. truncation: flagged in the lists and counted by the daemon */
-  const char *dtrunc = slurp(F("daemon-trunc.txt"));
+  dtrunc = slurp(F("daemon-trunc.txt")); /* read again: slurp reuses its buffers */
   ck_assert_int_eq(num_after(dtrunc, "?ttl=0; "), num_after(dtrunc, "lcm: ")); /* "N truncated": every list */
   ck_assert_int_gt(count_lines(slurp(F("trunc.json")), "\"truncated\":true"), 0);
 #undef F
