@@ -3,7 +3,7 @@
  * coasting tracks not counted, intervals on multiples of the interval,
  * tracks forgotten, the site frame of a pose, bad lines; zones: entries,
  * exits, occupancy, a track first seen inside, tentative and coasting
- * tracks, bad zones. */
+ * tracks, bad zones; hidden crossings (a track first seen past a line). */
 #include "roadscan/perception/count.h"
 #include "roadscan/util/error.h"
 #include "testutil.h"
@@ -218,6 +218,82 @@ START_TEST(t_zones) {
 }
 END_TEST
 
+/* A far-lane car hidden by the near lanes' traffic until it is past the line:
+ * first seen 6 m past it, moving away at 8 m/s, it is counted once, in its
+ * direction, at its first confirmed frame. Not counted: the same when its
+ * earlier track was counted crossing there (the vehicle seen before it was
+ * hidden), one first seen in the run's first frame (it may have crossed
+ * before the run), one moving slower than 1 m/s, one first seen farther
+ * than hidden_s of its motion from the line, and any with hidden_s = 0. */
+static void drive(uint32_t id, double t0, double x0, double vx, int frames, int tentative) {
+  for (int f = 0; f < frames; f++) {
+    tl.count = 0;
+    one(id, f < tentative ? RS_TRACK_TENTATIVE : RS_TRACK_CONFIRMED, RS_CLASS_CAR, x0 + vx * 0.1 * f, 3.0);
+    rs_count_frame(&cnt, &tl, t0 + 0.1 * f);
+  }
+}
+
+START_TEST(t_hidden_crossings) {
+  static const char *const l[] = {"gate 0 -5 0 5"}; /* forward: towards -x */
+  /* the run starts at t = 50 with an empty frame */
+  setup(l, 1, NULL, 60);
+  tl.count = 0;
+  rs_count_frame(&cnt, &tl, 50.0);
+  drive(1, 51.0, -6.0, -8.0, 6, 3);
+  ck_assert_uint_eq(cnt.crossings, 1);
+  ck_assert_uint_eq(cnt.hidden, 1);
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_CAR], 1);
+  ck_assert_uint_eq(sum(cnt.total[0].backward), 0);
+  /* the other way: backward */
+  drive(2, 53.0, 5.0, 6.0, 6, 3);
+  ck_assert_uint_eq(cnt.hidden, 2);
+  ck_assert_uint_eq(sum(cnt.total[0].backward), 1);
+  /* off: nothing inferred */
+  setup(l, 1, NULL, 60);
+  cnt.hidden_s = 0;
+  tl.count = 0;
+  rs_count_frame(&cnt, &tl, 50.0);
+  drive(1, 51.0, -6.0, -8.0, 6, 3);
+  ck_assert_uint_eq(cnt.crossings, 0);
+
+  /* seen crossing by track 3 (x 4 -> -4 at 8 m/s, crossing at t = 60.5), lost at
+   * -4 m, taken up by track 4 first seen at -8 m at t = 61.0: the same car */
+  setup(l, 1, NULL, 60);
+  tl.count = 0;
+  rs_count_frame(&cnt, &tl, 50.0);
+  drive(3, 60.0, 4.0, -8.0, 11, 0);
+  ck_assert_uint_eq(cnt.crossings, 1);
+  drive(4, 61.0, -8.0, -8.0, 6, 3);
+  ck_assert_uint_eq(cnt.crossings, 1);
+  ck_assert_uint_eq(cnt.hidden, 0);
+  ck_assert_uint_eq(cnt.hidden_dup, 1);
+  /* a car in the next lane at the same time is another car: counted */
+  for (int f = 0; f < 6; f++) {
+    tl.count = 0;
+    one(5, f < 3 ? RS_TRACK_TENTATIVE : RS_TRACK_CONFIRMED, RS_CLASS_CAR, -8.0 - 0.8 * f, -0.5);
+    rs_count_frame(&cnt, &tl, 61.0 + 0.1 * f);
+  }
+  ck_assert_uint_eq(cnt.hidden, 1);
+  ck_assert_uint_eq(cnt.crossings, 2);
+
+  /* first seen in the run's first frame: not counted */
+  setup(l, 1, NULL, 60);
+  drive(6, 70.0, -2.0, -8.0, 6, 3);
+  ck_assert_uint_eq(cnt.crossings, 0);
+  /* slower than 1 m/s (a queue creeping): not counted */
+  drive(7, 71.0, -1.0, -0.5, 10, 3);
+  ck_assert_uint_eq(cnt.crossings, 0);
+  /* first seen 30 m past the line at 8 m/s: more than 3 s of its motion away */
+  drive(8, 72.0, -30.0, -8.0, 6, 3);
+  ck_assert_uint_eq(cnt.crossings, 0);
+  /* moving towards the line from past it: it crosses it (backward), seen */
+  drive(9, 73.0, -6.0, 8.0, 12, 3);
+  ck_assert_uint_eq(cnt.crossings, 1);
+  ck_assert_uint_eq(sum(cnt.total[0].backward), 1);
+  ck_assert_uint_eq(cnt.hidden, 0);
+}
+END_TEST
+
 START_TEST(t_bad_lines) {
   rs_count_line_t line;
   char err[RS_ERRMSG_SIZE];
@@ -273,6 +349,7 @@ int main(void) {
   tcase_add_test(tc, t_site_frame);
   tcase_add_test(tc, t_bad_lines);
   tcase_add_test(tc, t_zones);
+  tcase_add_test(tc, t_hidden_crossings);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

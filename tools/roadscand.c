@@ -56,6 +56,7 @@ typedef struct {
   rs_count_lines_t lines;
   rs_count_zones_t zones;
   double count_interval;
+  double count_hidden;
   int method;            /* rs_cluster_method_t */
   double eps;            /* the method's, when given */
   int min_pts;           /* the method's, when given */
@@ -232,6 +233,10 @@ static const rs_opt_t table[] = {
      .help = "a zone: a polygon of 3 to 16 corners in order (metres, the frame of --count-line); up to 8; confirmed "
              "tracks that enter and exit it, by class, and the most inside at once"},
     D("count-interval", "S", count_interval, 1.0, 86400.0, "counts per interval of S seconds of sensor time"),
+    D("count-hidden", "S", count_hidden, 0.0, 10.0,
+      "a track first seen past a line, moving away from it, crossed it unseen when its path run back S seconds "
+      "meets the line (a far lane hidden by the near lanes' traffic); not when the vehicle's earlier track was "
+      "counted there (0 = off)"),
     S("counts-out", "FILE", cfg.counts_out, "CSV t_start,t_end,line,direction,class,count per closed interval"),
     RS_OPT_HEAD("lcm", "LCM: per frame an object list, a track list and a statistics message; an event per "
                        "track that ends"),
@@ -319,6 +324,7 @@ int main(int argc, char **argv) {
   rs_cluster_cfg_default(&st.ccfg);
   rs_track_cfg_default(&st.tcfg);
   st.count_interval = 60.0;
+  st.count_hidden = 3.0;
   st.buffer_kib = RS_CAPTURE_BUFFER_DEFAULT / 1024;
   st.pub = (rs_publish_cfg_t){.channel = RS_PUB_DEFAULT_CHANNEL,
                               .stats_channel = RS_PUB_DEFAULT_STATS,
@@ -453,6 +459,7 @@ int main(int argc, char **argv) {
                       sizeof err) != RS_OK ||
         rs_count_add_zones(&counter, st.zones.zone, st.zones.n, err, sizeof err) != RS_OK)
       return bad(err);
+    counter.hidden_s = st.count_hidden;
     cfg->counter = &counter;
   }
   if (!st.no_publish) {

@@ -657,6 +657,9 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
       fprintf(out, "%s zone %s entered %u, exited %u, inside now %u (at most %u)", c->nlines || z ? ";" : "",
               c->zones[z].name, in, out_n, c->zone_total[z].occupancy, c->zone_total[z].occupancy_max);
     }
+    if (c->nlines)
+      fprintf(out, "; of the crossings %llu hidden (tracks first seen past a line; %llu more were the same vehicle's)",
+              (unsigned long long)c->hidden, (unsigned long long)c->hidden_dup);
     fprintf(out, "\n");
   }
   if (p->cfg.publish) {

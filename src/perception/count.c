@@ -189,6 +189,8 @@ int rs_count_init(rs_counter_t *c, const rs_count_line_t *lines, int nlines, con
   }
   c->nlines = nlines;
   c->interval_s = interval_s;
+  c->hidden_s = 3.0;
+  c->t_first = -1.0;
   c->cur.t_start = c->cur.t_end = -1.0;
   if (pose) {
     /* the ground-plane part of site = R p + t */
@@ -220,6 +222,64 @@ static int crosses(const rs_count_line_t *l, double x0, double y0, double x1, do
 
 int rs_count_crosses(const rs_count_line_t *l, double x0, double y0, double x1, double y1) {
   return crosses(l, x0, y0, x1, y1);
+}
+
+/* where P0 -> P1 meets line l's support: the share u along P0 -> P1 and the
+ * distance s from A along the line (for steps that cross it) */
+static void meet(const rs_count_line_t *l, double x0, double y0, double x1, double y1, double *u, double *s) {
+  const double d0 = cross(l->ax, l->ay, l->bx, l->by, x0, y0), d1 = cross(l->ax, l->ay, l->bx, l->by, x1, y1);
+  *u = d0 != d1 ? d0 / (d0 - d1) : 0.0;
+  const double px = x0 + *u * (x1 - x0), py = y0 + *u * (y1 - y0), len = hypot(l->bx - l->ax, l->by - l->ay);
+  *s = ((px - l->ax) * (l->bx - l->ax) + (py - l->ay) * (l->by - l->ay)) / len;
+}
+
+static void remember(rs_counter_t *c, int l, double t, double s, int dir) {
+  const uint32_t k = c->recent_n[l]++ % RS_COUNT_RECENT;
+  c->recent[l][k].t = t;
+  c->recent[l][k].s = s;
+  c->recent[l][k].dir = dir;
+}
+
+#define HIDDEN_DT 1.5 /* s: a counted crossing this close in time ... */
+#define HIDDEN_DS 2.5 /* m: ... and along the line is the same vehicle's */
+#define HIDDEN_MIN_SPEED 1.0
+
+static bool counted_near(const rs_counter_t *c, int l, double t, double s, int dir) {
+  const uint32_t n = c->recent_n[l] < RS_COUNT_RECENT ? c->recent_n[l] : RS_COUNT_RECENT;
+  for (uint32_t k = 0; k < n; k++)
+    if (c->recent[l][k].dir == dir && fabs(c->recent[l][k].t - t) <= HIDDEN_DT && fabs(c->recent[l][k].s - s) <= HIDDEN_DS)
+      return true;
+  return false;
+}
+
+static void tally(rs_counter_t *c, int l, int dir, unsigned cls) {
+  if (dir > 0) {
+    c->cur.line[l].forward[cls]++;
+    c->total[l].forward[cls]++;
+  } else {
+    c->cur.line[l].backward[cls]++;
+    c->total[l].backward[cls]++;
+  }
+  c->crossings++;
+}
+
+/* Line l for a track at its first confirmed frame (t, x, y) that was first
+ * seen at (x0, y0) at time t0 and did not cross it since: did it cross it
+ * unseen just before (the header's hidden crossings)? The direction, or 0. */
+static int hidden_crossing(rs_counter_t *c, int l, double t0, double x0, double y0, double t, double x, double y,
+                           double *t_cross, double *s_cross) {
+  if (!(c->hidden_s > 0) || !(t > t0)) return 0;
+  const double vx = (x - x0) / (t - t0), vy = (y - y0) / (t - t0);
+  if (hypot(vx, vy) < HIDDEN_MIN_SPEED) return 0;
+  const double bx = x0 - vx * c->hidden_s, by = y0 - vy * c->hidden_s; /* where it was hidden_s before */
+  const int dir = crosses(&c->lines[l], bx, by, x0, y0);
+  if (dir == 0) return 0;
+  double u, s;
+  meet(&c->lines[l], bx, by, x0, y0, &u, &s);
+  *t_cross = t0 - (1.0 - u) * c->hidden_s;
+  *s_cross = s;
+  if (*t_cross < c->t_first) return 0; /* before the run: not a crossing of it */
+  return dir;
 }
 
 /* the zones (x, y) is inside, as a mask */
@@ -269,6 +329,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
     closed = true;
   }
   c->frame_no++;
+  if (c->t_first < 0) c->t_first = t;
   uint32_t occupancy[RS_COUNT_ZONES] = {0};
   const uint32_t n = tl->count < RS_TRACK_MAX ? tl->count : RS_TRACK_MAX;
   for (uint32_t k = 0; k < n; k++) {
@@ -293,23 +354,36 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       c->slot[i].inside = zones_at(c, x, y); /* inside when first seen: not an entry */
       c->slot[i].x = x; /* where it was first seen: crossings while tentative count when it is confirmed */
       c->slot[i].y = y;
+      c->slot[i].t0 = t;
+      c->slot[i].confirmed = false;
     }
     c->slot[i].frame = c->frame_no;
     if (tr->state != RS_TRACK_CONFIRMED) continue; /* tentative, or coasting on a prediction */
+    const bool first_confirmed = !c->slot[i].confirmed;
+    c->slot[i].confirmed = true;
+    const unsigned ccls = (unsigned)tr->cls < RS_CLASS_COUNT ? (unsigned)tr->cls : 0;
     for (int l = 0; l < c->nlines; l++) {
       if (c->slot[i].counted & (1u << l)) continue;
-      const int dir = crosses(&c->lines[l], c->slot[i].x, c->slot[i].y, x, y);
+      const double px = c->slot[i].x, py = c->slot[i].y;
+      int dir = crosses(&c->lines[l], px, py, x, y);
+      if (dir != 0) {
+        double u, s;
+        meet(&c->lines[l], px, py, x, y, &u, &s);
+        remember(c, l, t, s, dir);
+      } else if (first_confirmed) {
+        double tc = 0, sc = 0;
+        dir = hidden_crossing(c, l, c->slot[i].t0, px, py, t, x, y, &tc, &sc);
+        if (dir == 0) continue;
+        if (counted_near(c, l, tc, sc, dir)) {
+          c->hidden_dup++;
+          continue;
+        }
+        remember(c, l, tc, sc, dir);
+        c->hidden++;
+      }
       if (dir == 0) continue;
       c->slot[i].counted |= (uint16_t)(1u << l);
-      const unsigned cls = (unsigned)tr->cls < RS_CLASS_COUNT ? (unsigned)tr->cls : 0;
-      if (dir > 0) {
-        c->cur.line[l].forward[cls]++;
-        c->total[l].forward[cls]++;
-      } else {
-        c->cur.line[l].backward[cls]++;
-        c->total[l].backward[cls]++;
-      }
-      c->crossings++;
+      tally(c, l, dir, ccls);
     }
     c->slot[i].x = x;
     c->slot[i].y = y;

@@ -19,6 +19,18 @@
  * largest occupancy it saw. Whether a track was inside is remembered from its
  * first position, as the last position is for lines.
  *
+ * Hidden crossings: a track first seen past a line, moving away from it, may
+ * have crossed it unseen (a vehicle on a far lane hidden by the near lanes'
+ * traffic until it is over the line). At its first confirmed frame, its
+ * path is run back from where it was first seen, at its mean velocity since
+ * then (at least 1 m/s), for at most `hidden_s` seconds (default 3, 0 =
+ * off): when that meets a line it was not counted on, at a time after the
+ * run's first frame, it is counted as crossed there, unless a crossing of
+ * that line in the same direction was counted within 1.5 s and 2.5 m of it
+ * (the same vehicle, counted by the track it had before it was hidden).
+ * Every counted crossing is remembered per line (time, place along it) for
+ * that check: the last RS_COUNT_RECENT.
+ *
  * Per-track memory (last position, lines already counted, zones inside) lives
  * in a fixed table keyed by track id; a track no longer in the list is forgotten. */
 #ifndef ROADSCAN_COUNT_H
@@ -35,6 +47,7 @@
 #define RS_COUNT_ZONE_VERTICES 16
 #define RS_COUNT_NAME 32
 #define RS_COUNT_SLOTS (2 * RS_TRACK_MAX) /* open addressing: at most half full */
+#define RS_COUNT_RECENT 32                /* crossings remembered per line (hidden crossings' check) */
 
 _Static_assert(RS_COUNT_LINES <= 16, "lines counted per track fit in a uint16_t mask");
 _Static_assert(RS_COUNT_ZONES <= 8, "zones a track is inside fit in a uint8_t mask");
@@ -79,10 +92,21 @@ typedef struct {
   rs_count_interval_t cur, closed;       /* the open interval, the last closed one */
   rs_count_tally_t total[RS_COUNT_LINES];
   uint64_t intervals, crossings, zone_events, forgotten_full;
+  uint64_t hidden;                       /* of the crossings: inferred for tracks first seen past a line */
+  uint64_t hidden_dup;                   /* hidden crossings not counted: the vehicle's earlier track was */
+  double hidden_s;                       /* how far back a track's path is run (s; 0 = off); default 1.5 */
+  double t_first;                        /* the run's first frame (s) */
+  struct {
+    double t, s;                         /* when, and where along the line (m from A) */
+    int dir;
+  } recent[RS_COUNT_LINES][RS_COUNT_RECENT];
+  uint32_t recent_n[RS_COUNT_LINES];     /* crossings recorded (the ring holds the last RS_COUNT_RECENT) */
   struct {
     uint32_t id;                         /* 0 = free */
     uint16_t counted;                    /* lines this track was counted on */
     uint8_t inside;                      /* zones it is inside (as of its last confirmed frame, or first seen) */
+    bool confirmed;                      /* it had a confirmed frame */
+    double t0;                           /* when it was first seen */
     uint32_t frame;                      /* last frame it was seen (low 32 bits) */
     double x, y;                         /* last position, site frame */
   } slot[RS_COUNT_SLOTS];
