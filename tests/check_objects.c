@@ -151,6 +151,15 @@ START_TEST(test_centroid_and_extents) {
   ck_assert_float_eq_tol(o->az_end, 24.0f, 1e-4f);
   ck_assert_float_eq_tol(o->range_min, 21.0f, 1e-4f);
   ck_assert_float_eq_tol(o->intensity_mean, 9.5f, 1e-4f);
+  /* the gaps to rows 7 and 2 at 21 m: what the sensor could have missed above and below */
+  {
+    const double tn = tan(sensor.elevation_deg[sensor.laser_of_row[7]] * PI / 180.0) -
+                      tan(sensor.elevation_deg[sensor.laser_of_row[6]] * PI / 180.0) +
+                      tan(sensor.elevation_deg[sensor.laser_of_row[3]] * PI / 180.0) -
+                      tan(sensor.elevation_deg[sensor.laser_of_row[2]] * PI / 180.0);
+    ck_assert_float_gt(o->height_gap, 0.1f);
+    ck_assert_float_eq_tol(o->height_gap, 21.0 * tn, 1e-3);
+  }
 }
 END_TEST
 

@@ -194,6 +194,27 @@ START_TEST(t_reacquired_after_long_occlusion) {
 }
 END_TEST
 
+/* a pedestrian at 30 m seen by a sparse sensor: its returns span 0.4 m of
+ * its height (one or two rows), the rows beside them 1 m more: a
+ * pedestrian, not unknown; with no such gap (a dense sensor that saw all
+ * of it), a 0.4 m tall walker-sized object stays unknown */
+START_TEST(t_sparse_pedestrian) {
+  for (int gap = 0; gap < 2; gap++) {
+    init_default();
+    for (int f = 0; f < 40; f++) {
+      double t = 0.1 * f;
+      clear();
+      put(t, 3.0, 30 - 1.3 * t, 0.5, 0.4, 0.0, 0.4, 12);
+      objs.obj[0].height_gap = gap ? 1.0f : 0.0f;
+      rs_track_frame(&tr, &objs, t + 0.05);
+    }
+    ck_assert_uint_eq(tr.n.born, 1);
+    ck_assert_int_eq(tr.list.track[0].state, RS_TRACK_CONFIRMED);
+    ck_assert_int_eq(tr.list.track[0].cls, gap ? RS_CLASS_PEDESTRIAN : RS_CLASS_UNKNOWN);
+  }
+}
+END_TEST
+
 /* two cars queued at the line, their clusters merged into one for 1 s:
  * both keep their ids, no new track */
 START_TEST(t_queued_merge) {
@@ -436,6 +457,7 @@ int main(void) {
   tcase_add_test(tc, t_stop_and_go);
   tcase_add_test(tc, t_occlusion);
   tcase_add_test(tc, t_reacquired_after_long_occlusion);
+  tcase_add_test(tc, t_sparse_pedestrian);
   tcase_add_test(tc, t_queued_merge);
   tcase_add_test(tc, t_split);
   tcase_add_test(tc, t_foliage_never_confirms);

@@ -76,6 +76,7 @@ static rs_stream_t stream;
 typedef struct {
   double t, x, y, vx, vy;
   bool vehicle;
+  uint8_t cls; /* the tracker's class of the true one (truth_class) */
 } st_row_t;
 typedef struct {
   uint64_t key; /* frame << 32 | track id */
@@ -108,6 +109,16 @@ typedef struct {
 } span_t;
 static span_t *spans;
 static st_row_t *by_id;
+
+/* the tracker's class for a class of the simulator's truth (van and truck: van/truck) */
+static rs_class_t truth_class(const char *c) {
+  if (strcmp(c, "car") == 0) return RS_CLASS_CAR;
+  if (strcmp(c, "van") == 0 || strcmp(c, "truck") == 0) return RS_CLASS_VAN_TRUCK;
+  if (strcmp(c, "bus") == 0) return RS_CLASS_BUS;
+  if (strcmp(c, "pedestrian") == 0) return RS_CLASS_PEDESTRIAN;
+  if (strcmp(c, "cyclist") == 0) return RS_CLASS_CYCLIST;
+  return RS_CLASS_UNKNOWN;
+}
 
 static int load_states(const char *path) {
   FILE *f = fopen(path, "r");
@@ -148,7 +159,7 @@ static int load_states(const char *path) {
       sp.cap = nc;
     }
     bool veh = strcmp(cls, "pedestrian") != 0 && strcmp(cls, "cyclist") != 0;
-    sp.rows[sp.n] = (st_row_t){t, x, y, vx, vy, veh};
+    sp.rows[sp.n] = (st_row_t){t, x, y, vx, vy, veh, (uint8_t)truth_class(cls)};
     sp.ids[sp.n++] = id;
     if (id > sp.max_id) sp.max_id = id;
   }
@@ -299,6 +310,14 @@ static settings_t st;
 
 /* per line and direction: crossings counted (from the counts CSV) and true ones */
 static uint64_t pred_count[RS_COUNT_LINES][2], true_count[RS_COUNT_LINES][2];
+/* the same by class (the tracker's classes; the truth's mapped by truth_class) */
+static uint64_t pred_cls[RS_COUNT_LINES][2][RS_CLASS_COUNT], true_cls[RS_COUNT_LINES][2][RS_CLASS_COUNT];
+
+static int class_index(const char *name) {
+  for (int k = 0; k < RS_CLASS_COUNT; k++)
+    if (strcmp(rs_class_name((rs_class_t)k), name) == 0) return k;
+  return -1;
+}
 
 static int load_counts(const char *path) {
   FILE *f = fopen(path, "r");
@@ -323,9 +342,19 @@ static int load_counts(const char *path) {
       fclose(f);
       return -1;
     }
-    if (strcmp(cls, "all") != 0) continue;
-    for (int l = 0; l < st.lines.n; l++)
-      if (strcmp(st.lines.line[l].name, name) == 0) pred_count[l][strcmp(dir, "forward") == 0 ? 0 : 1] += n;
+    const int d = strcmp(dir, "forward") == 0 ? 0 : 1, k = class_index(cls);
+    if (strcmp(cls, "all") != 0 && k < 0) {
+      snprintf(sp.err, sizeof sp.err, "--counts %s:%ld: unknown class '%s'", path, ln, cls);
+      fclose(f);
+      return -1;
+    }
+    for (int l = 0; l < st.lines.n; l++) {
+      if (strcmp(st.lines.line[l].name, name) != 0) continue;
+      if (k < 0)
+        pred_count[l][d] += n;
+      else
+        pred_cls[l][d][k] += n;
+    }
   }
   fclose(f);
   return 0;
@@ -365,6 +394,7 @@ static int load_crossings(const char *path) {
       return -1;
     }
     true_count[l][strcmp(dir, "forward") == 0 ? 0 : 1]++;
+    true_cls[l][strcmp(dir, "forward") == 0 ? 0 : 1][truth_class(cls)]++;
   }
   fclose(f);
   return 0;
@@ -379,6 +409,7 @@ static void true_crossings(void) {
         const int d = rs_count_crosses(&st.lines.line[l], r[k - 1].x, r[k - 1].y, r[k].x, r[k].y);
         if (d == 0) continue;
         true_count[l][d > 0 ? 0 : 1]++;
+        true_cls[l][d > 0 ? 0 : 1][r[0].cls]++;
         break;
       }
   }
@@ -388,6 +419,21 @@ static json_t *jnum(double v) { return isnan(v) || isinf(v) ? json_null() : json
 
 /* counts against the truth: printed, or (json) added to the report */
 static void print_counts(FILE *out, json_t *json) {
+  /* by class: the share of true crossings not matched by one of their class on their line and direction */
+  uint64_t miss = 0, all = 0;
+  for (int l = 0; l < st.lines.n; l++)
+    for (int d = 0; d < 2; d++)
+      for (int k = 0; k < RS_CLASS_COUNT; k++) {
+        miss += pred_cls[l][d][k] > true_cls[l][d][k] ? pred_cls[l][d][k] - true_cls[l][d][k]
+                                                      : true_cls[l][d][k] - pred_cls[l][d][k];
+        all += true_cls[l][d][k];
+      }
+  const double cls_err = all ? (double)miss / (double)all : NAN;
+  if (json)
+    json_object_set_new(json, "class_count_error", jnum(cls_err));
+  else
+    fprintf(out, "  counts by class: sum over lines, directions and classes of |counted - true| = %.1f %% of %llu true "
+                 "crossings\n", 100.0 * cls_err, (unsigned long long)all);
   for (int l = 0; l < st.lines.n; l++)
     for (int d = 0; d < 2; d++) {
       const double err = true_count[l][d] ? fabs((double)pred_count[l][d] - (double)true_count[l][d]) / (double)true_count[l][d]
@@ -395,8 +441,13 @@ static void print_counts(FILE *out, json_t *json) {
       if (json) {
         char key[1100];
         snprintf(key, sizeof key, "count_%s_%s", st.lines.line[l].name, d == 0 ? "forward" : "backward");
-        json_object_set_new(json, key, json_pack("{s:I, s:I, s:o}", "counted", (json_int_t)pred_count[l][d], "true",
-                                                 (json_int_t)true_count[l][d], "error", jnum(err)));
+        json_t *by = json_object();
+        for (int k = 0; k < RS_CLASS_COUNT; k++)
+          if (pred_cls[l][d][k] || true_cls[l][d][k])
+            json_object_set_new(by, rs_class_name((rs_class_t)k), json_pack("[I, I]", (json_int_t)pred_cls[l][d][k],
+                                                                            (json_int_t)true_cls[l][d][k]));
+        json_object_set_new(json, key, json_pack("{s:I, s:I, s:o, s:o}", "counted", (json_int_t)pred_count[l][d], "true",
+                                                 (json_int_t)true_count[l][d], "error", jnum(err), "by_class", by));
       } else {
         fprintf(out, "  line %s %s: counted %llu, true %llu (error %.1f %%)\n", st.lines.line[l].name,
                 d == 0 ? "forward" : "backward", (unsigned long long)pred_count[l][d],

@@ -11,6 +11,8 @@
 #include "roadscan/util/sort.h"
 
 #include <math.h>
+
+#define RS_OBJ_DEG2RAD 0.017453292519943295
 #include <string.h>
 
 #define PI 3.14159265358979323846
@@ -308,6 +310,20 @@ void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sens
       for (int a = 0; a < 3; a++) g->centroid[a] = (float)(o->sum[f][k][a] / ob->points);
     }
     ob->intensity_mean = (float)(o->isum[k] / ob->points);
+    /* a sparse sensor at range passes over a head and under a bumper: the
+     * rows next to the object's bound how much of it they missed */
+    {
+      const int top = ob->row_max, bot = ob->row_min;
+      const double rr = ob->range_min;
+      double gap = 0.0;
+      if (top + 1 < (int)sen->lasers)
+        gap += rr * (tan(sen->elevation_deg[sen->laser_of_row[top + 1]] * RS_OBJ_DEG2RAD) -
+                     tan(sen->elevation_deg[sen->laser_of_row[top]] * RS_OBJ_DEG2RAD));
+      if (bot > 0)
+        gap += rr * (tan(sen->elevation_deg[sen->laser_of_row[bot]] * RS_OBJ_DEG2RAD) -
+                     tan(sen->elevation_deg[sen->laser_of_row[bot - 1]] * RS_OBJ_DEG2RAD));
+      ob->height_gap = (float)(gap > 0 ? gap : 0.0);
+    }
     ob->t_first = dp > 0 ? t0 + ((double)o->first_pkt[k] - p0) / dp * (t1 - t0) : t0;
     ob->t_last = dp > 0 ? t0 + ((double)o->last_pkt[k] - p0) / dp * (t1 - t0) : t1;
     const uint16_t *cl = o->col_lo_hi[k];

@@ -482,13 +482,13 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
 }
 
 static rs_class_t classify(const rs_track_t *t) {
-  const float L = t->length, W = t->width, H = t->height, V = t->max_speed;
+  const float L = t->length, W = t->width, H = t->height, V = t->max_speed, Hmax = t->height_max;
   if (t->state == RS_TRACK_TENTATIVE) return RS_CLASS_UNKNOWN;
   if (L >= 10.0f) return RS_CLASS_BUS;
   if (L >= 5.6f || (L >= 4.0f && H >= 2.1f)) return RS_CLASS_VAN_TRUCK;
   if (L >= 3.0f && W >= 1.3f) return RS_CLASS_CAR;
   if (L >= 1.2f && W < 1.2f && V >= 2.0f) return RS_CLASS_CYCLIST;
-  if (L < 1.3f && W < 1.3f && H >= 0.9f && H <= 2.3f && V < 4.0f) return RS_CLASS_PEDESTRIAN;
+  if (L < 1.3f && W < 1.3f && Hmax >= 0.9f && H <= 2.3f && V < 4.0f) return RS_CLASS_PEDESTRIAN;
   return RS_CLASS_UNKNOWN;
 }
 
@@ -510,6 +510,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   t->length = smooth(t->length, o->sensor.obb_length, first);
   t->width = smooth(t->width, o->sensor.obb_width, first);
   t->height = smooth(t->height, o->sensor.box_max[2] - o->sensor.box_min[2], first);
+  t->height_max = smooth(t->height_max, o->sensor.box_max[2] - o->sensor.box_min[2] + o->height_gap, first);
   t->z_min = first ? o->sensor.box_min[2] : 0.9f * t->z_min + 0.1f * o->sensor.box_min[2];
   t->hits++;
   t->t_update = tk;

@@ -61,6 +61,8 @@ typedef struct {
   float range_min;          /* nearest return, m */
   float az_start, az_end;   /* degrees, clockwise from az_start to az_end (may wrap) */
   uint16_t row_min, row_max;
+  float height_gap;         /* m: how much taller it may be than its returns show: the vertical gaps
+                               to the rows above and below its own at its range (0 at the top row) */
   uint16_t col_start, col_end; /* map columns, clockwise, may wrap past column 0 */
   float intensity_mean;
   double t_first, t_last;   /* capture time (s) of the first and last point */

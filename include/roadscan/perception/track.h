@@ -51,7 +51,9 @@
  * highest speed seen (V, m/s), the first rule that holds:
  *   bus: L >= 10; van/truck: L >= 5.6, or L >= 4 and H >= 2.1;
  *   car: L >= 3 and W >= 1.3; cyclist: L >= 1.2 and W < 1.2 and V >= 2;
- *   pedestrian: L < 1.3 and W < 1.3 and 0.9 <= H <= 2.3 and V < 4;
+ *   pedestrian: L < 1.3 and W < 1.3 and H <= 2.3 and Hmax >= 0.9 and V < 4,
+ *   Hmax the smoothed height its returns allow (H plus the gaps to the rows
+ *   above and below: a VLP-16 at 30 m sees a walker in one or two rows);
  *   else unknown (and every class while tentative).
  * Ids: a counter from 1, never reused in a run. */
 #ifndef ROADSCAN_TRACK_H
@@ -126,6 +128,7 @@ typedef struct {
   double last_z[2];          /* the last measurement */
   double prev[2];            /* position at the previous frame (path length) */
   float length, width, height, z_min; /* smoothed box */
+  float height_max;                   /* smoothed: height plus the objects' height_gap */
   float heading;             /* radians from +X, counter-clockwise, (-pi, pi] */
   float hcos, hsin;          /* its cosine and sine */
   float speed;               /* reported (0 when still) */
