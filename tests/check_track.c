@@ -215,6 +215,33 @@ START_TEST(t_sparse_pedestrian) {
 }
 END_TEST
 
+/* the class rules, one road user at a time driving 4 s along x at 20 m:
+ * bus, van, car, a car seen edge-on (narrow, 13 m/s: a car, not a
+ * cyclist), a cyclist (5.5 m/s) and a walker */
+START_TEST(t_classes) {
+  static const struct {
+    double len, wid, h, v;
+    rs_class_t want;
+  } u[] = {
+      {12.0, 2.5, 3.2, 11.0, RS_CLASS_BUS}, {5.8, 2.0, 2.2, 12.0, RS_CLASS_VAN_TRUCK}, {4.5, 1.8, 1.5, 13.0, RS_CLASS_CAR},
+      {2.5, 0.8, 0.4, 13.0, RS_CLASS_CAR},  {1.8, 0.6, 1.6, 5.5, RS_CLASS_CYCLIST},     {0.5, 0.4, 1.7, 1.3, RS_CLASS_PEDESTRIAN},
+  };
+  for (size_t k = 0; k < sizeof u / sizeof u[0]; k++) {
+    init_default();
+    for (int f = 0; f < 40; f++) {
+      double t = 0.1 * f;
+      clear();
+      const double x = -20.0 + u[k].v * t;
+      put(t, x, 20.0, u[k].len, u[k].wid, 0.0, u[k].h, 200);
+      rs_track_frame(&tr, &objs, t + 0.05);
+    }
+    ck_assert_uint_eq(tr.n.born, 1);
+    ck_assert_msg(tr.list.track[0].cls == u[k].want, "user %zu: class %s, not %s", k, rs_class_name(tr.list.track[0].cls),
+                  rs_class_name(u[k].want));
+  }
+}
+END_TEST
+
 /* two cars queued at the line, their clusters merged into one for 1 s:
  * both keep their ids, no new track */
 START_TEST(t_queued_merge) {
@@ -458,6 +485,7 @@ int main(void) {
   tcase_add_test(tc, t_occlusion);
   tcase_add_test(tc, t_reacquired_after_long_occlusion);
   tcase_add_test(tc, t_sparse_pedestrian);
+  tcase_add_test(tc, t_classes);
   tcase_add_test(tc, t_queued_merge);
   tcase_add_test(tc, t_split);
   tcase_add_test(tc, t_foliage_never_confirms);

@@ -487,6 +487,7 @@ static rs_class_t classify(const rs_track_t *t) {
   if (L >= 10.0f) return RS_CLASS_BUS;
   if (L >= 5.6f || (L >= 4.0f && H >= 2.1f)) return RS_CLASS_VAN_TRUCK;
   if (L >= 3.0f && W >= 1.3f) return RS_CLASS_CAR;
+  if (L >= 1.2f && V >= 9.0f) return RS_CLASS_CAR;
   if (L >= 1.2f && W < 1.2f && V >= 2.0f) return RS_CLASS_CYCLIST;
   if (L < 1.3f && W < 1.3f && Hmax >= 0.9f && H <= 2.3f && V < 4.0f) return RS_CLASS_PEDESTRIAN;
   return RS_CLASS_UNKNOWN;

@@ -50,7 +50,8 @@
  * Class, from the smoothed box (length L, width W, height H, metres) and the
  * highest speed seen (V, m/s), the first rule that holds:
  *   bus: L >= 10; van/truck: L >= 5.6, or L >= 4 and H >= 2.1;
- *   car: L >= 3 and W >= 1.3; cyclist: L >= 1.2 and W < 1.2 and V >= 2;
+ *   car: L >= 3 and W >= 1.3, or L >= 1.2 and V >= 9 (a vehicle seen edge-on);
+ *   cyclist: L >= 1.2 and W < 1.2 and V >= 2;
  *   pedestrian: L < 1.3 and W < 1.3 and H <= 2.3 and Hmax >= 0.9 and V < 4,
  *   Hmax the smoothed height its returns allow (H plus the gaps to the rows
  *   above and below: a VLP-16 at 30 m sees a walker in one or two rows);
