@@ -11,8 +11,6 @@
 #include "roadscan/util/sort.h"
 
 #include <math.h>
-
-#define RS_OBJ_DEG2RAD 0.017453292519943295
 #include <string.h>
 
 #define PI 3.14159265358979323846
@@ -317,11 +315,11 @@ void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sens
       const double rr = ob->range_min;
       double gap = 0.0;
       if (top + 1 < (int)sen->lasers)
-        gap += rr * (tan(sen->elevation_deg[sen->laser_of_row[top + 1]] * RS_OBJ_DEG2RAD) -
-                     tan(sen->elevation_deg[sen->laser_of_row[top]] * RS_OBJ_DEG2RAD));
+        gap += rr * (tan(sen->elevation_deg[sen->laser_of_row[top + 1]] * (PI / 180.0)) -
+                     tan(sen->elevation_deg[sen->laser_of_row[top]] * (PI / 180.0)));
       if (bot > 0)
-        gap += rr * (tan(sen->elevation_deg[sen->laser_of_row[bot]] * RS_OBJ_DEG2RAD) -
-                     tan(sen->elevation_deg[sen->laser_of_row[bot - 1]] * RS_OBJ_DEG2RAD));
+        gap += rr * (tan(sen->elevation_deg[sen->laser_of_row[bot]] * (PI / 180.0)) -
+                     tan(sen->elevation_deg[sen->laser_of_row[bot - 1]] * (PI / 180.0)));
       ob->height_gap = (float)(gap > 0 ? gap : 0.0);
     }
     ob->t_first = dp > 0 ? t0 + ((double)o->first_pkt[k] - p0) / dp * (t1 - t0) : t0;

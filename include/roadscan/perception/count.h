@@ -94,7 +94,7 @@ typedef struct {
   uint64_t intervals, crossings, zone_events, forgotten_full;
   uint64_t hidden;                       /* of the crossings: inferred for tracks first seen past a line */
   uint64_t hidden_dup;                   /* hidden crossings not counted: the vehicle's earlier track was */
-  double hidden_s;                       /* how far back a track's path is run (s; 0 = off); default 1.5 */
+  double hidden_s;                       /* how far back a track's path is run (s; 0 = off); default 3 */
   double t_first;                        /* the run's first frame (s) */
   struct {
     double t, s;                         /* when, and where along the line (m from A) */
