@@ -33,12 +33,12 @@ lines=(--count-line "east 41.5 4.5 41.5 18.5" --count-line "west -18.5 4.5 -18.5
 row() { # tag label
   local tag=$1 label=$2
   $bin/roadscand --pcap "$out/$tag.pcap" --fast --background "$out/$tag.bg" --no-publish --quiet ${extra:-} \
-    --labels-out out/tracking/$tag-labels.csv --tracks-out out/tracking/$tag-tracks.csv \
-    --counts-out out/tracking/$tag-counts.csv "${lines[@]}" 2>/dev/null
-  $bin/roadscan-eval --tracking "$out/$tag.pcap" "$out/$tag-truth.csv" out/tracking/$tag-labels.csv --json \
-    --truth-states "$out/$tag-states.csv" --tracks out/tracking/$tag-tracks.csv \
-    --counts out/tracking/$tag-counts.csv "${lines[@]}" > out/tracking/$tag.json 2>/dev/null
-  python3 - "$label" out/tracking/$tag.json <<'PY'
+    --labels-out out/tracking/$tag${sfx:-}-labels.csv --tracks-out out/tracking/$tag${sfx:-}-tracks.csv \
+    --counts-out out/tracking/$tag${sfx:-}-counts.csv "${lines[@]}" 2>/dev/null
+  $bin/roadscan-eval --tracking "$out/$tag.pcap" "$out/$tag-truth.csv" out/tracking/$tag${sfx:-}-labels.csv --json \
+    --truth-states "$out/$tag-states.csv" --tracks out/tracking/$tag${sfx:-}-tracks.csv \
+    --counts out/tracking/$tag${sfx:-}-counts.csv "${lines[@]}" > out/tracking/$tag${sfx:-}.json 2>/dev/null
+  python3 - "$label" out/tracking/$tag${sfx:-}.json <<'PY'
 import json, sys
 label, path = sys.argv[1:3]
 j = json.load(open(path))
@@ -106,11 +106,11 @@ done
   echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks | speed RMSE | position RMSE | confirmed in 0.3 s | class count error | crossings | per line |"
   echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 } >> "$doc"
-extra="--track-set confirm_still_spread=0"
+extra="--track-set confirm_still_spread=0" sfx=-slow-confirm
 for t in "${tags[@]}"; do
   row "${t%%:*}" "${t#*:}" >> "$doc"
 done
-extra=
+extra= sfx=
 {
   echo
   echo "## Time of the tracker stage"

@@ -30,6 +30,8 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->q_long = 1.0;
   c->meas_sd = 0.15;
   c->meas_sd_per_m = 0.1;
+  c->meas_sd_fit = 0.05;
+  c->meas_sd_misfit = 0.5;
   c->gate_chi2 = 13.8;
   c->gate_m = 4.0;
   c->max_speed = 50.0;
@@ -50,7 +52,8 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
   if (!(cfg->q_accel > 0 && cfg->q_accel < 1000) || !(cfg->q_long > 0 && cfg->q_long < 1000) || !(cfg->meas_sd > 0 && cfg->meas_sd < 10) ||
-      !(cfg->meas_sd_per_m >= 0 && cfg->meas_sd_per_m < 10) || !(cfg->gate_chi2 > 0) || !(cfg->gate_m > 0 && cfg->gate_m <= 20) ||
+      !(cfg->meas_sd_per_m >= 0 && cfg->meas_sd_per_m < 10) || !(cfg->meas_sd_fit >= 0 && cfg->meas_sd_fit <= 5) ||
+      !(cfg->meas_sd_misfit >= 0 && cfg->meas_sd_misfit <= 10) || !(cfg->gate_chi2 > 0) || !(cfg->gate_m > 0 && cfg->gate_m <= 20) ||
       !(cfg->max_speed > 0 && cfg->max_speed <= 100) || !(cfg->init_speed_sd > 0) || !(cfg->init_small_speed_sd > 0) || cfg->birth_points < 1 ||
       cfg->confirm_hits < 1 || !(cfg->confirm_move_m >= 0) || !(cfg->confirm_still_s >= 0) ||
       !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100) ||
@@ -70,6 +73,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
 #define KNOB_INT(f, l, u) {.type = RS_OPT_INT, .name = #f, .arg = "N", .off = offsetof(rs_track_cfg_t, f), .lo = l, .hi = u}
 static const rs_opt_t knobs[] = {
     KNOB(q_accel, 0.01, 100.0),       KNOB(q_long, 0.01, 100.0),       KNOB(meas_sd, 0.01, 5.0),         KNOB(meas_sd_per_m, 0.0, 2.0),
+    KNOB(meas_sd_fit, 0.0, 5.0),      KNOB(meas_sd_misfit, 0.0, 10.0),
     KNOB(gate_chi2, 1.0, 100.0),      KNOB(gate_m, 0.5, 20.0),          KNOB(max_speed, 1.0, 100.0),
     KNOB(init_speed_sd, 0.1, 100.0),  KNOB(init_small_speed_sd, 0.1, 100.0),
     KNOB_INT(birth_points, 1, 10000), KNOB_INT(confirm_hits, 1, 100),
@@ -134,18 +138,35 @@ static void meas(const rs_tracker_t *tr, const rs_object_t *o, double *z, double
 
 #define MAX_SHIFT 3.0 /* m, the most a partial view's centre is moved */
 
+/* track t knows the size of what it follows: confirmed, 5 hits, a vehicle's length */
+static bool size_known(const rs_track_t *t) { return t->state != RS_TRACK_TENTATIVE && t->hits >= 5 && t->length >= 1.5f; }
+
+/* object o's oriented box on track t's axes (u along its heading, v across):
+ * min u, max u, min v, max v */
+static void box_on_axes(const rs_track_t *t, const rs_object_t *o, double e[4]) {
+  const double c = t->hcos, s = t->hsin, dh = (double)o->sensor.obb_heading - t->heading;
+  const double a = 0.5 * o->sensor.obb_length, b = 0.5 * o->sensor.obb_width;
+  const double du = a * fabs(cos(dh)) + b * fabs(sin(dh)), dv = a * fabs(sin(dh)) + b * fabs(cos(dh));
+  const double cu = o->sensor.obb_center[0] * c + o->sensor.obb_center[1] * s;
+  const double cv = -o->sensor.obb_center[0] * s + o->sensor.obb_center[1] * c;
+  e[0] = cu - du, e[1] = cu + du, e[2] = cv - dv, e[3] = cv + dv;
+}
+
 /* The same, as track t sees it: the sensor sees the faces of an object that
  * face it, so a box shorter (narrower) than the track's along its axes is
  * its near part; its centre is moved away from the sensor by half what is
  * missing (at most MAX_SHIFT), on each of the track's axes. Only for
- * tracks whose size is known (confirmed, 5 hits). */
-static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o, double *z, double *sd) {
+ * tracks whose size is known. *misfit: how far the box's extents are from
+ * the track's size (m, both axes; -1 when the size is not known). */
+static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o, double *z, double *sd, double *misfit) {
   meas(tr, o, z, sd);
-  if (t == NULL || t->state == RS_TRACK_TENTATIVE || t->hits < 5 || t->length < 1.5f) return;
+  *misfit = -1.0;
+  if (t == NULL || !size_known(t)) return;
   const double c = t->hcos, s = t->hsin;
-  const double dh = (double)o->sensor.obb_heading - t->heading;
-  const double a = 0.5 * o->sensor.obb_length, b = 0.5 * o->sensor.obb_width;
-  const double ext_u = 2.0 * (a * fabs(cos(dh)) + b * fabs(sin(dh))), ext_v = 2.0 * (a * fabs(sin(dh)) + b * fabs(cos(dh)));
+  double e[4];
+  box_on_axes(t, o, e);
+  const double ext_u = e[1] - e[0], ext_v = e[3] - e[2];
+  *misfit = fabs((double)t->length - ext_u) + fabs((double)t->width - ext_v);
   const double miss_u = fmin(MAX_SHIFT, fmax(0.0, 0.5 * ((double)t->length - ext_u)));
   const double miss_v = fmin(MAX_SHIFT, fmax(0.0, 0.5 * ((double)t->width - ext_v)));
   const double pu = z[0] * c + z[1] * s, pv = -z[0] * s + z[1] * c; /* the centre on the track's axes */
@@ -153,6 +174,14 @@ static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_objec
   z[0] += su * c - sv * s;
   z[1] += su * s + sv * c;
   *sd += 0.5 * (miss_u + miss_v); /* the move is a guess: less sure the more it moves */
+}
+
+/* the noise of track t's update by an object whose box misses its size by
+ * misfit (meas_for): the box of a whole view is good to a few centimetres,
+ * a partial one (a vehicle coming into view, half hidden, split) is not */
+static double update_sd(const rs_tracker_t *tr, double sd, double misfit) {
+  if (misfit < 0 || tr->cfg.meas_sd_fit <= 0) return sd;
+  return tr->cfg.meas_sd_fit + tr->cfg.meas_sd_misfit * misfit;
 }
 
 /* The acceleration spectral density of track t on the ground plane (xx, xy,
@@ -273,6 +302,18 @@ static bool in_track_box(const rs_track_t *t, double px, double py) {
   const double dx = px - t->x[0], dy = py - t->x[1];
   const double u = dx * c + dy * s, v = -dx * s + dy * c;
   return fabs(u) <= 0.5 * t->length + RS_TRACK_SPLIT_MARGIN && fabs(v) <= 0.5 * t->width + 0.5 * RS_TRACK_SPLIT_MARGIN;
+}
+
+/* objects a (taken by track t this frame) and b fit together in t's known
+ * size (grown by RS_TRACK_SPLIT_MARGIN both ways): parts of one vehicle (a
+ * far car's near side and its roof, apart by a row's gap) */
+static bool fits_with(const rs_track_t *t, const rs_object_t *a, const rs_object_t *b) {
+  if (!size_known(t)) return false;
+  double ea[4], eb[4];
+  box_on_axes(t, a, ea);
+  box_on_axes(t, b, eb);
+  return fmax(ea[1], eb[1]) - fmin(ea[0], eb[0]) <= t->length + RS_TRACK_SPLIT_MARGIN &&
+         fmax(ea[3], eb[3]) - fmin(ea[2], eb[2]) <= t->width + RS_TRACK_SPLIT_MARGIN;
 }
 
 /* ---- object lookup grid (hash of 4 m cells) ----------------------------- */
@@ -444,7 +485,8 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
           double z[2], sd, p[2], S[3];
           meas(tr, o, z, &sd);
           if ((long)floor(z[0] / GRID) != gx || (long)floor(z[1] / GRID) != gy) continue; /* another cell, same bucket */
-          meas_for(tr, t, o, z, &sd);
+          double misfit;
+          meas_for(tr, t, o, z, &sd, &misfit);
           const double tk = tr->obj_t[k];
           predict_pos(tr, t, tk, p, S);
           const double dx = z[0] - p[0], dy = z[1] - p[1], d = sqrt(dx * dx + dy * dy);
@@ -456,6 +498,8 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
           if (!(det > 0)) continue;
           const double m2 = (dx * dx * s11 - 2 * dx * dy * s01 + dy * dy * s00) / det;
           if (m2 > cf->gate_chi2) continue;
+          /* a pedestrian does not turn into a vehicle (one passing where it walked, or was last seen) */
+          if (t->cls == RS_CLASS_PEDESTRIAN && o->sensor.obb_length > RS_TRACK_PED_MAX_LENGTH) continue;
           /* and how unlike the track's last object it is: a track keeps its object, not a fragment beside it */
           /* (beyond what counting noise explains: 3 sd of the smaller count) */
           const double lo = o->points < t->points ? o->points : t->points, hi = o->points < t->points ? t->points : o->points;
@@ -500,13 +544,13 @@ static float smooth(float cur, float obs, bool first) {
 
 /* track t took object o (measured at tk) */
 static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double tk) {
-  double z[2], sd;
-  meas_for(tr, t, o, z, &sd);
+  double z[2], sd, misfit;
+  meas_for(tr, t, o, z, &sd, &misfit);
   t->last_z[0] = z[0];
   t->last_z[1] = z[1];
   if (t->hits > 0) t->spread = fmax(t->spread, hypot(z[0] - t->px0, z[1] - t->py0));
   predict(tr, t, tk);
-  update(t, z, sd);
+  update(t, z, update_sd(tr, sd, misfit));
   const bool first = t->hits == 0;
   t->length = smooth(t->length, o->sensor.obb_length, first);
   t->width = smooth(t->width, o->sensor.obb_width, first);
@@ -638,7 +682,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       const uint32_t i = tr->near[q];
       const rs_track_t *t = &L->track[i];
       if (t->object < 0 && (t->state == RS_TRACK_TENTATIVE || t->state == RS_TRACK_LOST)) continue;
-      if (!in_track_box(t, zx, zy)) continue;
+      if (!in_track_box(t, zx, zy) && !(t->object >= 0 && fits_with(t, &objs->obj[t->object], &objs->obj[k]))) continue;
       tr->taken_by[k] = (int32_t)i;
       L->object_track[k] = t->id;
       tr->n.absorbed++;
@@ -666,6 +710,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       const uint32_t j = tr->near[q];
       const rs_track_t *o = &L->track[j];
       if (j == i || o->id == 0 || o->object >= 0) continue; /* (stitched this frame) */
+      if (o->cls == RS_CLASS_PEDESTRIAN && y->length > RS_TRACK_PED_MAX_LENGTH) continue; /* not a vehicle */
       /* far from its position at the frame's time: out of every gate below (at most 2 gate_m from its
        * prediction at y's time, which is within 0.15 s x max_speed of it) */
       const double gx = y->x[0] - tr->tpos[j][0], gy = y->x[1] - tr->tpos[j][1], gr = 2.0 * cf->gate_m + 0.15 * cf->max_speed;

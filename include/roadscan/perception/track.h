@@ -13,9 +13,17 @@
  * 1 m/s (vehicles speed up and brake along their heading), q_accel I else.
  * The measurement is the centre of the object's oriented box, taken at the
  * object's own time (the middle of its first and last return: a turn lasts
- * 0.1 s, a car at 15 m/s moves 1.5 m in it), with a noise that grows with
- * the object's size. Time steps come from those capture timestamps only,
- * never the wall clock: a replay at any speed gives the same tracks.
+ * 0.1 s, a car at 15 m/s moves 1.5 m in it). Once a track knows the size of
+ * what it follows (confirmed, 5 hits, at least 1.5 m long), a box smaller
+ * than that size is its near part, and its centre is moved away from the
+ * sensor by half what is missing; the update's noise is then meas_sd_fit
+ * plus meas_sd_misfit per metre by which the box's extents miss the track's
+ * size (a whole view is good to a few centimetres, a partial one is not:
+ * the filter follows a vehicle that speeds up or brakes without lagging,
+ * and is not pulled by a view that changes). Before that, and for gating,
+ * the noise grows with the object's size (meas_sd, meas_sd_per_m). Time
+ * steps come from those capture timestamps only, never the wall clock: a
+ * replay at any speed gives the same tracks.
  *
  * Association, per frame: confirmed tracks first, then tentative ones, each
  * round an optimal assignment (Hungarian algorithm) of the tracks and the
@@ -30,8 +38,12 @@
  *   their ids and are held (predicted, kept alive, speeds kept) until they
  *   come apart.
  * - One object split into two clusters: the one not taken whose centre lies
- *   within a taken track's box (grown by RS_TRACK_SPLIT_MARGIN) starts no
- *   track; its returns carry that track's id.
+ *   within a taken track's box (grown by RS_TRACK_SPLIT_MARGIN), or which
+ *   fits with the track's own object within the track's known size (grown by
+ *   the same margin), starts no track; its returns carry that track's id.
+ * - A pedestrian's track does not take an object longer than
+ *   RS_TRACK_PED_MAX_LENGTH (a vehicle passing where it walked), nor is a
+ *   young track that long stitched to it.
  * Lifecycle (seconds of sensor time): a track is born tentative from an
  * object of at least birth_points returns; it is confirmed after
  * confirm_hits hits when it has moved confirm_move_m from where it was born
@@ -70,6 +82,7 @@
 #define RS_TRACK_GROUP_MAX 48    /* tracks or objects in one exactly solved association group */
 #define RS_TRACK_ENDED_MAX 128   /* end events per frame */
 #define RS_TRACK_SPLIT_MARGIN 1.0f
+#define RS_TRACK_PED_MAX_LENGTH 2.5f /* m, the longest object a pedestrian's track takes */
 #define RS_TRACK_EDGES_PER_TRACK 8 /* the best gated objects a track keeps per round */
 #define RS_TRACK_GRID_BUCKETS 4096 /* object lookup grid (4 m cells, hashed) */
 
@@ -94,6 +107,9 @@ typedef struct {
   double q_long;           /* m^2/s^3, the same along its motion (default 1) */
   double meas_sd;          /* m, measurement noise of a small object (default 0.15) */
   double meas_sd_per_m;    /* m of noise per m of box length (default 0.1) */
+  double meas_sd_fit;      /* m, update noise of a box of the track's known size (default 0.05; 0: meas_sd and
+                              meas_sd_per_m throughout) */
+  double meas_sd_misfit;   /* m of update noise per m the box's extents miss that size (default 0.5) */
   double gate_chi2;        /* Mahalanobis gate, 2 dof (default 13.8: 99.9 %) */
   double gate_m;           /* Euclidean gate from the prediction (default 4) */
   double max_speed;        /* implied speed gate, m/s (default 50) */
