@@ -305,33 +305,38 @@ START_TEST(t_split_side) {
 END_TEST
 
 /* A pedestrian walks 4 s toward the road, then stands hidden behind a
- * parked van; a car passes right where it was last seen. The pedestrian's
- * track does not take the car: the car gets a track of its own, the
- * pedestrian keeps its id and is taken up again when it steps out. */
+ * parked van; a car comes out from behind the van 1.8 m before where it
+ * was last seen, seen side-on (4.5 x 1.8 m) or end-on (2 x 1.8 m). The pedestrian's track does not
+ * take the car: the car gets a track of its own, the pedestrian keeps its
+ * id and is taken up again when it steps out. */
 START_TEST(t_pedestrian_not_vehicle) {
-  init_default();
-  uint32_t ped = 0, carid = 0;
-  for (int f = 0; f < 70; f++) {
-    const double t = 0.1 * f;
-    clear();
-    const double py = t < 4.0 ? 18.0 - 1.3 * t : 12.8;
-    if (t < 4.0 || t >= 6.0) put(t, 10.0, py, 0.5, 0.4, 0.0, 1.7, 30);
-    if (t >= 4.2 && t < 5.6) car(t, 10.0 + 12.0 * (t - 4.9), 12.4, 0.0); /* through (10, 12.8) at 4.9 s */
-    rs_track_frame(&tr, &objs, t + 0.05);
-    if (f == 39) {
-      ped = tr.list.object_track[0];
-      ck_assert_uint_ne(ped, 0);
-      ck_assert_int_eq(find_id(ped)->cls, RS_CLASS_PEDESTRIAN);
+  static const double shape[2][2] = {{4.5, 1.8}, {2.0, 1.8}};
+  for (int v = 0; v < 2; v++) {
+    init_default();
+    uint32_t ped = 0, carid = 0;
+    for (int f = 0; f < 70; f++) {
+      const double t = 0.1 * f;
+      clear();
+      const double py = t < 4.0 ? 18.0 - 1.3 * t : 12.8;
+      if (t < 4.0 || t >= 6.0) put(t, 10.0, py, 0.5, 0.4, 0.0, 1.7, 30);
+      if (t >= 4.75 && t < 5.6) /* out from behind the van at 4.8 s, 1.8 m before (10, 12.8) */
+        put(t, 10.0 + 12.0 * (t - 4.9), 12.4, shape[v][0], shape[v][1], 0.0, 1.5, 120);
+      rs_track_frame(&tr, &objs, t + 0.05);
+      if (f == 39) {
+        ped = tr.list.object_track[0];
+        ck_assert_uint_ne(ped, 0);
+        ck_assert_int_eq(find_id(ped)->cls, RS_CLASS_PEDESTRIAN);
+      }
+      if (t >= 4.75 && t < 5.6) {
+        const uint32_t k = tr.list.object_track[0];
+        ck_assert_msg(k != ped, "shape %d: the pedestrian's track took the car at %.1f s", v, t);
+        if (k != 0 && carid == 0) carid = k;
+        if (k != 0) ck_assert_uint_eq(k, carid);
+      }
+      if (f == 69) ck_assert_uint_eq(tr.list.object_track[0], ped);
     }
-    if (t >= 4.2 && t < 5.6) {
-      const uint32_t k = tr.list.object_track[0];
-      ck_assert_uint_ne(k, ped);
-      if (k != 0 && carid == 0) carid = k;
-      if (k != 0) ck_assert_uint_eq(k, carid);
-    }
-    if (f == 69) ck_assert_uint_eq(tr.list.object_track[0], ped);
+    ck_assert_uint_ne(carid, 0);
   }
-  ck_assert_uint_ne(carid, 0);
 }
 END_TEST
 

@@ -499,7 +499,7 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
           const double m2 = (dx * dx * s11 - 2 * dx * dy * s01 + dy * dy * s00) / det;
           if (m2 > cf->gate_chi2) continue;
           /* a pedestrian does not turn into a vehicle (one passing where it walked, or was last seen) */
-          if (t->cls == RS_CLASS_PEDESTRIAN && o->sensor.obb_length > RS_TRACK_PED_MAX_LENGTH) continue;
+          if (t->cls == RS_CLASS_PEDESTRIAN && (o->sensor.obb_length > RS_TRACK_PED_MAX_LENGTH || o->sensor.obb_width > RS_TRACK_PED_MAX_WIDTH)) continue;
           /* and how unlike the track's last object it is: a track keeps its object, not a fragment beside it */
           /* (beyond what counting noise explains: 3 sd of the smaller count) */
           const double lo = o->points < t->points ? o->points : t->points, hi = o->points < t->points ? t->points : o->points;
@@ -710,7 +710,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       const uint32_t j = tr->near[q];
       const rs_track_t *o = &L->track[j];
       if (j == i || o->id == 0 || o->object >= 0) continue; /* (stitched this frame) */
-      if (o->cls == RS_CLASS_PEDESTRIAN && y->length > RS_TRACK_PED_MAX_LENGTH) continue; /* not a vehicle */
+      if (o->cls == RS_CLASS_PEDESTRIAN && (y->length > RS_TRACK_PED_MAX_LENGTH || y->width > RS_TRACK_PED_MAX_WIDTH)) continue; /* not a vehicle */
       /* far from its position at the frame's time: out of every gate below (at most 2 gate_m from its
        * prediction at y's time, which is within 0.15 s x max_speed of it) */
       const double gx = y->x[0] - tr->tpos[j][0], gy = y->x[1] - tr->tpos[j][1], gr = 2.0 * cf->gate_m + 0.15 * cf->max_speed;

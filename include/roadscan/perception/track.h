@@ -42,8 +42,9 @@
  *   fits with the track's own object within the track's known size (grown by
  *   the same margin), starts no track; its returns carry that track's id.
  * - A pedestrian's track does not take an object longer than
- *   RS_TRACK_PED_MAX_LENGTH (a vehicle passing where it walked), nor is a
- *   young track that long stitched to it.
+ *   RS_TRACK_PED_MAX_LENGTH or wider than RS_TRACK_PED_MAX_WIDTH (a vehicle
+ *   passing where it walked), nor is a young track that large stitched to
+ *   it.
  * Lifecycle (seconds of sensor time): a track is born tentative from an
  * object of at least birth_points returns; it is confirmed after
  * confirm_hits hits when it has moved confirm_move_m from where it was born
@@ -83,6 +84,7 @@
 #define RS_TRACK_ENDED_MAX 128   /* end events per frame */
 #define RS_TRACK_SPLIT_MARGIN 1.0f
 #define RS_TRACK_PED_MAX_LENGTH 2.5f /* m, the longest object a pedestrian's track takes */
+#define RS_TRACK_PED_MAX_WIDTH 1.5f  /* m, and the widest (a car seen end-on) */
 #define RS_TRACK_EDGES_PER_TRACK 8 /* the best gated objects a track keeps per round */
 #define RS_TRACK_GRID_BUCKETS 4096 /* object lookup grid (4 m cells, hashed) */
 
