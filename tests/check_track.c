@@ -340,6 +340,40 @@ START_TEST(t_pedestrian_not_vehicle) {
 }
 END_TEST
 
+/* Two walkers pass each other in opposite directions, 0.4-0.9 m apart
+ * across; their clusters merge while they are within 1-3 m of each other
+ * along (up to 2.3 s), one cluster of both, then come apart: each keeps
+ * its id. */
+START_TEST(t_walkers_pass) {
+  static const double sep[3] = {0.4, 0.6, 0.9}, merge[3] = {1.0, 2.0, 3.0};
+  for (int i = 0; i < 3; i++)
+    for (int j = 0; j < 3; j++) {
+      init_default();
+      uint32_t a = 0, b = 0;
+      for (int f = 0; f < 120; f++) {
+        const double t = 0.1 * f, xa = -8 + 1.4 * t, xb = 8 - 1.2 * t; /* they meet at 6.15 s */
+        const double ja = 0.08 * sin(7.3 * t), jb = 0.08 * cos(5.1 * t);  /* the boxes wobble */
+        clear();
+        if (fabs(xa - xb) < merge[j]) {
+          const double l = fabs(xa - xb) + 0.5, w = sep[i] + 0.5;
+          put(t, 0.5 * (xa + xb), 0.5 * sep[i], fmax(l, w), fmin(l, w), l >= w ? 0.0 : M_PI / 2, 1.7, 50);
+        } else {
+          put(t, xa + ja, jb, 0.5, 0.4, 0.0, 1.7, 25);
+          put(t, xb + jb, sep[i] + ja, 0.5, 0.4, 0.0, 1.7, 25);
+        }
+        rs_track_frame(&tr, &objs, t + 0.05);
+        if (f == 30) a = tr.list.object_track[0], b = tr.list.object_track[1];
+        if (f > 30 && objs.count == 2)
+          ck_assert_msg(tr.list.object_track[0] == a && tr.list.object_track[1] == b,
+                        "%.1f m apart, merged within %.0f m: at %.1f s ids %u %u, not %u %u", sep[i], merge[j], t,
+                        tr.list.object_track[0], tr.list.object_track[1], a, b);
+      }
+      ck_assert_uint_ne(a, b);
+      ck_assert_uint_eq(tr.n.born, 2);
+    }
+}
+END_TEST
+
 /* two cars queued at the line, their clusters merged into one for 1 s:
  * both keep their ids, no new track */
 START_TEST(t_queued_merge) {
@@ -589,6 +623,7 @@ int main(void) {
   tcase_add_test(tc, t_split_side);
   tcase_add_test(tc, t_speed_follows);
   tcase_add_test(tc, t_pedestrian_not_vehicle);
+  tcase_add_test(tc, t_walkers_pass);
   tcase_add_test(tc, t_foliage_never_confirms);
   tcase_add_test(tc, t_still_vehicle_confirms_fast);
   tcase_add_test(tc, t_across_column_zero);

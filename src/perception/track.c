@@ -22,12 +22,14 @@
 #define PI 3.14159265358979323846
 #define BIG 1e12
 #define GRID 4.0          /* m, cells of the object lookup grid */
+#define SMALL_M 1.3       /* m, a track shorter and narrower than this moves like a walker (q_small) */
 #define GRID_BUCKETS RS_TRACK_GRID_BUCKETS
 #define EDGES_PER_TRACK RS_TRACK_EDGES_PER_TRACK
 
 void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->q_accel = 1.0;
   c->q_long = 1.0;
+  c->q_small = 0.25;
   c->meas_sd = 0.15;
   c->meas_sd_per_m = 0.1;
   c->meas_sd_fit = 0.05;
@@ -51,7 +53,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
-  if (!(cfg->q_accel > 0 && cfg->q_accel < 1000) || !(cfg->q_long > 0 && cfg->q_long < 1000) || !(cfg->meas_sd > 0 && cfg->meas_sd < 10) ||
+  if (!(cfg->q_accel > 0 && cfg->q_accel < 1000) || !(cfg->q_long > 0 && cfg->q_long < 1000) || !(cfg->q_small > 0 && cfg->q_small < 1000) || !(cfg->meas_sd > 0 && cfg->meas_sd < 10) ||
       !(cfg->meas_sd_per_m >= 0 && cfg->meas_sd_per_m < 10) || !(cfg->meas_sd_fit >= 0 && cfg->meas_sd_fit <= 5) ||
       !(cfg->meas_sd_misfit >= 0 && cfg->meas_sd_misfit <= 10) || !(cfg->gate_chi2 > 0) || !(cfg->gate_m > 0 && cfg->gate_m <= 20) ||
       !(cfg->max_speed > 0 && cfg->max_speed <= 100) || !(cfg->init_speed_sd > 0) || !(cfg->init_small_speed_sd > 0) || cfg->birth_points < 1 ||
@@ -72,7 +74,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
 #define KNOB(f, l, u) {.type = RS_OPT_DOUBLE, .name = #f, .arg = "X", .off = offsetof(rs_track_cfg_t, f), .lo = l, .hi = u}
 #define KNOB_INT(f, l, u) {.type = RS_OPT_INT, .name = #f, .arg = "N", .off = offsetof(rs_track_cfg_t, f), .lo = l, .hi = u}
 static const rs_opt_t knobs[] = {
-    KNOB(q_accel, 0.01, 100.0),       KNOB(q_long, 0.01, 100.0),       KNOB(meas_sd, 0.01, 5.0),         KNOB(meas_sd_per_m, 0.0, 2.0),
+    KNOB(q_accel, 0.01, 100.0),       KNOB(q_long, 0.01, 100.0),       KNOB(q_small, 0.01, 100.0),       KNOB(meas_sd, 0.01, 5.0),         KNOB(meas_sd_per_m, 0.0, 2.0),
     KNOB(meas_sd_fit, 0.0, 5.0),      KNOB(meas_sd_misfit, 0.0, 10.0),
     KNOB(gate_chi2, 1.0, 100.0),      KNOB(gate_m, 0.5, 20.0),          KNOB(max_speed, 1.0, 100.0),
     KNOB(init_speed_sd, 0.1, 100.0),  KNOB(init_small_speed_sd, 0.1, 100.0),
@@ -187,10 +189,12 @@ static double update_sd(const rs_tracker_t *tr, double sd, double misfit) {
 /* The acceleration spectral density of track t on the ground plane (xx, xy,
  * yy): q_long along its motion and q_accel across it when it moves faster
  * than 1 m/s (vehicles speed up and brake along their heading far more than
- * they swerve), q_accel both ways otherwise. */
+ * they swerve), q_accel both ways otherwise; q_small both ways for a track
+ * of a walker's size after 3 hits. */
 static void accel_density(const rs_tracker_t *tr, const rs_track_t *t, double q[3]) {
   const double vx = t->x[2], vy = t->x[3], v2 = vx * vx + vy * vy;
-  const double ql = tr->cfg.q_long, qc = tr->cfg.q_accel;
+  double ql = tr->cfg.q_long, qc = tr->cfg.q_accel;
+  if (t->hits >= 3 && t->length < SMALL_M && t->width < SMALL_M) ql = qc = tr->cfg.q_small; /* a walker's size */
   if (v2 < 1.0 || ql == qc) {
     q[0] = q[2] = qc;
     q[1] = 0.0;
@@ -296,12 +300,13 @@ static bool in_box(const rs_object_t *o, double c, double s, double px, double p
 }
 
 /* inside track t's box (at its current state) grown by RS_TRACK_SPLIT_MARGIN
- * along its length and half that across */
+ * (at most half its length) along its length and half that across */
 static bool in_track_box(const rs_track_t *t, double px, double py) {
   const double c = t->hcos, s = t->hsin;
   const double dx = px - t->x[0], dy = py - t->x[1];
   const double u = dx * c + dy * s, v = -dx * s + dy * c;
-  return fabs(u) <= 0.5 * t->length + RS_TRACK_SPLIT_MARGIN && fabs(v) <= 0.5 * t->width + 0.5 * RS_TRACK_SPLIT_MARGIN;
+  const double m = fmin(RS_TRACK_SPLIT_MARGIN, 0.5 * t->length); /* a walker's box is not grown by a stride */
+  return fabs(u) <= 0.5 * t->length + m && fabs(v) <= 0.5 * t->width + 0.5 * m;
 }
 
 /* objects a (taken by track t this frame) and b fit together in t's known
@@ -492,7 +497,7 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
           const double dx = z[0] - p[0], dy = z[1] - p[1], d = sqrt(dx * dx + dy * dy);
           const double unseen = tk - t->t_update; /* the gate grows while a track is not seen */
           if (d > (unseen > 0.5 ? fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (unseen - 0.5)) : cf->gate_m)) continue;
-          const double dtu = tk - t->t_update; /* the speed the pairing implies, from the last measurement */
+          const double dtu = tk - t->t_z; /* the speed the pairing implies, from the last measurement */
           if (dtu > 0.02 && hypot(z[0] - t->last_z[0], z[1] - t->last_z[1]) / dtu > cf->max_speed) continue;
           const double s00 = S[0] + sd * sd, s01 = S[1], s11 = S[2] + sd * sd, det = s00 * s11 - s01 * s01;
           if (!(det > 0)) continue;
@@ -548,6 +553,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   meas_for(tr, t, o, z, &sd, &misfit);
   t->last_z[0] = z[0];
   t->last_z[1] = z[1];
+  t->t_z = tk;
   if (t->hits > 0) t->spread = fmax(t->spread, hypot(z[0] - t->px0, z[1] - t->py0));
   predict(tr, t, tk);
   update(t, z, update_sd(tr, sd, misfit));
@@ -616,6 +622,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   }
   for (uint32_t i = 0; i < L->count; i++) {
     L->track[i].object = -1;
+    L->track[i].was_held = L->track[i].held;
     L->track[i].held = false;
   }
   /* clusters over two confirmed tracks whose predictions are apart: held */
@@ -629,6 +636,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     float first_len = 0.0f;
     uint32_t most_points = 0;
     bool apart = false;
+    int was_held = 0;
     /* (a track moves at most max_speed x 1 s between its grid position and the object's time) */
     const uint32_t nn = tracks_near(tr, o->sensor.obb_center[0], o->sensor.obb_center[1],
                                     0.5 * (o->sensor.obb_length + o->sensor.obb_width) + 0.3 + 0.1 * tr->vmax);
@@ -643,9 +651,12 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       if (in == 0) first[0] = p[0], first[1] = p[1], first_len = t->length;
       else if (hypot(p[0] - first[0], p[1] - first[1]) >= 0.25 * (first_len + t->length) + 0.4) apart = true;
       if (t->points > most_points) most_points = t->points;
+      was_held += t->was_held;
       in++;
     }
     /* and the cluster holds more than either track's last object did */
+    /* (tracks held the frame before stay held while they pass each other: their predictions cross) */
+    if (was_held >= 2) apart = true;
     if (in < 2 || !apart || 5 * (uint64_t)o->points < 6 * (uint64_t)most_points) continue;
     tr->shared[k] = 1;
     for (uint32_t q = 0; q < nn; q++) {
@@ -752,6 +763,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       o->t_update = y->t_update;
       o->last_z[0] = y->last_z[0];
       o->last_z[1] = y->last_z[1];
+      o->t_z = y->t_z;
       o->points = y->points;
       o->hits += y->hits;
       if (hypot(o->x[2], o->x[3]) > 1.0) set_heading(o, y->heading);

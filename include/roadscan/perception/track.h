@@ -10,7 +10,10 @@
  * acceleration process noise (S the 2 x 2 acceleration spectral density):
  *   Q = [S dt^3/3, S dt^2/2; S dt^2/2, S dt],
  * S = q_long along the motion and q_accel across it for a track faster than
- * 1 m/s (vehicles speed up and brake along their heading), q_accel I else.
+ * 1 m/s (vehicles speed up and brake along their heading), q_accel I else;
+ * q_small I for a track whose box is a walker's size (shorter and narrower
+ * than 1.3 m, 3 hits): a walker's velocity changes less in a second than a
+ * car's can.
  * The measurement is the centre of the object's oriented box, taken at the
  * object's own time (the middle of its first and last return: a turn lasts
  * 0.1 s, a car at 15 m/s moves 1.5 m in it). Once a track knows the size of
@@ -36,7 +39,8 @@
  * - One cluster over two confirmed tracks (queued cars touching): the
  *   predicted centres of both lie in its box; neither takes it, both keep
  *   their ids and are held (predicted, kept alive, speeds kept) until they
- *   come apart.
+ *   come apart (two walkers passing each other stay held while their
+ *   predictions cross).
  * - One object split into two clusters: the one not taken whose centre lies
  *   within a taken track's box (grown by RS_TRACK_SPLIT_MARGIN), or which
  *   fits with the track's own object within the track's known size (grown by
@@ -107,6 +111,7 @@ typedef enum {
 typedef struct {
   double q_accel;          /* m^2/s^3, process noise (across the motion of a moving track; default 1) */
   double q_long;           /* m^2/s^3, the same along its motion (default 1) */
+  double q_small;          /* m^2/s^3, both ways for a track of a walker's size (default 0.25) */
   double meas_sd;          /* m, measurement noise of a small object (default 0.15) */
   double meas_sd_per_m;    /* m of noise per m of box length (default 0.1) */
   double meas_sd_fit;      /* m, update noise of a box of the track's known size (default 0.05; 0: meas_sd and
@@ -145,6 +150,7 @@ typedef struct {
   double px0, py0;           /* where it was born */
   double spread;             /* the farthest measurement from there, m */
   double last_z[2];          /* the last measurement */
+  double t_z;                /* its time (a held track's t_update moves on without one) */
   double prev[2];            /* position at the previous frame (path length) */
   float length, width, height, z_min; /* smoothed box */
   float height_max;                   /* smoothed: height plus the objects' height_gap */
@@ -160,6 +166,7 @@ typedef struct {
   float site[3], site_v[2], site_heading; /* position, velocity and heading in the site frame (with a pose) */
   int32_t object;            /* index in this frame's object list, -1 none */
   bool held;                 /* shares a cluster with another track this frame */
+  bool was_held;             /* ... and did the frame before */
 } rs_track_t;
 
 typedef struct {
