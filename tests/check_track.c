@@ -562,6 +562,25 @@ START_TEST(t_crowd_and_config) {
   rs_track_cfg_default(&c);
   c.gate_m = NAN;
   ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
+  /* the noise of the fit and a walker's process noise: checked like the rest, set by name */
+  rs_track_cfg_default(&c);
+  c.q_small = 0;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
+  rs_track_cfg_default(&c);
+  c.meas_sd_fit = -0.1;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
+  rs_track_cfg_default(&c);
+  c.meas_sd_misfit = NAN;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
+  rs_track_cfg_default(&c);
+  char err[512];
+  ck_assert_int_eq(rs_track_cfg_set(&c, "q_small", "0.5", err, sizeof err), RS_OK);
+  ck_assert_double_eq(c.q_small, 0.5);
+  ck_assert_int_eq(rs_track_cfg_set(&c, "meas_sd_fit", "0", err, sizeof err), RS_OK);
+  ck_assert_double_eq(c.meas_sd_fit, 0.0);
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  ck_assert_int_eq(rs_track_cfg_set(&c, "meas_sd_misfit", "11", err, sizeof err), RS_E_INVAL);
+  ck_assert_msg(strstr(err, "meas_sd_misfit") != NULL, "%s", err);
 }
 END_TEST
 
