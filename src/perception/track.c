@@ -22,7 +22,7 @@
 #define PI 3.14159265358979323846
 #define BIG 1e12
 #define GRID 4.0          /* m, cells of the object lookup grid */
-#define SMALL_M 1.3       /* m, a track shorter and narrower than this moves like a walker (q_small) */
+#define WALKER_M 1.3f     /* m, a box shorter and narrower than this is a walker's size (q_small, the class rule) */
 #define GRID_BUCKETS RS_TRACK_GRID_BUCKETS
 #define EDGES_PER_TRACK RS_TRACK_EDGES_PER_TRACK
 
@@ -140,6 +140,11 @@ static void meas(const rs_tracker_t *tr, const rs_object_t *o, double *z, double
 
 #define MAX_SHIFT 3.0 /* m, the most a partial view's centre is moved */
 
+/* a box no pedestrian's track takes: a vehicle's length, or its width seen end-on */
+static bool vehicle_sized(float length, float width) {
+  return length > RS_TRACK_PED_MAX_LENGTH || width > RS_TRACK_PED_MAX_WIDTH;
+}
+
 /* track t knows the size of what it follows: confirmed, 5 hits, a vehicle's length */
 static bool size_known(const rs_track_t *t) { return t->state != RS_TRACK_TENTATIVE && t->hits >= 5 && t->length >= 1.5f; }
 
@@ -178,9 +183,10 @@ static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_objec
   *sd += 0.5 * (miss_u + miss_v); /* the move is a guess: less sure the more it moves */
 }
 
-/* the noise of track t's update by an object whose box misses its size by
- * misfit (meas_for): the box of a whole view is good to a few centimetres,
- * a partial one (a vehicle coming into view, half hidden, split) is not */
+/* the noise of an update by an object whose box misses its track's size by
+ * misfit (meas_for; sd: meas_for's, used while the size is not known): the
+ * box of a whole view is good to a few centimetres, a partial one (a
+ * vehicle coming into view, half hidden, split) is not */
 static double update_sd(const rs_tracker_t *tr, double sd, double misfit) {
   if (misfit < 0 || tr->cfg.meas_sd_fit <= 0) return sd;
   return tr->cfg.meas_sd_fit + tr->cfg.meas_sd_misfit * misfit;
@@ -194,7 +200,7 @@ static double update_sd(const rs_tracker_t *tr, double sd, double misfit) {
 static void accel_density(const rs_tracker_t *tr, const rs_track_t *t, double q[3]) {
   const double vx = t->x[2], vy = t->x[3], v2 = vx * vx + vy * vy;
   double ql = tr->cfg.q_long, qc = tr->cfg.q_accel;
-  if (t->hits >= 3 && t->length < SMALL_M && t->width < SMALL_M) ql = qc = tr->cfg.q_small; /* a walker's size */
+  if (t->hits >= 3 && t->length < WALKER_M && t->width < WALKER_M) ql = qc = tr->cfg.q_small; /* a walker's size */
   if (v2 < 1.0 || ql == qc) {
     q[0] = q[2] = qc;
     q[1] = 0.0;
@@ -504,7 +510,7 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
           const double m2 = (dx * dx * s11 - 2 * dx * dy * s01 + dy * dy * s00) / det;
           if (m2 > cf->gate_chi2) continue;
           /* a pedestrian does not turn into a vehicle (one passing where it walked, or was last seen) */
-          if (t->cls == RS_CLASS_PEDESTRIAN && (o->sensor.obb_length > RS_TRACK_PED_MAX_LENGTH || o->sensor.obb_width > RS_TRACK_PED_MAX_WIDTH)) continue;
+          if (t->cls == RS_CLASS_PEDESTRIAN && vehicle_sized(o->sensor.obb_length, o->sensor.obb_width)) continue;
           /* and how unlike the track's last object it is: a track keeps its object, not a fragment beside it */
           /* (beyond what counting noise explains: 3 sd of the smaller count) */
           const double lo = o->points < t->points ? o->points : t->points, hi = o->points < t->points ? t->points : o->points;
@@ -538,7 +544,7 @@ static rs_class_t classify(const rs_track_t *t) {
   if (L >= 3.0f && W >= 1.3f) return RS_CLASS_CAR;
   if (L >= 1.2f && V >= 9.0f) return RS_CLASS_CAR;
   if (L >= 1.2f && W < 1.2f && V >= 2.0f) return RS_CLASS_CYCLIST;
-  if (L < 1.3f && W < 1.3f && Hmax >= 0.9f && H <= 2.3f && V < 4.0f) return RS_CLASS_PEDESTRIAN;
+  if (L < WALKER_M && W < WALKER_M && Hmax >= 0.9f && H <= 2.3f && V < 4.0f) return RS_CLASS_PEDESTRIAN;
   return RS_CLASS_UNKNOWN;
 }
 
@@ -654,9 +660,9 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       was_held += t->was_held;
       in++;
     }
-    /* and the cluster holds more than either track's last object did */
     /* (tracks held the frame before stay held while they pass each other: their predictions cross) */
     if (was_held >= 2) apart = true;
+    /* and the cluster holds more than either track's last object did */
     if (in < 2 || !apart || 5 * (uint64_t)o->points < 6 * (uint64_t)most_points) continue;
     tr->shared[k] = 1;
     for (uint32_t q = 0; q < nn; q++) {
@@ -721,7 +727,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       const uint32_t j = tr->near[q];
       const rs_track_t *o = &L->track[j];
       if (j == i || o->id == 0 || o->object >= 0) continue; /* (stitched this frame) */
-      if (o->cls == RS_CLASS_PEDESTRIAN && (y->length > RS_TRACK_PED_MAX_LENGTH || y->width > RS_TRACK_PED_MAX_WIDTH)) continue; /* not a vehicle */
+      if (o->cls == RS_CLASS_PEDESTRIAN && vehicle_sized(y->length, y->width)) continue; /* a walker is not a vehicle */
       /* far from its position at the frame's time: out of every gate below (at most 2 gate_m from its
        * prediction at y's time, which is within 0.15 s x max_speed of it) */
       const double gx = y->x[0] - tr->tpos[j][0], gy = y->x[1] - tr->tpos[j][1], gr = 2.0 * cf->gate_m + 0.15 * cf->max_speed;

@@ -1,0 +1,162 @@
+#!/usr/bin/env python3
+"""Where the tracker's speed error and identity losses come from, per capture.
+
+    scripts/track-errors.py speed TRACKS STATES
+        Every confirmed row of a track file (roadscand --tracks-out) is paired with the
+        true road user (roadscan-sim --truth-states of the same run) nearest to it within
+        2.5 m at the row's time; rows of vehicles within 80 m are kept. Prints the speed
+        RMSE and, per kind of row, its share of the rows and of the squared error:
+        vehicles speeding up or braking harder than 0.5 m/s^2 (over +-0.3 s), tracks
+        younger than 1 s, rows of one vehicle followed by two tracks at once, and the
+        steady rest.
+    scripts/track-errors.py ids MOTDUMP STATES
+        From roadscan-eval --tracking ... --mot-dump MOTDUMP: per true class, the frames of
+        each true object not matched (IoU > 0.5) by its most frequent track, and each
+        switch by kind (back to a track it had, to a new track, or taken from another
+        road user walking or driving the other way, the same way, or crossing/standing,
+        within 3 m or farther).
+
+The files are those scripts/tracking.sh leaves in out/tracking/ and out/results/.
+Off the real-time path: plain Python, no third-party module.
+"""
+import bisect
+import csv
+import math
+import sys
+from collections import Counter, defaultdict
+
+VEHICLES = {"car", "van", "truck", "bus"}
+
+
+def load_states(path):
+    """id -> sorted rows (t, x, y, vx, vy), id -> class"""
+    rows, cls = defaultdict(list), {}
+    with open(path, newline="") as f:
+        for r in csv.DictReader(f):
+            k = int(r["id"])
+            rows[k].append((float(r["t"]), float(r["x"]), float(r["y"]), float(r["vx"]), float(r["vy"])))
+            cls[k] = r["class"]
+    return rows, cls
+
+
+def at(rows, t):
+    """the state (x, y, vx, vy) at time t, linear between steps; None outside the object's life"""
+    if t < rows[0][0] - 0.15 or t > rows[-1][0] + 0.15:
+        return None
+    i = bisect.bisect_left(rows, (t,))
+    if i <= 0:
+        return rows[0][1:]
+    if i >= len(rows):
+        return rows[-1][1:]
+    a, b = rows[i - 1], rows[i]
+    w = 0.0 if b[0] <= a[0] else (t - a[0]) / (b[0] - a[0])
+    return tuple(a[j] + w * (b[j] - a[j]) for j in range(1, 5))
+
+
+def speed(tracks_path, states_path):
+    states, cls = load_states(states_path)
+    samples = []  # (track, truth, t, error, accel, age)
+    with open(tracks_path, newline="") as f:
+        for r in csv.DictReader(f):
+            if r["state"] != "confirmed":
+                continue
+            t, x, y = float(r["t"]), float(r["x"]), float(r["y"])
+            best, best_d = None, 2.5
+            for k, rows in states.items():
+                s = at(rows, t)
+                if s is not None and math.hypot(s[0] - x, s[1] - y) <= best_d:
+                    best, best_d = k, math.hypot(s[0] - x, s[1] - y)
+            if best is None or cls[best] not in VEHICLES:
+                continue
+            s = at(states[best], t)
+            if math.hypot(s[0], s[1]) > 80.0:
+                continue
+            s0, s1 = at(states[best], t - 0.3), at(states[best], t + 0.3)
+            accel = 0.0 if s0 is None or s1 is None else (math.hypot(s1[2], s1[3]) - math.hypot(s0[2], s0[3])) / 0.6
+            samples.append((int(r["track"]), best, round(t, 2), float(r["speed"]) - math.hypot(s[2], s[3]), accel,
+                            float(r["age"])))
+    if not samples:
+        print(f"{tracks_path}: no confirmed vehicle rows within 80 m")
+        return
+    per_truth_time = Counter((k, t) for _, k, t, _, _, _ in samples)
+    total = sum(e * e for _, _, _, e, _, _ in samples)
+    kinds = {
+        "speeding up or braking (> 0.5 m/s^2)": lambda s: abs(s[4]) > 0.5,
+        "tracks younger than 1 s": lambda s: s[5] < 1.0,
+        "one vehicle, two tracks": lambda s: per_truth_time[(s[1], s[2])] > 1,
+    }
+    n = len(samples)
+    print(f"{tracks_path}: {n} rows, speed RMSE {math.sqrt(total / n):.3f} m/s")
+    steady = [True] * n
+    for name, test in kinds.items():
+        sel = [i for i, s in enumerate(samples) if test(s)]
+        for i in sel:
+            steady[i] = False
+        sq = sum(samples[i][3] ** 2 for i in sel)
+        rmse = math.sqrt(sq / len(sel)) if sel else 0.0
+        print(f"  {name:38s} rows {100.0 * len(sel) / n:5.1f} %  squared error {100.0 * sq / total:5.1f} %  "
+              f"RMSE {rmse:.3f}")
+    rest = [samples[i][3] for i in range(n) if steady[i]]
+    if rest:
+        print(f"  {'the rest (steady, older, one track)':38s} rows {100.0 * len(rest) / n:5.1f} %  "
+              f"RMSE {math.sqrt(sum(e * e for e in rest) / len(rest)):.3f}")
+
+
+def ids(mot_path, states_path):
+    states, cls = load_states(states_path)
+    frames, match, pred_truth = defaultdict(set), defaultdict(dict), defaultdict(dict)
+    with open(mot_path, newline="") as f:
+        for r in csv.DictReader(f):
+            fr, t, p, iou = int(r["frame"]), int(r["truth"]), int(r["pred"]), float(r["iou"])
+            if t == 0:
+                continue
+            frames[t].add(fr)
+            if p and iou > 0.5:
+                match[t][fr] = p
+                pred_truth[p][fr] = t
+    t0 = min(rows[0][0] for rows in states.values())
+    state_at = lambda k, fr: at(states[k], t0 + 0.1 * fr) if k in states else None
+    lost, total, switches, objects = Counter(), Counter(), Counter(), Counter()
+    kinds = Counter()
+    for t, fs in frames.items():
+        c = cls.get(t, "?")
+        m = match[t]
+        keep = Counter(m.values()).most_common(1)[0][1] if m else 0
+        lost[c] += len(fs) - keep
+        total[c] += len(fs)
+        objects[c] += 1
+        seq = sorted(m)
+        for a, b in zip(seq, seq[1:]):
+            if m[a] == m[b]:
+                continue
+            switches[c] += 1
+            before = [pred_truth[m[b]][g] for g in sorted(pred_truth[m[b]]) if g < b]
+            if not before:
+                kinds[(c, "to a new track")] += 1
+            elif before[-1] == t:
+                kinds[(c, "back to a track it had")] += 1
+            else:
+                o, s, so = before[-1], state_at(t, b), state_at(before[-1], b)
+                if s is None or so is None:
+                    continue
+                cos = (s[2] * so[2] + s[3] * so[3]) / (math.hypot(s[2], s[3]) * math.hypot(so[2], so[3]) + 1e-9)
+                way = "the other way" if cos < -0.5 else "the same way" if cos > 0.5 else "crossing/standing"
+                near = "within 3 m" if math.hypot(s[0] - so[0], s[1] - so[1]) < 3.0 else "farther"
+                kinds[(c, f"taken from a {cls.get(o, '?')} going {way}, {near}")] += 1
+    all_frames = sum(total.values())
+    print(f"{mot_path}: true frames {all_frames}")
+    for c in sorted(total, key=lambda c: -lost[c]):
+        print(f"  {c:12s} objects {objects[c]:4d} frames {total[c]:6d} not with their track {lost[c]:5d} "
+              f"({100.0 * lost[c] / all_frames:.2f} % of all) switches {switches[c]}")
+    for (c, k), v in kinds.most_common(15):
+        print(f"  {v:4d} {c}: {k}")
+
+
+def main(argv):
+    if len(argv) != 3 or argv[0] not in ("speed", "ids"):
+        sys.exit(__doc__.strip())
+    (speed if argv[0] == "speed" else ids)(argv[1], argv[2])
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
