@@ -97,12 +97,62 @@ START_TEST(t_write) {
 }
 END_TEST
 
+/* a frame's labels: clusters through the map, listed returns one by one */
+START_TEST(t_write_frame) {
+  static rs_slot_t s;
+  static rs_label_entry_t buf[RS_LABELS_FRAME_MAX];
+  memset(&s.meta, 0, sizeof s.meta);
+  s.meta.rows = 2;
+  s.meta.cols = 4;
+  memset(s.range, 0, sizeof s.range);
+  memset(s.label, 0, sizeof s.label);
+  /* cells 0..4 of layer 0: cluster 3, 3, 4, 3, noise; one return of layer 1, cluster 4 */
+  static const uint16_t lab[5] = {3, 3, 4, 3, 2};
+  for (uint32_t i = 0; i < 5; i++) {
+    s.range[i] = 10.0f;
+    s.label[i] = lab[i];
+    s.addr[i].packet = 7;
+    s.addr[i].block = (uint8_t)(i / 2);
+    s.addr[i].channel = (uint8_t)(10 - i); /* addresses out of cell order: written sorted */
+  }
+  const uint32_t c1 = RS_MAX_CELLS + 6;
+  s.range[c1] = 10.0f;
+  s.label[c1] = 4;
+  s.addr[c1].packet = 9;
+  const uint32_t map[2] = {10, 11};
+  const uint32_t cell[3] = {1, 3, c1}, value[3] = {7, 0, 8};
+  const rs_labels_cells_t each = {cell, value, 3, 2};
+  const char *p = tu_tmp("frame.csv");
+  rs_labels_writer_t w;
+  ck_assert_int_eq(rs_labels_create(&w, p, NULL), RS_OK);
+  rs_labels_write_frame(&w, &s, buf, map, 2, &each);
+  ck_assert_int_eq(rs_labels_finish(&w), RS_OK);
+  ck_assert_uint_eq(w.rejected, 0);
+  rs_labels_reader_t r;
+  ck_assert_int_eq(rs_labels_open(&r, p, UINT32_MAX), RS_OK);
+  /* by address: cell 1 (listed: 7 + 2), 0 (cluster 3), 3 (listed 0: noise), 2 (cluster 4), 4 (noise), layer 1's
+   * (listed: 8 + 2) */
+  static const uint32_t want_label[6] = {9, 10, 2, 11, 2, 10};
+  static const int want_channel[6] = {9, 10, 7, 8, 6, 0};
+  for (int k = 0; k < 6; k++) {
+    rs_label_t l;
+    ck_assert_int_eq(rs_labels_next(&r, &l), 1);
+    ck_assert_int_eq(l.channel, want_channel[k]);
+    ck_assert_uint_eq(l.label, want_label[k]);
+  }
+  rs_label_t l;
+  ck_assert_int_eq(rs_labels_next(&r, &l), 0);
+  rs_labels_close(&r);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("labels");
   TCase *tc = tcase_create("core");
   tcase_add_test(tc, t_read_good);
   tcase_add_test(tc, t_read_bad);
   tcase_add_test(tc, t_write);
+  tcase_add_test(tc, t_write_frame);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

@@ -143,6 +143,17 @@ START_TEST(test_centroid_and_extents) {
   ck_assert_float_eq_tol(o->sensor.centroid[0], sx / n, 1e-4);
   ck_assert_float_eq_tol(o->sensor.centroid[1], sy / n, 1e-4);
   ck_assert_float_eq_tol(o->sensor.centroid[2], sz / n, 1e-4);
+  /* each return's ground-plane position, as the extraction placed it */
+  double qx = 0, qy = 0;
+  for (int r = 3; r <= 6; r++)
+    for (int c = 100; c <= 119; c++) {
+      float xy[2];
+      rs_objects_xy(&objs, &slot, &sensor, rs_cell(&slot, 0, r, c), xy);
+      qx += xy[0];
+      qy += xy[1];
+    }
+  ck_assert_float_eq_tol(qx / n, sx / n, 1e-4);
+  ck_assert_float_eq_tol(qy / n, sy / n, 1e-4);
   ck_assert_uint_eq(o->row_min, 3);
   ck_assert_uint_eq(o->row_max, 6);
   ck_assert_uint_eq(o->col_start, 100);

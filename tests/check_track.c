@@ -350,6 +350,7 @@ START_TEST(t_walkers_pass) {
     for (int j = 0; j < 3; j++) {
       init_default();
       uint32_t a = 0, b = 0;
+      int divided = 0;
       for (int f = 0; f < 120; f++) {
         const double t = 0.1 * f, xa = -8 + 1.4 * t, xb = 8 - 1.2 * t; /* they meet at 6.15 s */
         const double ja = 0.08 * sin(7.3 * t), jb = 0.08 * cos(5.1 * t);  /* the boxes wobble */
@@ -367,9 +368,16 @@ START_TEST(t_walkers_pass) {
           ck_assert_msg(tr.list.object_track[0] == a && tr.list.object_track[1] == b,
                         "%.1f m apart, merged within %.0f m: at %.1f s ids %u %u, not %u %u", sep[i], merge[j], t,
                         tr.list.object_track[0], tr.list.object_track[1], a, b);
+        /* merged and apart by more than a walker's width: each one's returns go to its own track */
+        if (f > 30 && objs.count == 1 && rs_track_divided(&tr, 0) && fabs(xa - xb) > 0.6) {
+          divided++;
+          ck_assert_uint_eq(rs_track_owner(&tr, 0, xa, 0.0), a);
+          ck_assert_uint_eq(rs_track_owner(&tr, 0, xb, sep[i]), b);
+        }
       }
       ck_assert_uint_ne(a, b);
       ck_assert_uint_eq(tr.n.born, 2);
+      ck_assert_msg(divided > 0, "%.1f m apart, merged within %.0f m: never divided", sep[i], merge[j]);
     }
 }
 END_TEST
@@ -402,11 +410,44 @@ START_TEST(t_queued_merge) {
     if (f >= 40 && f < 50) {
       ck_assert_uint_eq(tr.list.count, 2);
       ck_assert(tr.list.track[0].held && tr.list.track[1].held);
-      ck_assert_uint_eq(tr.list.object_track[0], a); /* the lower id carries the shared returns */
+      ck_assert_uint_eq(tr.list.object_track[0], a); /* the lower id carries the cluster */
+      /* its returns are divided: each car's own to its track, wherever in the car */
+      ck_assert(rs_track_divided(&tr, 0));
+      for (double u = -2.2; u <= 2.2; u += 0.4)
+        for (double v = -0.8; v <= 0.8; v += 0.4) {
+          ck_assert_uint_eq(rs_track_owner(&tr, 0, xa + u, v), a);
+          ck_assert_uint_eq(rs_track_owner(&tr, 0, xb + u, v), b);
+        }
+    } else {
+      ck_assert(!rs_track_divided(&tr, 0) && !rs_track_divided(&tr, 1));
+      ck_assert_uint_eq(rs_track_owner(&tr, 1, xb, 0.0), tr.list.object_track[1]); /* not divided: the object's */
     }
+    ck_assert_uint_eq(rs_track_owner(&tr, objs.count, 0.0, 0.0), 0); /* no such object */
   }
   ck_assert_uint_eq(tr.n.born, 2);
   ck_assert_float_eq(find_id(a)->speed, 0.0f);
+}
+END_TEST
+
+/* a car hidden at 2 s (its track coasting, then lost, predicted on at
+ * 2 m/s) while another drives through its predicted position the other way
+ * at 8 m/s: the passing car keeps its id (the older, unseen track is not the
+ * same object: they do not move alike) */
+START_TEST(t_passing_not_stitched) {
+  init_default();
+  uint32_t a = 0, b = 0;
+  for (int f = 0; f < 60; f++) {
+    const double t = 0.1 * f;
+    clear();
+    if (t < 2.0) car(t, -10 + 2 * t, 0.0, 0.0);
+    car(t, 30 - 8 * t, 0.5, M_PI);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 10) a = tr.list.object_track[0], b = tr.list.object_track[1];
+    if (f > 10) ck_assert_msg(tr.list.object_track[objs.count - 1] == b, "at %.1f s the passing car is %u, not %u", t,
+                              tr.list.object_track[objs.count - 1], b);
+  }
+  ck_assert_uint_ne(a, b);
+  ck_assert_uint_eq(tr.n.stitched, 0);
 }
 END_TEST
 
@@ -638,6 +679,7 @@ int main(void) {
   tcase_add_test(tc, t_sparse_pedestrian);
   tcase_add_test(tc, t_classes);
   tcase_add_test(tc, t_queued_merge);
+  tcase_add_test(tc, t_passing_not_stitched);
   tcase_add_test(tc, t_split);
   tcase_add_test(tc, t_split_side);
   tcase_add_test(tc, t_speed_follows);

@@ -453,9 +453,11 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
   if (p->labels_open) {
     if (r.tracks) {
       track_labels(p, &r);
-      rs_labels_write_frame(&p->labels, s, p->label_buf, p->label_map, r.objects->count);
+      /* a cluster over held tracks: each return its track's id (track ids, held ones confirmed) */
+      const rs_labels_cells_t each = {r.divided_cell, r.divided_track, r.divided, RS_LABEL_NOISE};
+      rs_labels_write_frame(&p->labels, s, p->label_buf, p->label_map, r.objects->count, &each);
     } else {
-      rs_labels_write_frame(&p->labels, s, p->label_buf, NULL, 0);
+      rs_labels_write_frame(&p->labels, s, p->label_buf, NULL, 0, NULL);
     }
   }
   if (p->cfg.stall_ms > 0) { /* the overload tests' slow processing thread */

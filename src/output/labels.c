@@ -151,9 +151,10 @@ static int cmp_entry(const void *a, const void *b) {
 }
 
 void rs_labels_write_frame(rs_labels_writer_t *w, const rs_slot_t *s, rs_label_entry_t *buf, const uint32_t *map,
-                           uint32_t nmap) {
+                           uint32_t nmap, const rs_labels_cells_t *each) {
   const uint32_t cells = (uint32_t)s->meta.rows * s->meta.cols;
   size_t n = 0;
+  uint32_t e = 0; /* cursor in each->cell (ascending, as the cells are visited) */
   for (int l = 0; l < RS_LAYERS; l++)
     for (uint32_t i = 0; i < cells; i++) {
       uint32_t c = (uint32_t)l * RS_MAX_CELLS + i;
@@ -163,6 +164,13 @@ void rs_labels_write_frame(rs_labels_writer_t *w, const rs_slot_t *s, rs_label_e
       if (map && lab >= RS_LABEL_FIRST_OBJECT) {
         const uint32_t k = lab - RS_LABEL_FIRST_OBJECT;
         lab = k < nmap && map[k] ? map[k] : RS_LABEL_NOISE;
+        if (each) {
+          while (e < each->n && each->cell[e] < c) e++;
+          if (e < each->n && each->cell[e] == c) {
+            const uint32_t v = each->value[e];
+            lab = v && v + each->offset > v ? v + each->offset : RS_LABEL_NOISE;
+          }
+        }
       }
       buf[n].label = lab;
       n++;

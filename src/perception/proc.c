@@ -132,9 +132,41 @@ static int64_t stage_end(rs_proc_t *p, rs_proc_report_t *r, int k, int64_t t0) {
   return t1;
 }
 
+/* the returns of clusters over held tracks, each to the track it belongs to
+ * (part of the track stage) */
+static void divide_shared(rs_proc_t *p, const rs_slot_t *s, const rs_sensor_t *sensor, rs_proc_report_t *r) {
+  const rs_tracker_t *tr = p->cfg.tracker;
+  const rs_cluster_t *cl = p->cfg.cluster;
+  const uint32_t nobj = p->cfg.object_list->count;
+  bool any = false;
+  for (uint32_t k = 0; k < nobj && !any; k++) any = rs_track_divided(tr, k);
+  if (!any) return;
+  const uint32_t limit = RS_LAYERS * RS_MAX_CELLS, rowcells = (uint32_t)s->meta.rows * s->meta.cols;
+  uint32_t n = 0;
+  for (uint32_t j = 0; j < cl->nmembers && j < limit; j++) {
+    const uint32_t c = cl->members[j];
+    if (c >= limit || c % RS_MAX_CELLS >= rowcells || s->range[c] == 0.0f) continue;
+    const uint32_t lab = s->label[c];
+    if (lab < RS_LABEL_FIRST_OBJECT || !rs_track_divided(tr, lab - RS_LABEL_FIRST_OBJECT)) continue;
+    if (n == RS_PROC_DIVIDED_MAX) {
+      p->n.divided_overflow++; /* the rest go with the object's track */
+      continue;
+    }
+    float xy[2];
+    rs_objects_xy(p->cfg.objects, s, sensor, c, xy);
+    p->divided_cell[n] = c;
+    p->divided_track[n] = rs_track_owner(tr, lab - RS_LABEL_FIRST_OBJECT, xy[0], xy[1]);
+    n++;
+  }
+  r->divided = n;
+  p->n.divided += n;
+}
+
 void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_proc_report_t *r) {
   memset(r, 0, sizeof *r);
   r->objects = &no_objects;
+  r->divided_cell = p->divided_cell;
+  r->divided_track = p->divided_track;
   const rs_bg_model_t *bgm = NULL;
   if (p->bgu_on) {
     /* outside the frame's time: it waits for the learner only in lossless runs */
@@ -180,6 +212,7 @@ void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_pro
       if (p->cfg.tracker) {
         /* the frame's time is its last packet's: capture time, never the wall clock */
         rs_track_frame(p->cfg.tracker, p->cfg.object_list, s->meta.t_last);
+        divide_shared(p, s, sensor, r);
         t = stage_end(p, r, RS_STAGE_TRACKS, t);
         r->tracks = &p->cfg.tracker->list;
         p->last_t = s->meta.t_last;
@@ -208,5 +241,7 @@ void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_pro
 void rs_proc_finish(rs_proc_t *p, rs_proc_report_t *r) {
   memset(r, 0, sizeof *r);
   r->objects = &no_objects;
+  r->divided_cell = p->divided_cell;
+  r->divided_track = p->divided_track;
   if (p->cfg.counter && rs_count_flush(p->cfg.counter, p->last_t)) r->counts = &p->cfg.counter->closed;
 }

@@ -63,6 +63,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
+  tr->hold_objects = 0;
   tr->have_pose = false;
   tr->cfg = *cfg;
   tr->next_id = 1;
@@ -313,6 +314,14 @@ static bool in_track_box(const rs_track_t *t, double px, double py) {
   const double u = dx * c + dy * s, v = -dx * s + dy * c;
   const double m = fmin(RS_TRACK_SPLIT_MARGIN, 0.5 * t->length); /* a walker's box is not grown by a stride */
   return fabs(u) <= 0.5 * t->length + m && fabs(v) <= 0.5 * t->width + 0.5 * m;
+}
+
+/* tracks a and b move alike, as two tracks of one object do: their
+ * velocities differ by at most 3 m/s or two standard deviations of the
+ * difference (a vehicle passing where a lost track is predicted does not) */
+static bool move_alike(const rs_track_t *a, const rs_track_t *b) {
+  const double dvx = a->x[2] - b->x[2], dvy = a->x[3] - b->x[3], d2 = dvx * dvx + dvy * dvy;
+  return d2 <= 9.0 || d2 <= 4.0 * (a->P[2][2] + a->P[3][3] + b->P[2][2] + b->P[3][3]);
 }
 
 /* objects a (taken by track t this frame) and b fit together in t's known
@@ -630,6 +639,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     L->track[i].object = -1;
     L->track[i].was_held = L->track[i].held;
     L->track[i].held = false;
+    L->track[i].held_object = -1;
   }
   /* clusters over two confirmed tracks whose predictions are apart: held */
   track_grid(tr, t_frame);
@@ -672,6 +682,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       predict_pos(tr, t, tr->obj_t[k], p, S);
       if (!in_box(o, oc, os, p[0], p[1], 0.3)) continue;
       t->held = true;
+      t->held_object = (int32_t)k;
       tr->n.held++;
       if (L->object_track[k] == 0) L->object_track[k] = t->id;
     }
@@ -739,7 +750,9 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
         /* they were seen together: the same object only when the older one, unseen, is predicted where the
          * younger one is (within a third of its length) and they are of a size */
         const double lmax = fmax(o->length, y->length), lmin = fmin(o->length, y->length);
-        if (o->id > y->id || sqrt(dx * dx + dy * dy) > fmax(0.5, 0.35 * y->length) || lmin < 0.5 * lmax - 0.5) continue;
+        if (o->id > y->id || sqrt(dx * dx + dy * dy) > fmax(0.5, 0.35 * y->length) || lmin < 0.5 * lmax - 0.5 ||
+            !move_alike(o, y))
+          continue;
       } else if (sqrt(dx * dx + dy * dy) > fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (y->t_state - o->t_update))) {
         continue;
       }
@@ -901,11 +914,40 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     t->py0 = t->prev[1] = z[1];
     t->state = RS_TRACK_TENTATIVE;
     t->object = (int32_t)k;
+    t->held_object = -1;
     take(tr, t, o, tr->obj_t[k]);
     t->cls = RS_CLASS_UNKNOWN;
     report_speed(tr, t);
     L->object_track[k] = t->id;
     tr->n.born++;
   }
+  /* the held tracks each shared object's returns are divided between (indices are final now) */
+  memset(tr->hold_n, 0, nobj);
+  tr->hold_objects = nobj;
+  for (uint32_t i = 0; i < L->count; i++) {
+    const rs_track_t *t = &L->track[i];
+    if (!t->held || t->held_object < 0 || (uint32_t)t->held_object >= nobj) continue;
+    const uint32_t k = (uint32_t)t->held_object;
+    if (tr->hold_n[k] < RS_TRACK_HOLD_MAX) tr->hold_idx[k][tr->hold_n[k]++] = (uint16_t)i;
+  }
   if (tr->have_pose) site_states(tr);
+}
+
+uint32_t rs_track_owner(const rs_tracker_t *tr, uint32_t k, double x, double y) {
+  if (k >= tr->hold_objects) return 0;
+  if (tr->hold_n[k] < 2) return tr->list.object_track[k];
+  uint32_t best = 0;
+  double best_score = HUGE_VAL;
+  for (uint32_t j = 0; j < tr->hold_n[k]; j++) { /* in index order: id order, the lower id wins a tie */
+    const rs_track_t *t = &tr->list.track[tr->hold_idx[k][j]];
+    const double dt = tr->obj_t[k] - t->t_state;
+    const double dx = x - (t->x[0] + t->x[2] * dt), dy = y - (t->x[1] + t->x[3] * dt);
+    const double u = dx * t->hcos + dy * t->hsin, v = -dx * t->hsin + dy * t->hcos;
+    const double score = fmax(fabs(u) / fmax(0.25, 0.5 * t->length), fabs(v) / fmax(0.25, 0.5 * t->width));
+    if (score < best_score) {
+      best_score = score;
+      best = t->id;
+    }
+  }
+  return best;
 }

@@ -63,9 +63,16 @@ typedef struct {
   uint32_t label;
 } rs_label_entry_t;
 #define RS_LABELS_FRAME_MAX (RS_LAYERS * RS_MAX_CELLS)
+/* Returns labelled one by one: cell[j] (ascending) gets value[j] + offset
+ * (value 0: noise, 2), whatever its cluster's map says. */
+typedef struct {
+  const uint32_t *cell, *value;
+  uint32_t n, offset;
+} rs_labels_cells_t;
 /* map: NULL, or the label written for cluster label 3 + k (map[k], k < nmap;
- * 0 = noise, 2); labels beyond nmap are written as 2. */
+ * 0 = noise, 2); labels beyond nmap are written as 2. cells: NULL, or the
+ * returns labelled one by one (with a map). */
 void rs_labels_write_frame(rs_labels_writer_t *w, const rs_slot_t *s, rs_label_entry_t *buf, const uint32_t *map,
-                           uint32_t nmap);
+                           uint32_t nmap, const rs_labels_cells_t *cells);
 
 #endif

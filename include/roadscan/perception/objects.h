@@ -112,5 +112,14 @@ void rs_objects_extract(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *
  * or a cluster label are skipped): no scan of the whole map. */
 void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen, const uint32_t *cells,
                               uint32_t n, rs_object_list_t *out);
+/* The ground-plane position (sensor frame, m) of cell i's return, as the
+ * last extraction placed it (its column tables are the last frame's). */
+static inline void rs_objects_xy(const rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen, uint32_t i,
+                                 float xy[2]) {
+  const uint32_t cols = (uint32_t)s->meta.cols, c = (i % RS_MAX_CELLS) % cols;
+  const float h = s->range[i] * sen->cos_el[sen->laser_of_row[(i % RS_MAX_CELLS) / cols]];
+  xy[0] = h * o->col_sin[c];
+  xy[1] = h * o->col_cos[c];
+}
 
 #endif

@@ -51,6 +51,9 @@ typedef struct {
   rs_counter_t *counter;       /* optional with tracker: rs_count_init done */
 } rs_proc_cfg_t;
 
+#define RS_PROC_DIVIDED_MAX 32768 /* returns of clusters divided between tracks, per frame */
+_Static_assert(RS_PROC_DIVIDED_MAX <= RS_LAYERS * RS_MAX_CELLS, "no more than a frame's cells");
+
 enum { RS_STAGE_BACKGROUND, RS_STAGE_CLUSTER, RS_STAGE_OBJECTS, RS_STAGE_TRACKS, RS_STAGE_COUNTING, RS_STAGES };
 
 typedef struct {
@@ -67,6 +70,10 @@ typedef struct {
   bool model_changed;                /* another background model was taken over before this frame */
   uint32_t filled[RS_LAYERS];        /* cells with a return, per layer */
   float min_range, max_range;        /* of the frame's returns (0 when none) */
+  /* the returns of clusters divided between held tracks (track.h): cell (ascending) and the id of the
+   * track it belongs to (rs_track_owner); the other returns of a cluster go with objects' track */
+  uint32_t divided;
+  const uint32_t *divided_cell, *divided_track;
 } rs_proc_report_t;
 
 typedef struct {
@@ -74,6 +81,7 @@ typedef struct {
   uint64_t cells_filled[RS_LAYERS];
   double min_range, max_range;
   uint64_t clusters, clustered, noise, objects;
+  uint64_t divided, divided_overflow; /* returns of divided clusters; beyond RS_PROC_DIVIDED_MAX in a frame */
 } rs_proc_counters_t;
 
 typedef struct {
@@ -88,6 +96,7 @@ typedef struct {
   bool rate_checked, few_warned;
   const rs_sensor_t *sensor;         /* of the frames seen so far */
   double last_t;                     /* capture time of the last tracked frame */
+  uint32_t divided_cell[RS_PROC_DIVIDED_MAX], divided_track[RS_PROC_DIVIDED_MAX];
 } rs_proc_t;
 
 /* RS_OK, or a negative code with err set (nothing left allocated). */

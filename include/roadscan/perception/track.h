@@ -40,7 +40,9 @@
  *   predicted centres of both lie in its box; neither takes it, both keep
  *   their ids and are held (predicted, kept alive, speeds kept) until they
  *   come apart (two walkers passing each other stay held while their
- *   predictions cross).
+ *   predictions cross). Each return of such a cluster belongs to the held
+ *   track whose box, predicted to the cluster's time, holds it best
+ *   (rs_track_owner): the point labels carry both ids.
  * - One object split into two clusters: the one not taken whose centre lies
  *   within a taken track's box (grown by RS_TRACK_SPLIT_MARGIN), or which
  *   fits with the track's own object within the track's known size (grown by
@@ -91,6 +93,7 @@
 #define RS_TRACK_PED_MAX_WIDTH 1.5f  /* m, and the widest (a car seen end-on) */
 #define RS_TRACK_EDGES_PER_TRACK 8 /* the best gated objects a track keeps per round */
 #define RS_TRACK_GRID_BUCKETS 4096 /* object lookup grid (4 m cells, hashed) */
+#define RS_TRACK_HOLD_MAX 4        /* held tracks one shared cluster's returns are divided between */
 
 _Static_assert(RS_TRACK_MAX <= RS_OBJ_MAX, "a track index fits where an object index does");
 _Static_assert(RS_TRACK_GROUP_MAX * RS_TRACK_GROUP_MAX <= 4096, "the association matrix stays small");
@@ -167,6 +170,7 @@ typedef struct {
   int32_t object;            /* index in this frame's object list, -1 none */
   bool held;                 /* shares a cluster with another track this frame */
   bool was_held;             /* ... and did the frame before */
+  int32_t held_object;       /* the object it is held in this frame, -1 none */
 } rs_track_t;
 
 typedef struct {
@@ -226,6 +230,10 @@ typedef struct {
   bool have_pose;
   double rot[9], trans[3];             /* sensor -> site (rs_pose_t's convention) */
   uint16_t near[RS_TRACK_MAX];
+  /* per object of the last frame: the held tracks (list indices) its returns are divided between */
+  uint32_t hold_objects;               /* objects of the last frame */
+  uint8_t hold_n[RS_OBJ_MAX];
+  uint16_t hold_idx[RS_OBJ_MAX][RS_TRACK_HOLD_MAX];
 } rs_tracker_t;
 
 void rs_track_cfg_default(rs_track_cfg_t *c);
@@ -242,6 +250,15 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg);
 void rs_track_set_pose(rs_tracker_t *tr, const rs_pose_t *pose);
 /* One frame: its objects and its time (s, capture clock). */
 void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_frame);
+/* After rs_track_frame: the id of the track a return of object k at (x, y)
+ * (sensor frame, m) belongs to. For an object over held tracks, the one
+ * whose box, predicted to the object's time, holds the point best (the
+ * largest of its along and across offsets over the half length and half
+ * width, each at least 0.25 m; ties: the lower id); else the track that took
+ * or absorbed the object (object_track[k], 0 none). */
+uint32_t rs_track_owner(const rs_tracker_t *tr, uint32_t k, double x, double y);
+/* whether object k of the last frame is divided between held tracks */
+static inline bool rs_track_divided(const rs_tracker_t *tr, uint32_t k) { return k < tr->hold_objects && tr->hold_n[k] >= 2; }
 const char *rs_track_state_name(rs_track_state_t s);
 const char *rs_class_name(rs_class_t c);
 
