@@ -765,8 +765,17 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
      * nothing the sensor can see (a dark road too far to return) */
     for (int j = 0; j < k; j++)
       wide[j] = cl[j].hi - cl[j].lo > (int32_t)lround(fmax(p->wide_min * 100.0, p->wide_share * cl[j].lo));
+    for (int j = 0; j < k; j++) fl[j] = flickers(&cl[j], npairs, p->flicker_lift);
     for (int j = 0; j < k; j++) {
-      fl[j] = flickers(&cl[j], npairs, p->flicker_lift);
+      /* the returns behind it that come from a cluster seen only now and
+       * then (back in the next frame less than RS_BG_INTERMITTENT of the
+       * time): the far side of an edge, seen when drifting firings miss the
+       * near side; not the road a stopped vehicle hid, which returns in long
+       * runs once it has left */
+      uint32_t behind_edge = 0;
+      for (int m = j + 1; m < k; m++)
+        if (cl[m].pairs > 0 && cl[m].stay < RS_BG_INTERMITTENT * cl[m].pairs) behind_edge += cl[m].count;
+      const double behind = (double)cl[j].behind - behind_edge;
       bg[j] = !wide[j] && ((j == k - 1 && !sky) || (fl[j] && (double)cl[j].windows / nwin >= p->coverage_min));
       /* hidden, not gone: a nearer cluster seen in a good share of the frames,
        * throughout the capture, at one range, and when it is not seen the
@@ -779,7 +788,7 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
           cl[j].count >= p->occluded_seen * nf && (double)cl[j].windows / nwin >= p->occluded_windows &&
           cl[j].hi - cl[j].lo <= (int32_t)lround(fmax(p->occluded_spread * 100.0, 0.01 * cl[j].lo)) &&
           cl[j].front >= 0.5 * (double)(nf - (int)cl[j].count) &&
-          cl[j].behind <= p->occluded_max * (double)(cl[j].front + cl[j].behind))
+          behind <= p->occluded_max * ((double)cl[j].front + behind))
         bg[j] = true;
       /* under RS_BG_JUDGE_FRAMES frames nothing tells what stays from what
        * flickers: everything seen is the scene */

@@ -60,6 +60,7 @@
 #define RS_BG_SHIFT_COLS 48     /* columns looked at on either side, at most (bounded work) */
 #define RS_BG_BEHIND_JUMP 0.3   /* m: a depth edge, seen behind a near object from a displaced sensor */
 #define RS_BG_BEHIND_JUMP_SHARE 0.05 /* ... or this share of the range when more */
+#define RS_BG_INTERMITTENT 0.6 /* a cluster back in the next frame less often than this is intermittent */
 #define RS_BG_JUDGE_FRAMES 10 /* fewer frames: every cluster seen is the scene */ /* a farthest surface seen in this % of frames or more is solid */
 
 typedef enum { RS_BG_DBSCAN = 0, RS_BG_PERCENTILE = 1 } rs_bg_method_t;
@@ -86,7 +87,9 @@ typedef struct {
                              not stored in the model file */
   double occluded_max;    /* a nearer cluster is a surface hidden by traffic (background) when, in
                              the frames it is not seen, at most this share of the returns lie behind
-                             it (the rest in front: what hides it); default 0.2, 0 = off; and it is */
+                             it (the rest in front: what hides it; returns of a cluster behind it
+                             that is intermittent, RS_BG_INTERMITTENT, the far side of an edge, are
+                             not counted); default 0.2, 0 = off; and it is */
   double occluded_seen;   /* seen in this share of the frames (0.1), */
   double occluded_windows;/* in this share of the 5 s windows (0.5), */
   double occluded_spread; /* within max(this, 1 % of the range) (0.15 m). Not stored in the model file */
