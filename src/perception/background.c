@@ -822,7 +822,7 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
         cand_t *e = &cc[ne - 1];
         e->hi = c.hi;
         e->seen = (uint16_t)(e->seen + c.seen > 10000 ? 10000 : e->seen + c.seen);
-        e->stays &= c.stays;
+        e->stays |= c.stays; /* a vehicle that stayed is in it: no support from the cells beside */
         continue;
       }
       cc[ne++] = c;
