@@ -409,7 +409,7 @@ START_TEST(t_queued_merge) {
     }
     if (f >= 40 && f < 50) {
       ck_assert_uint_eq(tr.list.count, 2);
-      ck_assert(tr.list.track[0].held && tr.list.track[1].held);
+      ck_assert(rs_track_held(&tr.list.track[0]) && rs_track_held(&tr.list.track[1]));
       ck_assert_uint_eq(tr.list.object_track[0], a); /* the lower id carries the cluster */
       /* its returns are divided: each car's own to its track, wherever in the car */
       ck_assert(rs_track_divided(&tr, 0));
@@ -448,6 +448,34 @@ START_TEST(t_passing_not_stitched) {
   }
   ck_assert_uint_ne(a, b);
   ck_assert_uint_eq(tr.n.stitched, 0);
+}
+END_TEST
+
+/* six walkers abreast, 1 m apart, merged into one cluster for 0.5 s: the
+ * cluster's returns are divided between the first RS_TRACK_HOLD_MAX held
+ * tracks, the others counted */
+START_TEST(t_crowd_divided) {
+  init_default();
+  uint32_t id[6] = {0};
+  for (int f = 0; f < 40; f++) {
+    const double t = 0.1 * f, y = 1.2 * t;
+    clear();
+    if (f < 35) {
+      for (int w = 0; w < 6; w++) put(t, w * 1.0, y, 0.5, 0.4, 0.0, 1.7, 25);
+    } else {
+      put(t, 2.5, y, 5.5, 0.5, 0.0, 1.7, 200);
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 34)
+      for (int w = 0; w < 6; w++) id[w] = tr.list.object_track[w];
+    if (f >= 35) {
+      ck_assert(rs_track_divided(&tr, 0));
+      ck_assert_uint_eq(tr.hold_n[0], RS_TRACK_HOLD_MAX);
+      for (int w = 0; w < RS_TRACK_HOLD_MAX; w++) ck_assert_uint_eq(rs_track_owner(&tr, 0, w * 1.0, y), id[w]);
+    }
+  }
+  ck_assert_uint_eq(tr.n.hold_overflow, 5 * (6 - RS_TRACK_HOLD_MAX));
+  ck_assert_uint_eq(tr.n.born, 6);
 }
 END_TEST
 
@@ -680,6 +708,7 @@ int main(void) {
   tcase_add_test(tc, t_classes);
   tcase_add_test(tc, t_queued_merge);
   tcase_add_test(tc, t_passing_not_stitched);
+  tcase_add_test(tc, t_crowd_divided);
   tcase_add_test(tc, t_split);
   tcase_add_test(tc, t_split_side);
   tcase_add_test(tc, t_speed_follows);

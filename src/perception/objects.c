@@ -257,9 +257,8 @@ void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sens
       bool first = ob->points == 0;
       float p[2][3] = {{0}};
       const int laser = sen->laser_of_row[r];
-      const float range = s->range[i], xy = range * sen->cos_el[laser];
-      p[0][0] = xy * o->col_sin[c];
-      p[0][1] = xy * o->col_cos[c];
+      rs_objects_xy(o, s, sen, i, p[0]);
+      const float range = s->range[i];
       p[0][2] = range * sen->sin_el[laser] + sen->vert_offset_m[laser];
       if (nf == 2) {
         for (int a = 0; a < 3; a++)

@@ -489,7 +489,7 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
   const rs_track_cfg_t *cf = &tr->cfg;
   for (uint32_t i = 0; i < tr->list.count; i++) {
     rs_track_t *t = &tr->list.track[i];
-    if (t->held || t->object >= 0) continue;
+    if (rs_track_held(t) || t->object >= 0) continue;
     if ((t->state != RS_TRACK_TENTATIVE) != confirmed_round) continue;
     const double sp = hypot(t->x[2], t->x[3]);
     const double radius = cf->gate_m + sp * 0.15 + MAX_SHIFT;
@@ -637,8 +637,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   }
   for (uint32_t i = 0; i < L->count; i++) {
     L->track[i].object = -1;
-    L->track[i].was_held = L->track[i].held;
-    L->track[i].held = false;
+    L->track[i].was_held = rs_track_held(&L->track[i]);
     L->track[i].held_object = -1;
   }
   /* clusters over two confirmed tracks whose predictions are apart: held */
@@ -677,11 +676,10 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     tr->shared[k] = 1;
     for (uint32_t q = 0; q < nn; q++) {
       rs_track_t *t = &L->track[tr->near[q]];
-      if (t->state == RS_TRACK_TENTATIVE || t->state == RS_TRACK_LOST || t->held) continue;
+      if (t->state == RS_TRACK_TENTATIVE || t->state == RS_TRACK_LOST || rs_track_held(t)) continue;
       double p[2], S[3];
       predict_pos(tr, t, tr->obj_t[k], p, S);
       if (!in_box(o, oc, os, p[0], p[1], 0.3)) continue;
-      t->held = true;
       t->held_object = (int32_t)k;
       tr->n.held++;
       if (L->object_track[k] == 0) L->object_track[k] = t->id;
@@ -726,7 +724,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   uint32_t nunseen = 0; /* the coasting and lost tracks not held, in index order */
   for (uint32_t j = 0; j < L->count; j++) {
     const rs_track_t *o = &L->track[j];
-    if (o->id != 0 && o->object < 0 && !o->held && (o->state == RS_TRACK_COASTING || o->state == RS_TRACK_LOST))
+    if (o->id != 0 && o->object < 0 && !rs_track_held(o) && (o->state == RS_TRACK_COASTING || o->state == RS_TRACK_LOST))
       tr->near[nunseen++] = (uint16_t)j;
   }
   for (uint32_t i = 0; i < L->count && nunseen > 0; i++) {
@@ -811,7 +809,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     rs_track_t *t = &L->track[i];
     if (t->id == 0) continue;
     const bool tentative = t->state == RS_TRACK_TENTATIVE;
-    if (!tentative && (t->object >= 0 || t->held)) continue;
+    if (!tentative && (t->object >= 0 || rs_track_held(t))) continue;
     double px = t->x[0], py = t->x[1];
     if (!tentative) {
       double dt = t_frame - t->t_state;
@@ -848,7 +846,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     const bool updated = t->object >= 0;
     if (!updated) {
       predict(tr, t, t_frame);
-      if (t->held) t->t_update = t_frame; /* seen, inside a shared cluster */
+      if (rs_track_held(t)) t->t_update = t_frame; /* seen, inside a shared cluster */
       else t->misses++;
     }
     const double since = t_frame - t->t_update;
@@ -867,7 +865,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       }
     } else {
       if (since > cf->coast_s + cf->lost_s) ends = true;
-      else if (updated || t->held) t->state = RS_TRACK_CONFIRMED;
+      else if (updated || rs_track_held(t)) t->state = RS_TRACK_CONFIRMED;
       else t->state = since > cf->coast_s ? RS_TRACK_LOST : RS_TRACK_COASTING;
     }
     if (ends) {
@@ -878,7 +876,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     t->distance += hypot(t->x[0] - t->prev[0], t->x[1] - t->prev[1]); /* path, coasting included */
     t->prev[0] = t->x[0];
     t->prev[1] = t->x[1];
-    if (updated || t->held) t->distance_seen = t->distance;
+    if (updated || rs_track_held(t)) t->distance_seen = t->distance;
     if (t->state != RS_TRACK_TENTATIVE && updated) {
       if (t->speed > t->max_speed) t->max_speed = t->speed;
       t->sum_speed += t->speed;
@@ -926,9 +924,10 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   tr->hold_objects = nobj;
   for (uint32_t i = 0; i < L->count; i++) {
     const rs_track_t *t = &L->track[i];
-    if (!t->held || t->held_object < 0 || (uint32_t)t->held_object >= nobj) continue;
+    if (!rs_track_held(t) || t->held_object < 0 || (uint32_t)t->held_object >= nobj) continue;
     const uint32_t k = (uint32_t)t->held_object;
     if (tr->hold_n[k] < RS_TRACK_HOLD_MAX) tr->hold_idx[k][tr->hold_n[k]++] = (uint16_t)i;
+    else tr->n.hold_overflow++;
   }
   if (tr->have_pose) site_states(tr);
 }

@@ -168,10 +168,12 @@ typedef struct {
   uint32_t points;           /* returns of the last object */
   float site[3], site_v[2], site_heading; /* position, velocity and heading in the site frame (with a pose) */
   int32_t object;            /* index in this frame's object list, -1 none */
-  bool held;                 /* shares a cluster with another track this frame */
-  bool was_held;             /* ... and did the frame before */
-  int32_t held_object;       /* the object it is held in this frame, -1 none */
+  int32_t held_object;       /* held: the object it shares with another track this frame, -1 none */
+  bool was_held;             /* ... held the frame before */
 } rs_track_t;
+
+/* whether track t shares a cluster with another track this frame (track.h's "held") */
+static inline bool rs_track_held(const rs_track_t *t) { return t->held_object >= 0; }
 
 typedef struct {
   uint32_t id;
@@ -194,6 +196,7 @@ typedef struct {
 
 typedef struct {
   uint64_t frames, born, confirmed, ended, overflow, greedy_groups, held, absorbed, ends_dropped, duplicates, stitched;
+  uint64_t hold_overflow; /* held tracks beyond RS_TRACK_HOLD_MAX in one cluster (its returns go to the others) */
 } rs_track_counters_t;
 
 typedef struct {
