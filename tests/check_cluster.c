@@ -259,9 +259,115 @@ START_TEST(t_adaptive_people_in_file) {
   ck_assert_int_ge(lab(16, 703), 3);
   ck_assert_int_ne(lab(16, 702), lab(16, 703));
   cfg.adaptive.eps_share = 0.03f;
+  cfg.adaptive.split_gap = 0.0f; /* the split pass (below) would cut them again */
   run_adaptive(&cfg, &st);
   ck_assert_uint_eq(st.clusters, 1);
   ck_assert_int_eq(lab(16, 702), lab(16, 703));
+}
+END_TEST
+
+/* The split pass: people in file at 33 m that a wide eps (0.06 x range: 2 m)
+ * joins, 1.4 m apart in range, side by side in the image, each 3 columns x 6
+ * rows (0.35 m wide, 0.2 m deep) */
+static void file_of_people(int n, int col0) {
+  for (int p = 0; p < n; p++)
+    for (int r = 12; r <= 17; r++)
+      for (int k = 0; k < 3; k++) {
+        int c = (col0 + 3 * p + k) % 1820;
+        put(r, c, 33.0f + 1.4f * (float)p + 0.1f * (float)(r % 3));
+      }
+}
+
+START_TEST(t_adaptive_split_file) {
+  rs_cluster_cfg_t cfg;
+  rs_cluster_stats_t st;
+  adaptive_vlp32c(&cfg);
+  cfg.adaptive.eps_share = 0.06f;
+  ck_assert_float_eq_tol(cfg.adaptive.split_gap, 0.5f, 1e-6f);
+  /* three people in file, one of them across column 0: three clusters, the nearest keeps its label */
+  file_of_people(3, 1817);
+  run_adaptive(&cfg, &st);
+  ck_assert_uint_eq(st.clusters, 3);
+  ck_assert_uint_eq(st.splits, 1);
+  ck_assert_uint_eq(st.clustered, 54);
+  const uint16_t a = lab(14, 1817), b = lab(14, 1), c = lab(14, 4); /* the second one: columns 0 .. 2 */
+  ck_assert_int_eq(a, 3);
+  ck_assert_int_ge(b, 3);
+  ck_assert_int_ge(c, 3);
+  ck_assert(a != b && b != c && a != c);
+  for (int r = 12; r <= 17; r++) {
+    ck_assert_int_eq(lab(r, 1819), a);
+    ck_assert_int_eq(lab(r, 0), b);
+    ck_assert_int_eq(lab(r, 2), b);
+    ck_assert_int_eq(lab(r, 5), c);
+  }
+  /* off: one cluster */
+  cfg.adaptive.split_gap = 0.0f;
+  run_adaptive(&cfg, &st);
+  ck_assert_uint_eq(st.clusters, 1);
+  ck_assert_uint_eq(st.splits, 0);
+
+  /* mixed ranges in one column between two people stay with the nearer one */
+  adaptive_vlp32c(&cfg);
+  cfg.adaptive.eps_share = 0.06f;
+  file_of_people(2, 700);
+  for (int r = 12; r <= 17; r++) put(r, 703, 33.7f);
+  run_adaptive(&cfg, &st);
+  ck_assert_uint_eq(st.clusters, 2);
+  ck_assert_int_eq(lab(13, 703), lab(13, 700));
+  ck_assert_int_ne(lab(13, 704), lab(13, 700));
+}
+END_TEST
+
+/* What the split pass leaves whole: a bumper and, 1.4 m behind, a roof in
+ * the rows above; a wide part (the side of a car); a deep part; a part of fewer
+ * than split_min returns */
+START_TEST(t_adaptive_split_keeps) {
+  rs_cluster_cfg_t cfg;
+  rs_cluster_stats_t st;
+  const int cases = 4;
+  for (int k = 0; k < cases; k++) {
+    adaptive_vlp32c(&cfg);
+    cfg.adaptive.eps_share = 0.06f;
+    switch (k) {
+    case 0: /* rows 12..14 and 15..17 */
+      block(12, 14, 700, 705, 33.0f);
+      block(15, 17, 700, 705, 34.4f);
+      break;
+    case 1: /* 2 m wide (18 columns at 33 m) in front of a person */
+      block(12, 17, 700, 717, 33.0f);
+      block(12, 17, 718, 720, 34.4f);
+      break;
+    case 2: /* the near part 0.8 m deep */
+      for (int r = 12; r <= 17; r++)
+        for (int c = 700; c <= 702; c++) put(r, c, 33.0f + 0.16f * (float)(r - 12));
+      block(12, 17, 703, 705, 35.2f);
+      break;
+    default: /* 4 returns 1.4 m behind */
+      block(12, 17, 700, 702, 33.0f);
+      block(12, 13, 703, 704, 34.4f);
+      break;
+    }
+    run_adaptive(&cfg, &st);
+    ck_assert_msg(st.clusters == 1 && st.splits == 0, "case %d: %u clusters", k, st.clusters);
+    /* the same with the limit that case is about relaxed: cut */
+    if (k == 1) cfg.adaptive.split_width = 3.0f;
+    else if (k == 2) cfg.adaptive.split_depth = 1.0f;
+    else if (k == 3) cfg.adaptive.split_min = 4;
+    else continue;
+    run_adaptive(&cfg, &st);
+    ck_assert_msg(st.clusters == 2 && st.splits == 1, "case %d relaxed: %u clusters", k, st.clusters);
+  }
+  /* bad values */
+  rs_cluster_cfg_default(&cfg);
+  cfg.adaptive.split_width = 0.0f;
+  ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &vlp32c), RS_E_INVAL);
+  rs_cluster_cfg_default(&cfg);
+  cfg.adaptive.split_gap = -1.0f;
+  ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &vlp32c), RS_E_INVAL);
+  rs_cluster_cfg_default(&cfg);
+  cfg.adaptive.split_min = 0;
+  ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &vlp32c), RS_E_INVAL);
 }
 END_TEST
 
@@ -442,6 +548,8 @@ int main(void) {
   tcase_add_test(tc, t_adaptive_far_pairs);
   tcase_add_test(tc, t_adaptive_border_eps);
   tcase_add_test(tc, t_adaptive_people_in_file);
+  tcase_add_test(tc, t_adaptive_split_file);
+  tcase_add_test(tc, t_adaptive_split_keeps);
   tcase_add_test(tc, t_see_through_cells_do_not_seed);
   tcase_add_test(tc, t_dual_layer_and_config);
   tcase_add_test(tc, t_dual_layer_method_eps);

@@ -619,10 +619,13 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
               (unsigned long long)pr->bg.shifted, (unsigned long long)pr->bg.behind);
   }
   if (p->cfg.cluster && p->cfg.cluster->cfg.method != RS_CLUSTER_NONE)
-    fprintf(out, "  clusters: %s, %llu clusters (%.1f per frame), %llu returns clustered, %llu noise, %llu beyond the cluster cap\n",
+    fprintf(out,
+            "  clusters: %s, %llu clusters (%.1f per frame), %llu returns clustered, %llu noise, %llu cut at range gaps "
+            "(people in file), %llu beyond the cluster cap\n",
             rs_cluster_method_name(p->cfg.cluster->cfg.method), (unsigned long long)pr->n.clusters,
             pr->n.frames ? (double)pr->n.clusters / (double)pr->n.frames : 0.0, (unsigned long long)pr->n.clustered,
-            (unsigned long long)pr->n.noise, (unsigned long long)p->cfg.cluster->overflow_total);
+            (unsigned long long)pr->n.noise, (unsigned long long)pr->n.splits,
+            (unsigned long long)p->cfg.cluster->overflow_total);
   if (p->cfg.tracker) {
     const rs_tracker_t *tr = p->cfg.tracker;
     fprintf(out, "  tracks: %llu born, %llu confirmed, %llu ended, %u alive; %llu frames with clusters shared by tracks, "

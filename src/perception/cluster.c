@@ -3,6 +3,7 @@
 #include "roadscan/perception/cluster.h"
 
 #include "roadscan/util/error.h"
+#include "roadscan/util/sort.h"
 
 #include <math.h>
 #include <string.h>
@@ -29,7 +30,11 @@ void rs_cluster_cfg_default(rs_cluster_cfg_t *c) {
                                          .eps_min = 0.5f,
                                          .eps_max = 2.5f,
                                          .border_eps = 2.0f,
-                                         .seed_surfaces = 3};
+                                         .seed_surfaces = 3,
+                                         .split_gap = 0.5f,
+                                         .split_width = 1.2f,
+                                         .split_depth = 0.5f,
+                                         .split_min = 5};
   c->dbscan = (rs_dbscan_cfg_t){.eps = 1.2f, .min_pts = 15};
   c->ccl = (rs_ccl_cfg_t){.eps = 1.0f};
 }
@@ -87,7 +92,8 @@ int rs_cluster_init(rs_cluster_t *c, const rs_cluster_cfg_t *cfg, const rs_senso
   if (!window_ok(f->win_h, f->win_w) || !(f->eps > 0) || f->min_pts < 1) return RS_E_INVAL;
   if (!window_ok(a->win_h, a->win_w) || a->max_min_pts < 1 || !(a->eps_min > 0) || !(a->eps_max >= a->eps_min) ||
       !(a->border_eps >= 1.0f) || a->min_pts < 1 || a->sparse_min_pts < 1 || !(a->sparse_cells >= 0.0f) ||
-      a->min_half_w < 0 || !(a->obj_w > 0) || !(a->obj_h > 0) || !(a->share > 0) || a->seed_surfaces < 0)
+      a->min_half_w < 0 || !(a->obj_w > 0) || !(a->obj_h > 0) || !(a->share > 0) || a->seed_surfaces < 0 ||
+      !(a->split_gap >= 0) || !(a->split_width > 0) || !(a->split_depth >= 0) || a->split_min < 1)
     return RS_E_INVAL;
   if (!(cfg->dbscan.eps > 0) || cfg->dbscan.min_pts < 1 || !(cfg->ccl.eps > 0)) return RS_E_INVAL;
   c->cfg = *cfg;
@@ -315,6 +321,134 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
   st->clusters = ncl;
 }
 
+/* ---- the split pass (adaptive): clusters cut at gaps in range ---- */
+
+static int cmp_range(const void *a, const void *b) {
+  const float x = ((const rs_cluster_ret_t *)a)->range, y = ((const rs_cluster_ret_t *)b)->range;
+  return (x > y) - (x < y);
+}
+
+/* the columns n returns span (wrapping, from the first one's) and how wide
+ * that is across the line of sight (m) */
+static float part_width(const rs_cluster_ret_t *v, uint32_t n, int cols, int *span) {
+  const int c0 = (int)(v[0].rc & 0xffff);
+  float lo = 0.0f, hi = 0.0f;
+  int dlo = 0, dhi = 0;
+  for (uint32_t i = 1; i < n; i++) {
+    int d = (int)(v[i].rc & 0xffff) - c0;
+    if (d > cols / 2) d -= cols;
+    else if (d < -cols / 2) d += cols;
+    const float x = (float)d * v[i].range;
+    if (x < lo) lo = x;
+    if (x > hi) hi = x;
+    if (d < dlo) dlo = d;
+    if (d > dhi) dhi = d;
+  }
+  *span = dhi - dlo + 1;
+  return (hi - lo) * (float)(2.0 * 3.14159265358979323846 / cols);
+}
+
+/* the rows n returns span */
+static void part_rows(const rs_cluster_ret_t *v, uint32_t n, uint32_t *lo, uint32_t *hi) {
+  *lo = UINT32_MAX;
+  *hi = 0;
+  for (uint32_t i = 0; i < n; i++) {
+    const uint32_t r = v[i].rc >> 16;
+    if (r < *lo) *lo = r;
+    if (r > *hi) *hi = r;
+  }
+}
+
+/* Where to cut a cluster sorted by range (v, n): the runs between gaps of
+ * at least split_gap. A run of fewer than split_min returns or in one
+ * column (mixed ranges at an edge between two people) stays with the run
+ * before it (the first with the next). The parts are kept only when each
+ * is at most split_depth deep (its runs of substance) and split_width wide,
+ * and shares a row with the part before it: people one behind the other
+ * stand side by side in the image; a bumper and a roof do not. The start
+ * of each part after the first goes to cut[]; returns the number of cuts
+ * (0: the cluster stays whole). */
+static uint32_t cuts_of(const rs_cluster_ret_t *v, uint32_t n, const rs_fspc_adaptive_cfg_t *a, int cols,
+                        uint32_t cut[RS_SPLIT_MAX_PARTS]) {
+  uint32_t run_a[RS_SPLIT_MAX_RUNS], run_b[RS_SPLIT_MAX_RUNS];
+  bool solid[RS_SPLIT_MAX_RUNS];
+  uint32_t nrun = 0, from = 0, nsolid = 0;
+  for (uint32_t i = 1; i <= n; i++) {
+    if (i < n && v[i].range - v[i - 1].range < a->split_gap) continue;
+    if (nrun == RS_SPLIT_MAX_RUNS) return 0; /* shattered: not a file of people */
+    int span;
+    part_width(v + from, i - from, cols, &span);
+    run_a[nrun] = from;
+    run_b[nrun] = i;
+    solid[nrun] = i - from >= (uint32_t)a->split_min && span >= 2;
+    nsolid += solid[nrun++];
+    from = i;
+  }
+  if (nsolid < 2 || nsolid > RS_SPLIT_MAX_PARTS) return 0;
+  /* parts: each solid run with the thin runs after it (before the first solid one: with it) */
+  uint32_t ncut = 0, plo = 0, phi = 0, k = 0;
+  while (!solid[k]) k++;
+  for (bool first = true; k < nrun; first = false) {
+    const uint32_t core_a = run_a[k], core_b = run_b[k];
+    uint32_t end = k + 1;
+    while (end < nrun && !solid[end]) end++;
+    const uint32_t pa = first ? 0 : core_a, pb = run_b[end - 1];
+    int span;
+    if (v[core_b - 1].range - v[core_a].range > a->split_depth || part_width(v + pa, pb - pa, cols, &span) > a->split_width)
+      return 0;
+    uint32_t lo, hi;
+    part_rows(v + core_a, core_b - core_a, &lo, &hi);
+    if (!first && (lo > phi || hi < plo)) return 0;
+    if (!first) cut[ncut++] = pa;
+    plo = lo;
+    phi = hi;
+    k = end;
+  }
+  return ncut;
+}
+
+static void split(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, rs_cluster_stats_t *st) {
+  const rs_fspc_adaptive_cfg_t *a = &c->cfg.adaptive;
+  const uint32_t ncl = st->clusters, cols = s->meta.cols;
+  if (!(a->split_gap > 0) || ncl == 0) return;
+  /* clustered cells grouped by cluster (a counting sort): start[q] ends
+   * cluster q's run once placed, start[q - 1] begins it */
+  memset(c->start, 0, sizeof c->start[0] * (ncl + 1));
+  for (uint32_t k = 0; k < nfg; k++) {
+    const uint16_t l = s->label[c->fg[k]];
+    if (l >= RS_LABEL_FIRST_OBJECT) c->start[l - RS_LABEL_FIRST_OBJECT + 1]++;
+  }
+  for (uint32_t q = 0; q < ncl; q++) c->start[q + 1] += c->start[q];
+  for (uint32_t k = 0; k < nfg; k++) {
+    const uint32_t i = c->fg[k];
+    const uint16_t l = s->label[i];
+    if (l < RS_LABEL_FIRST_OBJECT) continue;
+    c->byrange[c->start[l - RS_LABEL_FIRST_OBJECT]++] = (rs_cluster_ret_t){.range = c->rr[i], .rc = c->fgrc[k]};
+  }
+  uint32_t next = ncl;
+  for (uint32_t q = 0; q < ncl; q++) {
+    const uint32_t b = q ? c->start[q - 1] : 0, n = c->start[q] - b;
+    if (n < 2u * (uint32_t)a->split_min) continue;
+    rs_cluster_ret_t *v = c->byrange + b;
+    rs_sort(v, n, sizeof *v, cmp_range);
+    uint32_t cut[RS_SPLIT_MAX_PARTS];
+    const uint32_t ncut = cuts_of(v, n, a, (int)cols, cut);
+    if (ncut == 0) continue;
+    if (next + ncut > RS_MAX_CLUSTERS) {
+      st->overflow++;
+      continue;
+    }
+    st->splits++;
+    /* the nearest part keeps the label; each farther one takes a new one */
+    for (uint32_t p = 0; p < ncut; p++) {
+      const uint16_t id = (uint16_t)(RS_LABEL_FIRST_OBJECT + next++);
+      const uint32_t end = p + 1 < ncut ? cut[p + 1] : n;
+      for (uint32_t i = cut[p]; i < end; i++) s->label[(v[i].rc >> 16) * cols + (v[i].rc & 0xffff)] = id;
+    }
+  }
+  st->clusters = next;
+}
+
 /* ---- DBSCAN in 3-D on a voxel hash grid ---- */
 
 static inline uint32_t voxel_hash(int x, int y, int z) {
@@ -398,6 +532,7 @@ void rs_cluster_run(rs_cluster_t *c, rs_slot_t *s, rs_cluster_stats_t *st) {
     /* the adaptive run takes window, eps and minPts per row and range from its tables */
     fspc(c, s, nfg, c->cfg.method == RS_CLUSTER_FSPC_ADAPTIVE, c->cfg.fspc.win_h / 2, c->cfg.fspc.win_w / 2,
          c->cfg.fspc.eps, c->cfg.fspc.min_pts, st);
+    if (c->cfg.method == RS_CLUSTER_FSPC_ADAPTIVE) split(c, s, nfg, st);
     break;
   case RS_CLUSTER_DBSCAN: dbscan(c, s, nfg, st); break;
   case RS_CLUSTER_CCL: fspc(c, s, nfg, false, 1, 1, c->cfg.ccl.eps, 1, st); break;

@@ -204,6 +204,7 @@ void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_pro
     p->n.clusters += r->cluster.clusters;
     p->n.clustered += r->cluster.clustered;
     p->n.noise += r->cluster.noise;
+    p->n.splits += r->cluster.splits;
     if (p->cfg.objects) {
       rs_objects_extract_cells(p->cfg.objects, s, sensor, cl->members, cl->nmembers, p->cfg.object_list);
       t = stage_end(p, r, RS_STAGE_OBJECTS, t);

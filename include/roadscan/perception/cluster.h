@@ -35,6 +35,13 @@
  * merge through it): the side of a car seen almost along the line of sight
  * at 150 m spreads over metres of range from one column to the next.
  * The same bounded cost.
+ * A file of people one behind the other (waiting at a crossing, seen along
+ * the file) differ in range by about a metre: within a far eps, so the
+ * window joins them. A split pass sorts each cluster's returns by range
+ * (heapsort) and cuts it at every gap of at least split_gap where no part
+ * is wider than split_width across the line of sight nor smaller than
+ * split_min returns: a vehicle (wider) seen through a gap stays whole.
+ * O(n log n) in the clustered returns.
  *
  * No allocation: the caller owns rs_cluster_t
  * (about 16 MB; static in the programs). Processing thread only. */
@@ -51,6 +58,8 @@
 #define RS_MAX_WIN_W 31
 #define RS_ADAPT_BINS 256 /* 1 m range bins */
 #define RS_GRID_BUCKETS (1 << 16)
+#define RS_SPLIT_MAX_PARTS 8  /* a cluster is cut into at most this many people */
+#define RS_SPLIT_MAX_RUNS 32  /* ... from at most this many runs between range gaps */
 #define RS_ROW_WORDS ((RS_MAX_COLS + 63) / 64)
 
 _Static_assert(RS_MAX_CLUSTERS + 3 < UINT16_MAX, "cluster labels fit in uint16_t");
@@ -84,6 +93,11 @@ typedef struct {
   int seed_surfaces;     /* with bg_surfaces: a return in a cell of at least this many static
                             surfaces (foliage and edges the sensor sees through) seeds no cluster
                             but may join one; default 3, 0 = off */
+  float split_gap;       /* a cluster whose returns, sorted by range, leave gaps of at least this
+                            (m) is split there when every part is narrow (below); default 0.5, 0 = off */
+  float split_width;     /* ... no part wider than this across the line of sight (m), default 1.2 */
+  float split_depth;     /* ... nor deeper than this in range (m), default 0.5 */
+  int split_min;         /* ... and no part of fewer returns than this, default 5 */
 } rs_fspc_adaptive_cfg_t;
 
 /* 3-D Euclidean DBSCAN. */
@@ -110,8 +124,14 @@ typedef struct {
   uint32_t foreground;   /* layer-0 foreground returns */
   uint32_t clustered, noise;
   uint32_t clusters;
-  uint32_t overflow;     /* clusters beyond RS_MAX_CLUSTERS (left as noise) */
+  uint32_t overflow;     /* clusters beyond RS_MAX_CLUSTERS (left as noise, or a split left undone) */
+  uint32_t splits;       /* clusters split at range gaps (adaptive) */
 } rs_cluster_stats_t;
+
+typedef struct {
+  float range;
+  uint32_t rc;           /* row << 16 | column */
+} rs_cluster_ret_t;
 
 typedef struct {
   rs_cluster_cfg_t cfg;
@@ -132,6 +152,8 @@ typedef struct {
   float px[RS_MAX_CELLS], py[RS_MAX_CELLS], pz[RS_MAX_CELLS];
   int32_t next[RS_MAX_CELLS];
   int32_t heads[RS_GRID_BUCKETS];
+  uint32_t start[RS_MAX_CLUSTERS + 1];  /* split pass: each cluster's first entry in byrange */
+  rs_cluster_ret_t byrange[RS_MAX_CELLS]; /* split pass: clustered cells grouped by cluster, by range */
   uint32_t members[RS_LAYERS * RS_MAX_CELLS]; /* clustered cells of the last run, layer 0 then 1, row-major */
   uint32_t nmembers;
 } rs_cluster_t;

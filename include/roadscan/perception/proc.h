@@ -81,6 +81,7 @@ typedef struct {
   uint64_t cells_filled[RS_LAYERS];
   double min_range, max_range;
   uint64_t clusters, clustered, noise, objects;
+  uint64_t splits;          /* clusters cut at range gaps (people in file; adaptive) */
   uint64_t divided, divided_overflow; /* returns of divided clusters; beyond RS_PROC_DIVIDED_MAX in a frame */
 } rs_proc_counters_t;
 
