@@ -249,6 +249,11 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
       continue;
     }
     const uint16_t id = (uint16_t)(3 + ncl++);
+    /* the split pass's counts: each cluster's size and nearest range */
+    uint32_t *size = &c->start[ncl];
+    float *rmin = &c->rmin[ncl - 1];
+    *size = 1;
+    *rmin = c->rr[seed];
     uint32_t head = 0, tail = 0;
     c->queue[tail++] = c->fgrc[k];
     s->label[seed] = id;
@@ -310,6 +315,8 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
               const float d = fabsf(c->rr[j] - x);
               if (d >= e && (d >= eb || c->core[j])) continue;
               s->label[j] = id;
+              ++*size;
+              if (c->rr[j] < *rmin) *rmin = c->rr[j];
               w[cc >> 6] &= ~(1ull << (cc & 63));
               if (c->core[j]) c->queue[tail++] = (uint32_t)y << 16 | (uint32_t)cc;
             }
@@ -411,24 +418,31 @@ static void split(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, rs_cluster_stats_
   const rs_fspc_adaptive_cfg_t *a = &c->cfg.adaptive;
   const uint32_t ncl = st->clusters, cols = s->meta.cols;
   if (!(a->split_gap > 0) || ncl == 0) return;
-  /* clustered cells grouped by cluster (a counting sort): start[q] ends
-   * cluster q's run once placed, start[q - 1] begins it */
-  memset(c->start, 0, sizeof c->start[0] * (ncl + 1));
-  for (uint32_t k = 0; k < nfg; k++) {
-    const uint16_t l = s->label[c->fg[k]];
-    if (l >= RS_LABEL_FIRST_OBJECT) c->start[l - RS_LABEL_FIRST_OBJECT + 1]++;
-  }
+  /* clustered cells grouped by cluster (a counting sort on the sizes the
+   * expansion counted): start[q] ends cluster q's run once placed,
+   * start[q - 1] begins it */
+  c->start[0] = 0; /* start[q + 1] holds cluster q's size, rmin[q] its nearest range (from the expansion) */
   for (uint32_t q = 0; q < ncl; q++) c->start[q + 1] += c->start[q];
+  /* which bins of half the gap, from the cluster's nearest return on, hold
+   * returns: a gap of split_gap leaves a bin empty, so a cluster with none
+   * (a vehicle's continuous ranges) or deeper than 64 bins is not sorted */
+  memset(c->occ, 0, sizeof c->occ[0] * ncl);
+  const float inv_bin = 2.0f / a->split_gap;
   for (uint32_t k = 0; k < nfg; k++) {
     const uint32_t i = c->fg[k];
     const uint16_t l = s->label[i];
     if (l < RS_LABEL_FIRST_OBJECT) continue;
-    c->byrange[c->start[l - RS_LABEL_FIRST_OBJECT]++] = (rs_cluster_ret_t){.range = c->rr[i], .rc = c->fgrc[k]};
+    const uint32_t q = l - RS_LABEL_FIRST_OBJECT;
+    const float bin = (c->rr[i] - c->rmin[q]) * inv_bin;
+    c->occ[q] |= bin < 64.0f ? 1ull << (int)bin : UINT64_MAX;
+    c->byrange[c->start[q]++] = (rs_cluster_ret_t){.range = c->rr[i], .rc = c->fgrc[k]};
   }
   uint32_t next = ncl;
   for (uint32_t q = 0; q < ncl; q++) {
     const uint32_t b = q ? c->start[q - 1] : 0, n = c->start[q] - b;
     if (n < 2u * (uint32_t)a->split_min) continue;
+    const uint64_t occ = c->occ[q], span = occ >> 63 ? UINT64_MAX : (2ull << (63 - __builtin_clzll(occ))) - 1;
+    if ((occ & span) == span) continue; /* no gap */
     rs_cluster_ret_t *v = c->byrange + b;
     rs_sort(v, n, sizeof *v, cmp_range);
     uint32_t cut[RS_SPLIT_MAX_PARTS];

@@ -41,7 +41,9 @@
  * (heapsort) and cuts it at every gap of at least split_gap where no part
  * is wider than split_width across the line of sight nor smaller than
  * split_min returns: a vehicle (wider) seen through a gap stays whole.
- * O(n log n) in the clustered returns.
+ * A cluster whose ranges leave no empty bin of half split_gap (a
+ * vehicle's continuous ranges), or span more than 64 of them, is not
+ * sorted: O(n) for those, O(n log n) for the few that are.
  *
  * No allocation: the caller owns rs_cluster_t
  * (about 16 MB; static in the programs). Processing thread only. */
@@ -153,6 +155,8 @@ typedef struct {
   int32_t next[RS_MAX_CELLS];
   int32_t heads[RS_GRID_BUCKETS];
   uint32_t start[RS_MAX_CLUSTERS + 1];  /* split pass: each cluster's first entry in byrange */
+  float rmin[RS_MAX_CLUSTERS];          /* split pass: each cluster's nearest range */
+  uint64_t occ[RS_MAX_CLUSTERS];        /* split pass: its range bins (half the gap) with returns */
   rs_cluster_ret_t byrange[RS_MAX_CELLS]; /* split pass: clustered cells grouped by cluster, by range */
   uint32_t members[RS_LAYERS * RS_MAX_CELLS]; /* clustered cells of the last run, layer 0 then 1, row-major */
   uint32_t nmembers;
