@@ -669,7 +669,7 @@ typedef struct {
   uint16_t seen;    /* share of frames, x 10000 */
   uint8_t bg;       /* 1 background, 0 not (yet) */
   uint8_t farthest; /* the cell's static surface by the first rule */
-  uint8_t stays;    /* seen to stay for several frames (enough pairs, no flicker): something standing */
+  uint8_t stays;    /* seen to stay for several frames (enough pairs, no flicker), not hidden by traffic: something standing */
   uint8_t wide;     /* spread too wide for a surface */
 } cand_t;
 
@@ -759,7 +759,7 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
      * background clusters close together are one entry (leaves of a canopy
      * come out as many clusters); the farthest CAND entries are kept. */
     cand_t cc[MAXK];
-    bool bg[MAXK], fl[MAXK], wide[MAXK];
+    bool bg[MAXK], fl[MAXK], wide[MAXK], hidden[MAXK];
     /* a cluster spread over more than max(2 m, 15 %) of range in one cell is
      * no surface: a queue creeping through the cell, traffic in front of
      * nothing the sensor can see (a dark road too far to return) */
@@ -784,12 +784,16 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
        * a surface behind a lane, occluded by queues in runs of frames (so it
        * does not flicker). A vehicle that stops in the cell leaves what it
        * hides (the road behind it) to be seen when it is not there. */
-      if (!bg[j] && !wide[j] && p->occluded_max > 0 && nf >= RS_BG_JUDGE_FRAMES &&
-          cl[j].count >= p->occluded_seen * nf && (double)cl[j].windows / nwin >= p->occluded_windows &&
-          cl[j].hi - cl[j].lo <= (int32_t)lround(fmax(p->occluded_spread * 100.0, 0.01 * cl[j].lo)) &&
-          cl[j].front >= 0.5 * (double)(nf - (int)cl[j].count) &&
-          behind <= p->occluded_max * ((double)cl[j].front + behind))
-        bg[j] = true;
+      const double spread_max = fmax(p->occluded_spread * 100.0, 0.01 * cl[j].lo);
+      const bool hid = !wide[j] && p->occluded_max > 0 && nf >= RS_BG_JUDGE_FRAMES &&
+                       cl[j].count >= p->occluded_seen * nf && (double)cl[j].windows / nwin >= p->occluded_windows &&
+                       cl[j].front >= 0.5 * (double)(nf - (int)cl[j].count) &&
+                       behind <= p->occluded_max * ((double)cl[j].front + behind);
+      if (!bg[j] && hid && cl[j].hi - cl[j].lo <= (int32_t)lround(spread_max)) bg[j] = true;
+      /* the same, spread a little more (a slanted post's edge, where the
+       * firings fall on either side): not decided here, but no vehicle stood
+       * in it (what it hid hardly showed), so the support pass may take it */
+      hidden[j] = hid && cl[j].hi - cl[j].lo <= (int32_t)lround(RS_BG_HIDDEN_SUPPORT * spread_max);
       /* under RS_BG_JUDGE_FRAMES frames nothing tells what stays from what
        * flickers: everything seen is the scene */
       if (nf < RS_BG_JUDGE_FRAMES) bg[j] = !wide[j];
@@ -815,7 +819,7 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
       c.farthest = j == k - 1 && !sky && !wide[j];
       c.wide = wide[j];
       c.bg = bg[j];
-      c.stays = cl[j].pairs >= 10 && !fl[j];
+      c.stays = cl[j].pairs >= 10 && !fl[j] && !hidden[j];
       const int32_t gap_max = (int32_t)lround(100.0 * fmax(p->merge_gap_min, p->merge_gap_share * c.lo / 100.0));
       /* consecutive clusters decided alike and close together: one entry */
       if (ne > 0 && c.bg == cc[ne - 1].bg && !c.farthest && !c.wide && !cc[ne - 1].wide && c.lo - cc[ne - 1].hi <= gap_max) {

@@ -61,6 +61,8 @@
 #define RS_BG_BEHIND_JUMP 0.3   /* m: a depth edge, seen behind a near object from a displaced sensor */
 #define RS_BG_BEHIND_JUMP_SHARE 0.05 /* ... or this share of the range when more */
 #define RS_BG_INTERMITTENT 0.6 /* a cluster back in the next frame less often than this is intermittent */
+#define RS_BG_HIDDEN_SUPPORT 1.5 /* a cluster hidden by traffic as occluded_* says, but spread up to this
+                                    many times occluded_spread: the cells beside may support it */
 #define RS_BG_JUDGE_FRAMES 10 /* fewer frames: every cluster seen is the scene */ /* a farthest surface seen in this % of frames or more is solid */
 
 typedef enum { RS_BG_DBSCAN = 0, RS_BG_PERCENTILE = 1 } rs_bg_method_t;
@@ -95,8 +97,9 @@ typedef struct {
   double occluded_spread; /* within max(this, 1 % of the range) (0.15 m). Not stored in the model file */
   bool support;           /* a nearer cluster within support_tol of a background cluster that the
                              cell beside it in the row sees in half its frames or more is background
-                             too, unless it stays for several frames (edges); default on; not stored
-                             in the model file */
+                             too, unless it stays for several frames (edges) and is not hidden by
+                             traffic (the occluded_* tests, spread up to RS_BG_HIDDEN_SUPPORT times
+                             occluded_spread); default on; not stored in the model file */
   double support_tol_min, support_tol_share; /* max(0.3 m, 3 % of the range) */
   double connect_min;     /* a surface interval reaches half-way to the nearest interval of the
                              cell on either side in the row when they are less than */
