@@ -55,7 +55,7 @@ typedef struct {
   uint64_t fp_range[4];        /* static ones by range: < 50, 50-100, 100-150, >= 150 m */
   uint64_t merged[2];          /* merged instances (>= 10 returns): with another object, with non-objects */
   uint64_t merged_range[4];    /* ... by the instance's mean range: < 20, 20-50, 50-100, >= 100 m */
-  FILE *static_out;            /* --static-out: every static return not labelled background */
+  FILE *leaks_out;             /* --leaks-out: static returns not labelled background, object returns labelled so */
 } diag_t;
 
 typedef struct {
@@ -304,7 +304,7 @@ static int cmp_dbl(const void *a, const void *b) {
 /* Everything the options set. */
 typedef struct {
   bool json, diagnose, tracking;
-  const char *objects_path, *model_path, *static_path, *dump_path, *states_path, *tracks_path, *counts_path, *crossings_path;
+  const char *objects_path, *model_path, *leaks_path, *dump_path, *states_path, *tracks_path, *counts_path, *crossings_path;
   rs_count_lines_t lines; /* --count-line */
 } settings_t;
 static settings_t st;
@@ -530,20 +530,23 @@ static void diag_point(diag_t *d, const rs_point_t *p, uint32_t truth, uint32_t 
   d->pts[d->n++] = (dpt_t){p->azimuth, p->distance, p->row, truth, pred};
 }
 
-/* --static-out: a static return the pipeline did not call background, with
- * its cell (as the model indexes it) and the cell's surfaces */
-static void static_point(diag_t *d, uint64_t frame, const rs_point_t *p, uint32_t pred) {
+/* --leaks-out: a static return the pipeline did not call background (kind
+ * static, label: the predicted one) or an object return it did (kind object,
+ * label: the object's id), with its cell (as the model indexes it) and the
+ * cell's surfaces */
+static void leak_point(diag_t *d, uint64_t frame, const rs_point_t *p, bool object, uint32_t label) {
   const rs_bg_model_t *m = d->model;
   const int col = (int)(p->azimuth * m->cols / 360.0f) % m->cols;
   const size_t cell = (size_t)p->row * m->cols + (size_t)col;
   const int n = p->row < m->rows ? m->n[cell] : 0;
-  fprintf(d->static_out, "%llu,%u,%d,%.3f,%u,%d", (unsigned long long)frame, p->row, col, p->distance, pred, n);
+  fprintf(d->leaks_out, "%llu,%s,%u,%d,%.3f,%u,%d", (unsigned long long)frame, object ? "object" : "static", p->row, col,
+          p->distance, label, n);
   for (int k = 0; k < RS_BG_SURFACES; k++) {
-    if (k < n) fprintf(d->static_out, ",%.2f,%.2f", m->lo[cell * RS_BG_SURFACES + (size_t)k] / 100.0,
+    if (k < n) fprintf(d->leaks_out, ",%.2f,%.2f", m->lo[cell * RS_BG_SURFACES + (size_t)k] / 100.0,
                        m->hi[cell * RS_BG_SURFACES + (size_t)k] / 100.0);
-    else fputs(",,", d->static_out);
+    else fputs(",,", d->leaks_out);
   }
-  fputc('\n', d->static_out);
+  fputc('\n', d->leaks_out);
 }
 
 /* A true instance pts[a, b): when over half of it lies in one cluster that
@@ -735,7 +738,8 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
       rs_eval_point(&c->ev, t, pr, p->distance, c->frame > 0);
       if (c->objects && t >= 3) add_instance(c, t, p);
       if (c->dg.on && c->frame > 0) diag_point(&c->dg, p, t, pr);
-      if (c->dg.static_out && c->frame > 0 && t == 1 && pr != 1) static_point(&c->dg, c->frame, p, pr);
+      if (c->dg.leaks_out && c->frame > 0 && ((t == 1 && pr != 1) || (t >= 3 && pr == 1)))
+        leak_point(&c->dg, c->frame, p, t >= 3, t >= 3 ? t : pr);
     }
   }
 }
@@ -776,9 +780,10 @@ static const rs_opt_t table[] = {
                  "where the missed object returns are: in objects with no clustered return (by size), or beside "
                  "a clustered return of their object (by range difference); merged instances (with another "
                  "object or not, by range)"),
-    RS_OPT_STR_("static-out", "FILE", T, static_path,
-                "with --diagnose --model: CSV of every static return not labelled background (frame, row, column, "
-                "range, predicted label, the cell's static surfaces and each one's range span): where a model leaks"),
+    RS_OPT_STR_("leaks-out", "FILE", T, leaks_path,
+                "with --diagnose --model: CSV of every static return not labelled background and every object "
+                "return labelled background (frame, kind, row, column, range, predicted label or object id, the "
+                "cell's static surfaces and each one's range span): where a model leaks"),
     RS_OPT_STR_("model", "BG", T, model_path,
                 "with --diagnose: returns predicted as objects by the number of static surfaces of their cell in "
                 "the background model; the false ones by truth class, place against their cell's surfaces, and "
@@ -832,8 +837,8 @@ int main(int argc, char **argv) {
     fprintf(stderr, "roadscan-eval: --model goes with --diagnose\n");
     return 2;
   }
-  if (st.static_path && !model_path) {
-    fprintf(stderr, "roadscan-eval: --static-out goes with --diagnose --model\n");
+  if (st.leaks_path && !model_path) {
+    fprintf(stderr, "roadscan-eval: --leaks-out goes with --diagnose --model\n");
     return 2;
   }
   static ctx_t c;
@@ -847,14 +852,14 @@ int main(int argc, char **argv) {
     }
     c.dg.model = &bgm;
   }
-  if (st.static_path) {
-    if ((c.dg.static_out = fopen(st.static_path, "w")) == NULL) {
-      fprintf(stderr, "roadscan-eval: --static-out %s: cannot write\n", st.static_path);
+  if (st.leaks_path) {
+    if ((c.dg.leaks_out = fopen(st.leaks_path, "w")) == NULL) {
+      fprintf(stderr, "roadscan-eval: --leaks-out %s: cannot write\n", st.leaks_path);
       return 1;
     }
-    fputs("frame,row,column,range,label,surfaces", c.dg.static_out);
-    for (int k = 0; k < RS_BG_SURFACES; k++) fprintf(c.dg.static_out, ",lo%d,hi%d", k + 1, k + 1);
-    fputc('\n', c.dg.static_out);
+    fputs("frame,kind,row,column,range,label,surfaces", c.dg.leaks_out);
+    for (int k = 0; k < RS_BG_SURFACES; k++) fprintf(c.dg.leaks_out, ",lo%d,hi%d", k + 1, k + 1);
+    fputc('\n', c.dg.leaks_out);
   }
   if (objects_path) {
     c.objects = fopen(objects_path, "w");
@@ -929,8 +934,8 @@ int main(int argc, char **argv) {
     fprintf(stderr, "roadscan-eval: --objects %s: write failed\n", objects_path);
     return 1;
   }
-  if (c.dg.static_out && fclose(c.dg.static_out) != 0) {
-    fprintf(stderr, "roadscan-eval: --static-out %s: write failed\n", st.static_path);
+  if (c.dg.leaks_out && fclose(c.dg.leaks_out) != 0) {
+    fprintf(stderr, "roadscan-eval: --leaks-out %s: write failed\n", st.leaks_path);
     return 1;
   }
   for (int i = 0; i < 2 && !c.failed; i++)
