@@ -46,7 +46,7 @@
  * sorted: O(n) for those, O(n log n) for the few that are.
  *
  * No allocation: the caller owns rs_cluster_t
- * (about 16 MB; static in the programs). Processing thread only. */
+ * (about 28 MB; static in the programs). Processing thread only. */
 #ifndef ROADSCAN_CLUSTER_H
 #define ROADSCAN_CLUSTER_H
 
