@@ -530,15 +530,23 @@ static void diag_point(diag_t *d, const rs_point_t *p, uint32_t truth, uint32_t 
   d->pts[d->n++] = (dpt_t){p->azimuth, p->distance, p->row, truth, pred};
 }
 
+/* the model's cell of a return (its row, its azimuth in degrees): index,
+ * column and static surfaces (none beyond the model's rows) */
+static size_t model_cell(const rs_bg_model_t *m, unsigned row, float az, int *col, int *surfaces) {
+  *col = (int)(az * m->cols / 360.0f) % m->cols;
+  const size_t cell = (size_t)row * m->cols + (size_t)*col;
+  *surfaces = row < m->rows ? m->n[cell] : 0;
+  return cell;
+}
+
 /* --leaks-out: a static return the pipeline did not call background (kind
  * static, label: the predicted one) or an object return it did (kind object,
  * label: the object's id), with its cell (as the model indexes it) and the
  * cell's surfaces */
 static void leak_point(diag_t *d, uint64_t frame, const rs_point_t *p, bool object, uint32_t label) {
   const rs_bg_model_t *m = d->model;
-  const int col = (int)(p->azimuth * m->cols / 360.0f) % m->cols;
-  const size_t cell = (size_t)p->row * m->cols + (size_t)col;
-  const int n = p->row < m->rows ? m->n[cell] : 0;
+  int col, n;
+  const size_t cell = model_cell(m, p->row, p->azimuth, &col, &n);
   fprintf(d->leaks_out, "%llu,%s,%u,%d,%.3f,%u,%d", (unsigned long long)frame, object ? "object" : "static", p->row, col,
           p->distance, label, n);
   for (int k = 0; k < RS_BG_SURFACES; k++) {
@@ -587,13 +595,12 @@ static void diag_frame(diag_t *d) {
   for (size_t i = 0; i < d->n; i++) {
     const dpt_t *p = &d->pts[i];
     if (p->pred >= 3 && d->model) {
-      int col = (int)(p->az * d->model->cols / 360.0f) % d->model->cols;
-      int s = p->row < d->model->rows ? d->model->n[(size_t)p->row * d->model->cols + (size_t)col] : 0;
+      int col, s;
+      const size_t cell = model_cell(d->model, p->row, p->az, &col, &s);
       d->by_surfaces[p->truth >= 3][s > RS_BG_SURFACES ? RS_BG_SURFACES : s]++;
       if (p->truth < 3) {
         d->fp_truth[p->truth == 2]++;
         if (p->truth != 2) {
-          const size_t cell = (size_t)p->row * d->model->cols + (size_t)col;
           const float cm = p->range * 100.0f;
           int w = s == 0 ? 0 : cm < d->model->lo[cell * RS_BG_SURFACES] ? 1 : cm > d->model->hi[cell * RS_BG_SURFACES + (size_t)s - 1] ? 3 : 2;
           d->fp_where[w]++;
