@@ -29,7 +29,8 @@ static void clear_map(void) {
 
 /* Casts the ray of every cell at a vertical box (centre cx, cy; length L
  * along heading h; width W; z from z0 to z1 in the sensor frame) and labels
- * the cells that hit it. Returns the number of cells hit. */
+ * the cells that hit it, unless something nearer was drawn there. Returns
+ * the number of cells hit. */
 static int render_box(float cx, float cy, float h, float L, float W, float z0, float z1, uint16_t label) {
   int hits = 0;
   const float ch = cosf(h), sh = sinf(h);
@@ -65,6 +66,7 @@ static int render_box(float cx, float cy, float h, float L, float W, float z0, f
       float z = range * sensor.sin_el[laser] + sensor.vert_offset_m[laser];
       if (z < z0 || z > z1) continue;
       uint32_t i = rs_cell(&slot, 0, r, c);
+      if (slot.range[i] != 0.0f && slot.range[i] <= range) continue; /* something nearer is in the way */
       slot.range[i] = range;
       slot.label[i] = label;
       slot.intensity[i] = 40;
@@ -251,6 +253,55 @@ START_TEST(test_site_frame) {
 }
 END_TEST
 
+/* A car (4.5 x 1.8 m at 9, 12, along +x) partly behind a post nearer the
+ * sensor (1.5 x 1.5 m at range 8, azimuth 25 degrees): the car's first
+ * column lies beside the post's nearer returns (its rear goes on behind it),
+ * its last beside nothing. The post's own sides: beside the farther car and
+ * nothing, neither hidden. A wall behind the car's end (range 25) hides
+ * nothing; a wall in front of it does. */
+START_TEST(test_hidden_sides) {
+  clear_map();
+  const float pa = 25.0f * (float)PI / 180.0f;
+  ck_assert_int_gt(render_box(8.0f * sinf(pa), 8.0f * cosf(pa), 0.0f, 1.5f, 1.5f, -2.5f, 0.5f, 4), 20);
+  ck_assert_int_gt(render_box(9.0f, 12.0f, 0.0f, 4.5f, 1.8f, -2.0f, -0.4f, 3), 50);
+  rs_objects_init(&objs, NULL);
+  rs_objects_extract(&objs, &slot, &sensor, &list);
+  ck_assert_uint_eq(list.count, 2);
+  ck_assert_uint_eq(list.obj[0].occluded, RS_OBJ_HIDDEN_START);
+  ck_assert_uint_eq(list.obj[1].occluded, 0);
+  ck_assert_float_lt(list.obj[0].sensor.obb_length, 4.3f); /* the part that shows */
+  /* a wall beyond the car's end: farther, nothing hidden there */
+  ck_assert_int_gt(render_box(18.0f, 17.0f, 0.5f, 4.0f, 0.3f, -3.0f, 1.0f, 5), 20);
+  rs_objects_extract(&objs, &slot, &sensor, &list);
+  ck_assert_uint_eq(list.obj[0].occluded, RS_OBJ_HIDDEN_START);
+  /* the same car with nothing in front of it, then a post in front of its front end */
+  clear_map();
+  render_box(9.0f, 12.0f, 0.0f, 4.5f, 1.8f, -2.0f, -0.4f, 3);
+  rs_objects_extract(&objs, &slot, &sensor, &list);
+  ck_assert_uint_eq(list.obj[0].occluded, 0);
+  clear_map();
+  const float pb = 46.0f * (float)PI / 180.0f;
+  render_box(8.0f * sinf(pb), 8.0f * cosf(pb), 0.0f, 1.5f, 1.5f, -2.5f, 0.5f, 4);
+  render_box(9.0f, 12.0f, 0.0f, 4.5f, 1.8f, -2.0f, -0.4f, 3);
+  rs_objects_extract(&objs, &slot, &sensor, &list);
+  ck_assert_uint_eq(list.obj[0].occluded, RS_OBJ_HIDDEN_END);
+  /* one stray nearer return beside it among many rows is not a post */
+  clear_map();
+  render_box(9.0f, 12.0f, 0.0f, 4.5f, 1.8f, -2.0f, -0.4f, 3);
+  rs_objects_extract(&objs, &slot, &sensor, &list);
+  const int c0 = list.obj[0].col_start, r0 = list.obj[0].row_min;
+  ck_assert_int_gt(list.obj[0].row_max - r0, 3);
+  for (int r = r0; r <= list.obj[0].row_max; r++)
+    if (slot.label[rs_cell(&slot, 0, r, c0)] == 3) {
+      slot.range[rs_cell(&slot, 0, r, c0 - 1)] = 3.0f;
+      slot.label[rs_cell(&slot, 0, r, c0 - 1)] = 2;
+      break;
+    }
+  rs_objects_extract(&objs, &slot, &sensor, &list);
+  ck_assert_uint_eq(list.obj[0].occluded, 0);
+}
+END_TEST
+
 START_TEST(test_empty_frame) {
   clear_map();
   slot.range[rs_cell(&slot, 0, 0, 0)] = 5.0f;
@@ -269,6 +320,7 @@ int main(void) {
   tcase_add_test(tc, test_centroid_and_extents);
   tcase_add_test(tc, test_seam_missing_labels_and_times);
   tcase_add_test(tc, test_site_frame);
+  tcase_add_test(tc, test_hidden_sides);
   tcase_add_test(tc, test_empty_frame);
   suite_add_tcase(s, tc);
   return tu_run(s);

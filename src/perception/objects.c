@@ -148,6 +148,34 @@ static void add_point(rs_objects_t *o, int f, uint32_t k, const float p[3], floa
   }
 }
 
+/* Is object k (label k + 3) hidden beside its edge column ce, looking
+ * dir (-1: before, +1: after)? Per row with a return of it in ce, the
+ * nearest return of anything else in the two columns beyond (either layer,
+ * the seam wrapped); RS_OBJ_HIDDEN_ROWS such rows nearer by RS_OBJ_HIDDEN_M
+ * (or every row, when fewer were compared) make it so. Bounded by the
+ * object's rows. */
+static bool hidden_beside(const rs_slot_t *s, const rs_object_t *ob, uint32_t k, int ce, int dir) {
+  const int cols = s->meta.cols;
+  const uint16_t lab = (uint16_t)(k + 3u);
+  int compared = 0, nearer = 0;
+  for (int r = ob->row_min; r <= ob->row_max; r++) {
+    float ro = INFINITY, rn = INFINITY;
+    for (int l = 0; l < RS_LAYERS; l++) {
+      const uint32_t i = rs_cell(s, l, r, ce);
+      if (s->label[i] == lab && s->range[i] != 0.0f) ro = mn(ro, s->range[i]);
+      for (int d = 1; d <= 2; d++) {
+        const int c = ((ce + dir * d) % cols + cols) % cols;
+        const uint32_t j = rs_cell(s, l, r, c);
+        if (s->label[j] != lab && s->range[j] != 0.0f) rn = mn(rn, s->range[j]);
+      }
+    }
+    if (ro == INFINITY) continue;
+    compared++;
+    if (rn < ro - RS_OBJ_HIDDEN_M) nearer++;
+  }
+  return nearer >= RS_OBJ_HIDDEN_ROWS || (nearer > 0 && nearer == compared);
+}
+
 static void push_cand(rs_objects_t *o, int f, uint16_t k, const float *p, bool *lost) {
   if (o->ncand[f] >= RS_OBJ_CANDIDATES) {
     lost[k] = true;
@@ -332,6 +360,8 @@ void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sens
       ob->col_start = cl[0];
       ob->col_end = cl[1];
     }
+    if (hidden_beside(s, ob, k, ob->col_start, -1)) ob->occluded |= RS_OBJ_HIDDEN_START;
+    if (hidden_beside(s, ob, k, ob->col_end, +1)) ob->occluded |= RS_OBJ_HIDDEN_END;
     ob->az_start = (float)(ob->col_start * 360.0 / cols);
     ob->az_end = (float)((ob->col_end + 1) * 360.0 / cols);
     if (ob->az_end >= 360.0f) ob->az_end -= 360.0f;

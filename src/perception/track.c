@@ -50,6 +50,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->size_weight = 2.0;
   c->confirm_still_spread = 0.15;
   c->confirm_still_points = 30;
+  c->hidden_anchor = 1;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -59,7 +60,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->max_speed > 0 && cfg->max_speed <= 100) || !(cfg->init_speed_sd > 0) || !(cfg->init_small_speed_sd > 0) || cfg->birth_points < 1 ||
       cfg->confirm_hits < 1 || !(cfg->confirm_move_m >= 0) || !(cfg->confirm_still_s >= 0) ||
       !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100) ||
-      !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1)
+      !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1 ||
+      cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1)
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -83,6 +85,7 @@ static const rs_opt_t knobs[] = {
     KNOB(confirm_move_m, 0.0, 20.0),  KNOB(confirm_still_s, 0.0, 60.0), KNOB(tentative_miss_s, 0.01, 10.0),
     KNOB(coast_s, 0.01, 60.0),        KNOB(lost_s, 0.0, 60.0),          KNOB(still_speed, 0.0, 5.0),
     KNOB(size_weight, 0.0, 100.0),    KNOB(confirm_still_spread, 0.0, 5.0), KNOB_INT(confirm_still_points, 1, 100000),
+    KNOB_INT(hidden_anchor, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -160,25 +163,56 @@ static void box_on_axes(const rs_track_t *t, const rs_object_t *o, double e[4]) 
   e[0] = cu - du, e[1] = cu + du, e[2] = cv - dv, e[3] = cv + dv;
 }
 
+/* Which end of object o's box along track t's axis lies beside something
+ * nearer that may hide the rest of it (rs_object_t.occluded): +1 the end
+ * of larger u, -1 the smaller, 0 neither or both (or seen end-on). The
+ * map's columns run clockwise (azimuth from +y towards +x): of the two ends
+ * on the box's centre line, the one counter-clockwise of the other lies at
+ * the object's first column. */
+static int hidden_end(const rs_track_t *t, const rs_object_t *o, const double e[4]) {
+  const unsigned h = o->occluded & (RS_OBJ_HIDDEN_START | RS_OBJ_HIDDEN_END);
+  if (h == 0 || h == (RS_OBJ_HIDDEN_START | RS_OBJ_HIDDEN_END)) return 0;
+  const double c = t->hcos, s = t->hsin, cv = 0.5 * (e[2] + e[3]);
+  const double ax = e[0] * c - cv * s, ay = e[0] * s + cv * c; /* the end of smaller u */
+  const double bx = e[1] * c - cv * s, by = e[1] * s + cv * c; /* of larger u */
+  const double cross = ax * by - ay * bx, norm = hypot(ax, ay) * hypot(bx, by);
+  if (!(norm > 0) || fabs(cross) < 0.02 * norm) return 0; /* ends within about a degree of one line of sight */
+  const bool larger_first = cross > 0; /* counter-clockwise: the smaller azimuth */
+  return (h == RS_OBJ_HIDDEN_START) == larger_first ? 1 : -1;
+}
+
 /* The same, as track t sees it: the sensor sees the faces of an object that
  * face it, so a box shorter (narrower) than the track's along its axes is
  * its near part; its centre is moved away from the sensor by half what is
  * missing (at most MAX_SHIFT), on each of the track's axes. Only for
- * tracks whose size is known. *misfit: how far the box's extents are from
- * the track's size (m, both axes; -1 when the size is not known). */
+ * tracks whose size is known. Along the track's axis, an end beside
+ * something nearer (hidden_end) is where the rest may be: with hidden_anchor,
+ * the centre is moved towards that end instead, for any track seen before
+ * (the visible end is where the object is; the track's length says how far
+ * behind its centre lies). *misfit: how far the box's extents are from the
+ * track's size (m, both axes; -1 when the size is not known). */
 static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o, double *z, double *sd, double *misfit) {
   meas(tr, o, z, sd);
   *misfit = -1.0;
-  if (t == NULL || !size_known(t)) return;
+  if (t == NULL || t->hits == 0) return;
   const double c = t->hcos, s = t->hsin;
   double e[4];
   box_on_axes(t, o, e);
   const double ext_u = e[1] - e[0], ext_v = e[3] - e[2];
-  *misfit = fabs((double)t->length - ext_u) + fabs((double)t->width - ext_v);
+  const int hidden = tr->cfg.hidden_anchor ? hidden_end(t, o, e) : 0;
   const double miss_u = fmin(MAX_SHIFT, fmax(0.0, 0.5 * ((double)t->length - ext_u)));
-  const double miss_v = fmin(MAX_SHIFT, fmax(0.0, 0.5 * ((double)t->width - ext_v)));
   const double pu = z[0] * c + z[1] * s, pv = -z[0] * s + z[1] * c; /* the centre on the track's axes */
-  const double su = pu >= 0 ? miss_u : -miss_u, sv = pv >= 0 ? miss_v : -miss_v;
+  if (!size_known(t)) {
+    if (hidden == 0) return;
+    const double su = hidden * miss_u;
+    z[0] += su * c;
+    z[1] += su * s;
+    *sd += 0.5 * miss_u;
+    return;
+  }
+  *misfit = fabs((double)t->length - ext_u) + fabs((double)t->width - ext_v);
+  const double miss_v = fmin(MAX_SHIFT, fmax(0.0, 0.5 * ((double)t->width - ext_v)));
+  const double su = hidden ? hidden * miss_u : pu >= 0 ? miss_u : -miss_u, sv = pv >= 0 ? miss_v : -miss_v;
   z[0] += su * c - sv * s;
   z[1] += su * s + sv * c;
   *sd += 0.5 * (miss_u + miss_v); /* the move is a guess: less sure the more it moves */

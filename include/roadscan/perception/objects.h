@@ -53,6 +53,15 @@ typedef struct {
   float obb_heading;             /* radians, length axis from +X, counter-clockwise */
 } rs_obj_geom_t;
 
+/* rs_object_t.occluded: in at least RS_OBJ_HIDDEN_ROWS of the rows of the
+ * object's first (last) column, one of the two columns before (after) it
+ * returns nearer by more than RS_OBJ_HIDDEN_M: the object may go on behind
+ * what is there, so that side of its box is not its end */
+#define RS_OBJ_HIDDEN_START 1u
+#define RS_OBJ_HIDDEN_END 2u
+#define RS_OBJ_HIDDEN_M 0.5f
+#define RS_OBJ_HIDDEN_ROWS 2
+
 typedef struct {
   uint32_t id;              /* cluster label - 2: 1, 2, ... per frame */
   uint32_t points;          /* returns, both layers */
@@ -64,6 +73,7 @@ typedef struct {
   float height_gap;         /* m: how much taller it may be than its returns show: the vertical gaps
                                to the rows above and below its own at its range (0 at the top row) */
   uint16_t col_start, col_end; /* map columns, clockwise, may wrap past column 0 */
+  uint8_t occluded;         /* RS_OBJ_HIDDEN_*: a side beside which something nearer returns (it may go on behind) */
   float intensity_mean;
   double t_first, t_last;   /* capture time (s) of the first and last point */
 } rs_object_t;

@@ -140,6 +140,8 @@ typedef struct {
                                   confirm_hits (default 0.15; 0 = only after confirm_still_s) */
   int confirm_still_points;    /* ... when its last object has this many returns or more (default 30):
                                   a vehicle waiting at the line, not leaves */
+  int hidden_anchor;           /* 1: a box end beside something nearer is where the rest of the object may be
+                                  (rs_object_t.occluded): its centre is placed from the other end (default 1) */
 } rs_track_cfg_t;
 
 typedef struct {
