@@ -310,6 +310,45 @@ START_TEST(t_hidden_end) {
 }
 END_TEST
 
+/* A car at 8 m/s along y = 8 is hidden for 2.2 s (behind a bus); 1.8 s
+ * in, a car in the next lane (y = 11.5, 3.5 m over) comes into view right
+ * beside where the first is predicted, at its speed. The first car's track
+ * must not take it (reacq_across_m): the second car gets a new id, and the
+ * first one's id goes on with it when it shows again. Returns the id the
+ * first car has at the end, and the second car's through *other. */
+static uint32_t next_lane(double across, uint32_t *other) {
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  c.reacq_across_m = across;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  uint32_t id_a = 0, id_b = 0;
+  for (int f = 0; f < 60; f++) {
+    const double t = 0.1 * f, x = -30.0 + 8.0 * t;
+    clear();
+    const bool a_seen = t < 2.0 || t >= 4.2, b_seen = t >= 3.8;
+    if (a_seen) car(t, x, 8.0, 0.0);
+    if (b_seen) car(t, x + 0.5, 11.5, 0.0);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (a_seen) id_a = tr.list.object_track[0];
+    if (b_seen) id_b = tr.list.object_track[a_seen ? 1 : 0];
+  }
+  *other = id_b;
+  return id_a;
+}
+
+START_TEST(t_next_lane_not_taken) {
+  uint32_t b = 0;
+  const uint32_t a = next_lane(1.0, &b);
+  ck_assert_uint_eq(a, 1);
+  ck_assert_uint_ne(b, 1);
+  ck_assert_uint_ne(b, 0);
+  /* without the rule the hidden car's track takes the other lane's car */
+  const uint32_t a0 = next_lane(0.0, &b);
+  ck_assert_uint_eq(b, 1);
+  ck_assert_uint_ne(a0, 1);
+}
+END_TEST
+
 START_TEST(t_speed_follows) {
   const double lag = accel_lag(0.05), old = accel_lag(0.0);
   ck_assert_msg(lag <= 0.5, "speed %.2f m/s off while speeding up", lag);
@@ -752,6 +791,7 @@ int main(void) {
   tcase_add_test(tc, t_split_side);
   tcase_add_test(tc, t_speed_follows);
   tcase_add_test(tc, t_hidden_end);
+  tcase_add_test(tc, t_next_lane_not_taken);
   tcase_add_test(tc, t_pedestrian_not_vehicle);
   tcase_add_test(tc, t_walkers_pass);
   tcase_add_test(tc, t_foliage_never_confirms);

@@ -51,6 +51,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->confirm_still_spread = 0.15;
   c->confirm_still_points = 30;
   c->hidden_anchor = 1;
+  c->reacq_across_m = 1.0;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -61,7 +62,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->confirm_hits < 1 || !(cfg->confirm_move_m >= 0) || !(cfg->confirm_still_s >= 0) ||
       !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100) ||
       !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1 ||
-      cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1)
+      cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -85,7 +86,7 @@ static const rs_opt_t knobs[] = {
     KNOB(confirm_move_m, 0.0, 20.0),  KNOB(confirm_still_s, 0.0, 60.0), KNOB(tentative_miss_s, 0.01, 10.0),
     KNOB(coast_s, 0.01, 60.0),        KNOB(lost_s, 0.0, 60.0),          KNOB(still_speed, 0.0, 5.0),
     KNOB(size_weight, 0.0, 100.0),    KNOB(confirm_still_spread, 0.0, 5.0), KNOB_INT(confirm_still_points, 1, 100000),
-    KNOB_INT(hidden_anchor, 0, 1),
+    KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -216,6 +217,16 @@ static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_objec
   z[0] += su * c - sv * s;
   z[1] += su * s + sv * c;
   *sd += 0.5 * (miss_u + miss_v); /* the move is a guess: less sure the more it moves */
+}
+
+/* A moving vehicle's track t, unseen for `unseen` s, seen again (dx, dy)
+ * from its prediction: it stays in its lane, so across its heading it is at
+ * most reacq_across_m plus half its width away, growing by 0.5 m a second
+ * unseen; farther is another vehicle (the car in the next lane, 3.5 m over,
+ * coming out from behind the same bus) */
+static bool off_lane(const rs_track_cfg_t *cf, const rs_track_t *t, double dx, double dy, double unseen) {
+  if (!(cf->reacq_across_m > 0) || unseen <= 0.5 || !size_known(t) || hypot(t->x[2], t->x[3]) <= 2.0) return false;
+  return fabs(-dx * t->hsin + dy * t->hcos) > cf->reacq_across_m + 0.5 * t->width + 0.5 * (unseen - 0.5);
 }
 
 /* the noise of an update by an object whose box misses its track's size by
@@ -546,6 +557,7 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
           const double dx = z[0] - p[0], dy = z[1] - p[1], d = sqrt(dx * dx + dy * dy);
           const double unseen = tk - t->t_update; /* the gate grows while a track is not seen */
           if (d > (unseen > 0.5 ? fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (unseen - 0.5)) : cf->gate_m)) continue;
+          if (off_lane(cf, t, dx, dy, unseen)) continue;
           const double dtu = tk - t->t_z; /* the speed the pairing implies, from the last measurement */
           if (dtu > 0.02 && hypot(z[0] - t->last_z[0], z[1] - t->last_z[1]) / dtu > cf->max_speed) continue;
           const double s00 = S[0] + sd * sd, s01 = S[1], s11 = S[2] + sd * sd, det = s00 * s11 - s01 * s01;
@@ -785,7 +797,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
         if (o->id > y->id || sqrt(dx * dx + dy * dy) > fmax(0.5, 0.35 * y->length) || lmin < 0.5 * lmax - 0.5 ||
             !move_alike(o, y))
           continue;
-      } else if (sqrt(dx * dx + dy * dy) > fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (y->t_state - o->t_update))) {
+      } else if (sqrt(dx * dx + dy * dy) > fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (y->t_state - o->t_update)) ||
+                 off_lane(cf, o, dx, dy, y->t_state - o->t_update)) {
         continue;
       }
       const double s00 = S[0] + y->P[0][0], s01 = S[1] + y->P[0][1], s11 = S[2] + y->P[1][1];

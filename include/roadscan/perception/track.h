@@ -142,6 +142,9 @@ typedef struct {
                                   a vehicle waiting at the line, not leaves */
   int hidden_anchor;           /* 1: a box end beside something nearer is where the rest of the object may be
                                   (rs_object_t.occluded): its centre is placed from the other end (default 1) */
+  double reacq_across_m;       /* a moving vehicle's track unseen for more than 0.5 s takes no object farther
+                                  across its heading than this plus half its width, plus 0.5 m a second
+                                  unseen (default 1.0; 0 = off) */
 } rs_track_cfg_t;
 
 typedef struct {
