@@ -220,11 +220,16 @@ END_TEST
  * cyclist), a cyclist (5.5 m/s) and a walker */
 START_TEST(t_classes) {
   static const struct {
-    double len, wid, h, v;
+    double len, wid, h, v, head; /* head: the box's length axis against the motion */
     rs_class_t want;
   } u[] = {
-      {12.0, 2.5, 3.2, 11.0, RS_CLASS_BUS}, {5.8, 2.0, 2.2, 12.0, RS_CLASS_VAN_TRUCK}, {4.5, 1.8, 1.5, 13.0, RS_CLASS_CAR},
-      {2.5, 0.8, 0.4, 13.0, RS_CLASS_CAR},  {1.8, 0.6, 1.6, 5.5, RS_CLASS_CYCLIST},     {0.5, 0.4, 1.7, 1.3, RS_CLASS_PEDESTRIAN},
+      {12.0, 2.5, 3.2, 11.0, 0.0, RS_CLASS_BUS},      {5.8, 2.0, 2.2, 12.0, 0.0, RS_CLASS_VAN_TRUCK},
+      {4.5, 1.8, 1.5, 13.0, 0.0, RS_CLASS_CAR},       {2.5, 0.8, 0.4, 13.0, 0.0, RS_CLASS_CAR},
+      {1.8, 0.6, 1.6, 5.5, 0.0, RS_CLASS_CYCLIST},    {0.5, 0.4, 1.7, 1.3, 0.0, RS_CLASS_PEDESTRIAN},
+      /* a slow car seen head-on: its front, 1.8 m across its motion, 0.5 m deep */
+      {1.8, 0.5, 1.4, 5.5, 1.5707963, RS_CLASS_CAR},
+      /* two walkers side by side, 1.6 m across, walking 1.4 m/s */
+      {1.6, 0.5, 1.7, 1.4, 1.5707963, RS_CLASS_UNKNOWN},
   };
   for (size_t k = 0; k < sizeof u / sizeof u[0]; k++) {
     init_default();
@@ -232,7 +237,7 @@ START_TEST(t_classes) {
       double t = 0.1 * f;
       clear();
       const double x = -20.0 + u[k].v * t;
-      put(t, x, 20.0, u[k].len, u[k].wid, 0.0, u[k].h, 200);
+      put(t, x, 20.0, u[k].len, u[k].wid, u[k].head, u[k].h, 200);
       rs_track_frame(&tr, &objs, t + 0.05);
     }
     ck_assert_uint_eq(tr.n.born, 1);

@@ -598,6 +598,7 @@ static rs_class_t classify(const rs_track_t *t) {
   if (L >= 5.6f || (L >= 4.0f && H >= 2.1f)) return RS_CLASS_VAN_TRUCK;
   if (L >= 3.0f && W >= 1.3f) return RS_CLASS_CAR;
   if (L >= 1.2f && V >= 9.0f) return RS_CLASS_CAR;
+  if (t->across >= 1.3f && L >= 1.5f && V >= 3.5f) return RS_CLASS_CAR; /* as wide as a car across its motion */
   if (L >= 1.2f && W < 1.2f && V >= 2.0f) return RS_CLASS_CYCLIST;
   if (L < WALKER_M && W < WALKER_M && Hmax >= 0.9f && H <= 2.3f && V < 4.0f) return RS_CLASS_PEDESTRIAN;
   return RS_CLASS_UNKNOWN;
@@ -632,6 +633,11 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
     set_heading(t, (float)atan2(t->x[3], t->x[2]));
   } else if (first) {
     set_heading(t, o->sensor.obb_heading);
+  }
+  if (sp > 2.0 && t->hits >= 3) { /* the heading is the motion's: how wide it is across it */
+    double e[4];
+    box_on_axes(t, o, e);
+    t->across = t->across == 0.0f ? (float)(e[3] - e[2]) : t->across + 0.2f * ((float)(e[3] - e[2]) - t->across);
   }
 }
 

@@ -162,6 +162,7 @@ typedef struct {
   double prev[2];            /* position at the previous frame (path length) */
   float length, width, height, z_min; /* smoothed box */
   float height_max;                   /* smoothed: height plus the objects' height_gap */
+  float across;                       /* smoothed: the box's extent across the heading while moving (0 unknown) */
   float heading;             /* radians from +X, counter-clockwise, (-pi, pi] */
   float hcos, hsin;          /* its cosine and sine */
   float speed;               /* reported (0 when still) */
