@@ -643,6 +643,46 @@ START_TEST(t_foliage_never_confirms) {
 END_TEST
 
 /* across column 0 (+Y, azimuth 0): one track */
+/* A walker at 1.4 m/s is confirmed by its fourth frame (0.3 s: four hits,
+ * its filtered position 0.3 m on, confirm_walk_m), not after the 0.8 m of
+ * confirm_move_m (0.6 s and more) as with the rule off; the foliage of
+ * t_foliage_never_confirms at a walker's size (0.6 x 0.5 m, jittering
+ * 0.3 m, there in half the frames, 40 s) still never confirms (it did with
+ * three hits and the path half as straight as long). */
+static int walker_confirmed_frame(double walk_m) {
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  c.confirm_walk_m = walk_m;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  for (int f = 0; f < 20; f++) {
+    const double t = 0.1 * f;
+    clear();
+    put(t, 12.0 + 1.4 * t, 6.0, 0.6, 0.5, 0.0, 1.7, 40);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (tr.list.track[0].state == RS_TRACK_CONFIRMED) return f;
+  }
+  return -1;
+}
+
+START_TEST(t_walker_confirms_fast) {
+  ck_assert_int_le(walker_confirmed_frame(0.3), 3);
+  ck_assert_int_ge(walker_confirmed_frame(0.0), 5);
+  init_default();
+  uint64_t rng = 777;
+  for (int f = 0; f < 400; f++) {
+    const double t = 0.1 * f;
+    clear();
+    rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+    const bool there = (rng >> 33) % 2;
+    const double jx = ((double)((rng >> 20) % 1000) / 1000.0 - 0.5) * 0.6, jy = ((double)((rng >> 40) % 1000) / 1000.0 - 0.5) * 0.6;
+    if (there) put(t, 15 + jx, -7 + jy, 0.6, 0.5, 0.3, 1.2, 12);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    ck_assert_int_eq(confirmed_count(), 0);
+  }
+  ck_assert_uint_ge(tr.n.born, 20);
+}
+END_TEST
+
 START_TEST(t_across_column_zero) {
   init_default();
   for (int f = 0; f < 40; f++) {
@@ -800,6 +840,7 @@ int main(void) {
   tcase_add_test(tc, t_pedestrian_not_vehicle);
   tcase_add_test(tc, t_walkers_pass);
   tcase_add_test(tc, t_foliage_never_confirms);
+  tcase_add_test(tc, t_walker_confirms_fast);
   tcase_add_test(tc, t_still_vehicle_confirms_fast);
   tcase_add_test(tc, t_across_column_zero);
   tcase_add_test(tc, t_lost_frame_dt);

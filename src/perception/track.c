@@ -52,6 +52,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->confirm_still_points = 30;
   c->hidden_anchor = 1;
   c->reacq_across_m = 1.0;
+  c->confirm_walk_m = 0.3;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -62,7 +63,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->confirm_hits < 1 || !(cfg->confirm_move_m >= 0) || !(cfg->confirm_still_s >= 0) ||
       !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100) ||
       !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1 ||
-      cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20))
+      cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20) ||
+      !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -86,7 +88,7 @@ static const rs_opt_t knobs[] = {
     KNOB(confirm_move_m, 0.0, 20.0),  KNOB(confirm_still_s, 0.0, 60.0), KNOB(tentative_miss_s, 0.01, 10.0),
     KNOB(coast_s, 0.01, 60.0),        KNOB(lost_s, 0.0, 60.0),          KNOB(still_speed, 0.0, 5.0),
     KNOB(size_weight, 0.0, 100.0),    KNOB(confirm_still_spread, 0.0, 5.0), KNOB_INT(confirm_still_points, 1, 100000),
-    KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),
+    KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -910,6 +912,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
         ends = true;
       } else if (updated && t->hits >= (uint32_t)cf->confirm_hits &&
                  ((moved >= cf->confirm_move_m && moved >= 0.5 * t->distance) ||
+                  (cf->confirm_walk_m > 0 && t->misses == 0 && t->length < WALKER_M && t->width < WALKER_M &&
+                   t->hits >= (uint32_t)cf->confirm_hits + 1 && moved >= cf->confirm_walk_m && moved >= 0.8 * t->distance) ||
                   (t->misses == 0 && t->t_update - t->t_birth >= cf->confirm_still_s) ||
                   (t->misses == 0 && cf->confirm_still_spread > 0 && t->points >= (uint32_t)cf->confirm_still_points &&
                    t->spread <= cf->confirm_still_spread + 0.005 * hypot(t->px0, t->py0)))) {

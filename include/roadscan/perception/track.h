@@ -145,6 +145,9 @@ typedef struct {
   double reacq_across_m;       /* a moving vehicle's track unseen for more than 0.5 s takes no object farther
                                   across its heading than this plus half its width, plus 0.5 m a second
                                   unseen (default 1.0; 0 = off) */
+  double confirm_walk_m;       /* a walker-sized track (shorter and narrower than 1.3 m) hit in every frame
+                                  confirms after confirm_hits + 1 hits once it has moved this far, on a path
+                                  at least 0.8 as straight as it is long (default 0.3; 0 = off) */
 } rs_track_cfg_t;
 
 typedef struct {
