@@ -773,6 +773,25 @@ START_TEST(t_crowd_and_config) {
   ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
   ck_assert_int_eq(rs_track_cfg_set(&c, "meas_sd_misfit", "11", err, sizeof err), RS_E_INVAL);
   ck_assert_msg(strstr(err, "meas_sd_misfit") != NULL, "%s", err);
+  /* the hidden-end, lane and walker rules: by name, out of range refused with the name */
+  ck_assert_int_eq(rs_track_cfg_set(&c, "hidden_anchor", "0", err, sizeof err), RS_OK);
+  ck_assert_int_eq(c.hidden_anchor, 0);
+  ck_assert_int_eq(rs_track_cfg_set(&c, "hidden_anchor", "2", err, sizeof err), RS_E_INVAL);
+  ck_assert_msg(strstr(err, "hidden_anchor") != NULL, "%s", err);
+  ck_assert_int_eq(rs_track_cfg_set(&c, "reacq_across_m", "-1", err, sizeof err), RS_E_INVAL);
+  ck_assert_msg(strstr(err, "reacq_across_m") != NULL, "%s", err);
+  ck_assert_int_eq(rs_track_cfg_set(&c, "confirm_walk_m", "0", err, sizeof err), RS_OK);
+  ck_assert_double_eq(c.confirm_walk_m, 0.0);
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  rs_track_cfg_default(&c);
+  c.confirm_walk_m = NAN;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
+  rs_track_cfg_default(&c);
+  c.hidden_anchor = 3;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
+  rs_track_cfg_default(&c);
+  c.reacq_across_m = 21;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
 }
 END_TEST
 
