@@ -588,6 +588,51 @@ START_TEST(t_split) {
 }
 END_TEST
 
+/* A car (4.5 x 1.8 m, 6 m/s along y = 10) whose visible part shrinks to the
+ * far half of its rear for 2 s while its near side shows again ahead of it,
+ * as a second cluster: the rear part's box shrinks, and so does the track's smoothed box,
+ * but the side part still fits with it in the car's full size. Returns the
+ * number of tracks confirmed in the run; *part_id: the id the side part's
+ * returns carry in the last frame of the split (0 none), *id the car's. */
+static uint64_t shrinking_split(int full, uint32_t *id, uint32_t *part_id) {
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  c.split_full_size = full;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  *id = *part_id = 0;
+  for (int f = 0; f < 50; f++) {
+    const double t = 0.1 * f, front = 12.0 + 6.0 * t, rear = front - 4.5;
+    clear();
+    if (f >= 20 && f < 40) {
+      /* the rear part: 4.5 m down to 0.6 m long, its far half only (0.8 m wide) */
+      const double vis = fmax(0.6, 4.5 - 0.4 * (f - 20)), w = fmax(0.8, 1.8 - 0.1 * (f - 20));
+      put(t, rear + 0.5 * vis, 10.0 + 0.5 * (1.8 - w), vis, w, 0.0, 1.5, (uint32_t)(8 + 25 * vis));
+      if (f >= 28) {
+        const double side = fmin(3.0, 0.5 + 0.25 * (f - 28)); /* the near side's front end, growing */
+        put(t, front - 0.5 * side, 9.1, side, 0.08, 0.0, 1.2, (uint32_t)(6 + 6 * side));
+      }
+    } else {
+      car(t, rear + 2.25, 10.0, 0.0);
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 10) *id = tr.list.object_track[0];
+    if (f == 39) *part_id = tr.list.object_track[1];
+  }
+  return tr.n.confirmed;
+}
+
+START_TEST(t_split_shrinking) {
+  uint32_t id, part;
+  const uint64_t on = shrinking_split(1, &id, &part);
+  ck_assert_uint_ne(id, 0);
+  ck_assert_uint_eq(on, 1);
+  ck_assert_uint_eq(part, id);
+  const uint64_t off = shrinking_split(0, &id, &part);
+  ck_assert_uint_ge(off, 2); /* the side part as a track of its own */
+  ck_assert_uint_ne(part, id);
+}
+END_TEST
+
 /* A car waiting at the line from the first frame (its centre within 3 cm)
  * confirms at its third hit, 0.2 s; a small cluster as still (12 returns)
  * only after 1.5 s; a car whose centre wanders by 0.4 m, or missed once (a
@@ -773,7 +818,7 @@ START_TEST(t_crowd_and_config) {
   ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
   ck_assert_int_eq(rs_track_cfg_set(&c, "meas_sd_misfit", "11", err, sizeof err), RS_E_INVAL);
   ck_assert_msg(strstr(err, "meas_sd_misfit") != NULL, "%s", err);
-  /* the hidden-end, lane and walker rules: by name, out of range refused with the name */
+  /* the hidden-end, lane, walker and split rules: by name, out of range refused with the name */
   ck_assert_int_eq(rs_track_cfg_set(&c, "hidden_anchor", "0", err, sizeof err), RS_OK);
   ck_assert_int_eq(c.hidden_anchor, 0);
   ck_assert_int_eq(rs_track_cfg_set(&c, "hidden_anchor", "2", err, sizeof err), RS_E_INVAL);
@@ -791,6 +836,11 @@ START_TEST(t_crowd_and_config) {
   ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
   rs_track_cfg_default(&c);
   c.reacq_across_m = 21;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
+  ck_assert_int_eq(rs_track_cfg_set(&c, "split_full_size", "2", err, sizeof err), RS_E_INVAL);
+  ck_assert_msg(strstr(err, "split_full_size") != NULL, "%s", err);
+  rs_track_cfg_default(&c);
+  c.split_full_size = -1;
   ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
 }
 END_TEST
@@ -852,6 +902,7 @@ int main(void) {
   tcase_add_test(tc, t_passing_not_stitched);
   tcase_add_test(tc, t_crowd_divided);
   tcase_add_test(tc, t_split);
+  tcase_add_test(tc, t_split_shrinking);
   tcase_add_test(tc, t_split_side);
   tcase_add_test(tc, t_speed_follows);
   tcase_add_test(tc, t_hidden_end);

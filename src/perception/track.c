@@ -53,6 +53,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->hidden_anchor = 1;
   c->reacq_across_m = 1.0;
   c->confirm_walk_m = 0.3;
+  c->split_full_size = 1;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -64,7 +65,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100) ||
       !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1 ||
       cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20) ||
-      !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20))
+      !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1)
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -89,6 +90,7 @@ static const rs_opt_t knobs[] = {
     KNOB(coast_s, 0.01, 60.0),        KNOB(lost_s, 0.0, 60.0),          KNOB(still_speed, 0.0, 5.0),
     KNOB(size_weight, 0.0, 100.0),    KNOB(confirm_still_spread, 0.0, 5.0), KNOB_INT(confirm_still_points, 1, 100000),
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
+    KNOB_INT(split_full_size, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -354,13 +356,16 @@ static bool in_box(const rs_object_t *o, double c, double s, double px, double p
 }
 
 /* inside track t's box (at its current state) grown by RS_TRACK_SPLIT_MARGIN
- * (at most half its length) along its length and half that across */
-static bool in_track_box(const rs_track_t *t, double px, double py) {
+ * (at most half its length) along its length and half that across; with
+ * full, a track of known size is measured by its full size */
+static bool in_track_box(const rs_track_t *t, double px, double py, bool full) {
   const double c = t->hcos, s = t->hsin;
   const double dx = px - t->x[0], dy = py - t->x[1];
   const double u = dx * c + dy * s, v = -dx * s + dy * c;
-  const double m = fmin(RS_TRACK_SPLIT_MARGIN, 0.5 * t->length); /* a walker's box is not grown by a stride */
-  return fabs(u) <= 0.5 * t->length + m && fabs(v) <= 0.5 * t->width + 0.5 * m;
+  const double len = full && size_known(t) ? fmax(t->length, t->full_length) : t->length;
+  const double wid = full && size_known(t) ? fmax(t->width, t->full_width) : t->width;
+  const double m = fmin(RS_TRACK_SPLIT_MARGIN, 0.5 * len); /* a walker's box is not grown by a stride */
+  return fabs(u) <= 0.5 * len + m && fabs(v) <= 0.5 * wid + 0.5 * m;
 }
 
 /* tracks a and b move alike, as two tracks of one object do: their
@@ -374,13 +379,14 @@ static bool move_alike(const rs_track_t *a, const rs_track_t *b) {
 /* objects a (taken by track t this frame) and b fit together in t's known
  * size (grown by RS_TRACK_SPLIT_MARGIN both ways): parts of one vehicle (a
  * far car's near side and its roof, apart by a row's gap) */
-static bool fits_with(const rs_track_t *t, const rs_object_t *a, const rs_object_t *b) {
+static bool fits_with(const rs_track_t *t, const rs_object_t *a, const rs_object_t *b, bool full) {
   if (!size_known(t)) return false;
   double ea[4], eb[4];
   box_on_axes(t, a, ea);
   box_on_axes(t, b, eb);
-  return fmax(ea[1], eb[1]) - fmin(ea[0], eb[0]) <= t->length + RS_TRACK_SPLIT_MARGIN &&
-         fmax(ea[3], eb[3]) - fmin(ea[2], eb[2]) <= t->width + RS_TRACK_SPLIT_MARGIN;
+  const double len = full ? fmax(t->length, t->full_length) : t->length, wid = full ? fmax(t->width, t->full_width) : t->width;
+  return fmax(ea[1], eb[1]) - fmin(ea[0], eb[0]) <= len + RS_TRACK_SPLIT_MARGIN &&
+         fmax(ea[3], eb[3]) - fmin(ea[2], eb[2]) <= wid + RS_TRACK_SPLIT_MARGIN;
 }
 
 /* ---- object lookup grid (hash of 4 m cells) ----------------------------- */
@@ -627,6 +633,8 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   t->height = smooth(t->height, o->sensor.box_max[2] - o->sensor.box_min[2], first);
   t->height_max = smooth(t->height_max, o->sensor.box_max[2] - o->sensor.box_min[2] + o->height_gap, first);
   t->z_min = first ? o->sensor.box_min[2] : 0.9f * t->z_min + 0.1f * o->sensor.box_min[2];
+  t->full_length = fmaxf(t->length, t->full_length - 0.05f);
+  t->full_width = fmaxf(t->width, t->full_width - 0.02f);
   t->hits++;
   t->t_update = tk;
   t->points = o->points;
@@ -762,7 +770,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       const uint32_t i = tr->near[q];
       const rs_track_t *t = &L->track[i];
       if (t->object < 0 && (t->state == RS_TRACK_TENTATIVE || t->state == RS_TRACK_LOST)) continue;
-      if (!in_track_box(t, zx, zy) && !(t->object >= 0 && fits_with(t, &objs->obj[t->object], &objs->obj[k]))) continue;
+      if (!in_track_box(t, zx, zy, cf->split_full_size != 0) && !(t->object >= 0 && fits_with(t, &objs->obj[t->object], &objs->obj[k], cf->split_full_size != 0))) continue;
       tr->taken_by[k] = (int32_t)i;
       L->object_track[k] = t->id;
       tr->n.absorbed++;
@@ -880,7 +888,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       if (o == t || o->id == 0) continue;
       if (tentative) {
         dup = (o->state == RS_TRACK_CONFIRMED || o->state == RS_TRACK_COASTING) && o->length >= t->length &&
-              in_track_box(o, t->x[0], t->x[1]);
+              in_track_box(o, t->x[0], t->x[1], cf->split_full_size != 0);
       } else if (o->id < t->id && o->object >= 0) {
         const double lmax = fmax(o->length, t->length), lmin = fmin(o->length, t->length);
         const double dx = o->x[0] - px, dy = o->x[1] - py, r = fmax(0.5, 0.35 * o->length);

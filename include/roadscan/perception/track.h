@@ -47,6 +47,9 @@
  *   within a taken track's box (grown by RS_TRACK_SPLIT_MARGIN), or which
  *   fits with the track's own object within the track's known size (grown by
  *   the same margin), starts no track; its returns carry that track's id.
+ *   A confirmed track's size there is its full size (split_full_size): its
+ *   largest smoothed box, falling slowly, as its smoothed box shrinks with a
+ *   part of its object hidden.
  * - A pedestrian's track does not take an object longer than
  *   RS_TRACK_PED_MAX_LENGTH or wider than RS_TRACK_PED_MAX_WIDTH (a vehicle
  *   passing where it walked), nor is a young track that large stitched to
@@ -148,6 +151,9 @@ typedef struct {
   double confirm_walk_m;       /* a walker-sized track (shorter and narrower than 1.3 m) hit in every frame
                                   confirms after confirm_hits + 1 hits once it has moved this far, on a path
                                   at least 0.8 as straight as it is long (default 0.3; 0 = off) */
+  int split_full_size;         /* 1: a free object is a split part of a track when both fit in the track's
+                                  full size (its largest box, falling 0.05 m an update), not only in its
+                                  smoothed box, which shrinks while the object is partly hidden (default 1) */
 } rs_track_cfg_t;
 
 typedef struct {
@@ -166,6 +172,7 @@ typedef struct {
   float length, width, height, z_min; /* smoothed box */
   float height_max;                   /* smoothed: height plus the objects' height_gap */
   float across;                       /* smoothed: the box's extent across the heading while moving (0 unknown) */
+  float full_length, full_width;      /* the largest smoothed box, falling 0.05 (0.02) m an update */
   float heading;             /* radians from +X, counter-clockwise, (-pi, pi] */
   float hcos, hsin;          /* its cosine and sine */
   float speed;               /* reported (0 when still) */
