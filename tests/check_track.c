@@ -194,6 +194,40 @@ START_TEST(t_reacquired_after_long_occlusion) {
 }
 END_TEST
 
+/* A road user walking (1.2 m/s) or driving (8 m/s) along x, hidden for
+ * 3.6 s (behind a bus passing, then the queue behind it), seen again where
+ * its prediction is: does it keep its id? */
+static bool kept_after_hiding(double lost_walker_s, bool vehicle) {
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  c.lost_walker_s = lost_walker_s;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  const double v = vehicle ? 8.0 : 1.2;
+  uint32_t id = 0;
+  bool kept = true;
+  for (int f = 0; f < 80; f++) {
+    const double t = 0.1 * f;
+    clear();
+    if (f < 20 || f >= 56) {
+      if (vehicle) car(t, -20 + v * t, 12.0, 0.0);
+      else put(t, -20 + v * t, 12.0, 0.5, 0.4, 0.0, 1.7, 40);
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 15) id = tr.list.object_track[0];
+    if (f >= 60) kept = kept && tr.list.object_track[0] == id;
+  }
+  ck_assert_uint_ne(id, 0);
+  return kept;
+}
+
+START_TEST(t_walker_hidden_longer) {
+  ck_assert(kept_after_hiding(4.0, false));
+  ck_assert_int_eq(tr.list.track[0].cls, RS_CLASS_PEDESTRIAN);
+  ck_assert(!kept_after_hiding(0.0, false)); /* lost_s alone: a new id */
+  ck_assert(!kept_after_hiding(4.0, true));  /* a vehicle: lost_s */
+}
+END_TEST
+
 /* a pedestrian at 30 m seen by a sparse sensor: its returns span 0.4 m of
  * its height (one or two rows), the rows beside them 1 m more: a
  * pedestrian, not unknown; with no such gap (a dense sensor that saw all
@@ -842,6 +876,11 @@ START_TEST(t_crowd_and_config) {
   rs_track_cfg_default(&c);
   c.split_full_size = -1;
   ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
+  ck_assert_int_eq(rs_track_cfg_set(&c, "lost_walker_s", "61", err, sizeof err), RS_E_INVAL);
+  ck_assert_msg(strstr(err, "lost_walker_s") != NULL, "%s", err);
+  rs_track_cfg_default(&c);
+  c.lost_walker_s = NAN;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
 }
 END_TEST
 
@@ -903,6 +942,7 @@ int main(void) {
   tcase_add_test(tc, t_crowd_divided);
   tcase_add_test(tc, t_split);
   tcase_add_test(tc, t_split_shrinking);
+  tcase_add_test(tc, t_walker_hidden_longer);
   tcase_add_test(tc, t_split_side);
   tcase_add_test(tc, t_speed_follows);
   tcase_add_test(tc, t_hidden_end);

@@ -54,6 +54,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->reacq_across_m = 1.0;
   c->confirm_walk_m = 0.3;
   c->split_full_size = 1;
+  c->lost_walker_s = 4.0;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -65,7 +66,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100) ||
       !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1 ||
       cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20) ||
-      !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1)
+      !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
+      !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -90,7 +92,7 @@ static const rs_opt_t knobs[] = {
     KNOB(coast_s, 0.01, 60.0),        KNOB(lost_s, 0.0, 60.0),          KNOB(still_speed, 0.0, 5.0),
     KNOB(size_weight, 0.0, 100.0),    KNOB(confirm_still_spread, 0.0, 5.0), KNOB_INT(confirm_still_points, 1, 100000),
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
-    KNOB_INT(split_full_size, 0, 1),
+    KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -929,7 +931,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
         tr->n.confirmed++;
       }
     } else {
-      if (since > cf->coast_s + cf->lost_s) ends = true;
+      const double lost = t->cls == RS_CLASS_PEDESTRIAN ? fmax(cf->lost_s, cf->lost_walker_s) : cf->lost_s;
+      if (since > cf->coast_s + lost) ends = true;
       else if (updated || rs_track_held(t)) t->state = RS_TRACK_CONFIRMED;
       else t->state = since > cf->coast_s ? RS_TRACK_LOST : RS_TRACK_COASTING;
     }

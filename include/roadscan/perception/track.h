@@ -63,7 +63,8 @@
  * do not last). A confirmed track coasts through occlusion up to coast_s,
  * its uncertainty growing; then it is lost: no longer published, but an
  * object in its gate takes it up again (a pedestrian behind a parked van
- * for 2 s keeps its id) until lost_s more have passed; then it ends, with
+ * for 2 s keeps its id) until lost_s (a pedestrian's: lost_walker_s, when
+ * longer) more have passed; then it ends, with
  * an end event (its end time: when it was last seen). A track slower
  * than still_speed, or within
  * (one standard deviation of the velocity, capped at 1 m/s) reports speed 0.
@@ -151,6 +152,9 @@ typedef struct {
   double confirm_walk_m;       /* a walker-sized track (shorter and narrower than 1.3 m) hit in every frame
                                   confirms after confirm_hits + 1 hits once it has moved this far, on a path
                                   at least 0.8 as straight as it is long (default 0.3; 0 = off) */
+  double lost_walker_s;        /* a pedestrian's track is kept this long unpublished instead, when longer
+                                  than lost_s: walkers stay hidden behind passing and queued vehicles
+                                  longer than vehicles do behind each other (default 4.0) */
   int split_full_size;         /* 1: a free object is a split part of a track when both fit in the track's
                                   full size (its largest box, falling 0.05 m an update), not only in its
                                   smoothed box, which shrinks while the object is partly hidden (default 1) */
