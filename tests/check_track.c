@@ -251,7 +251,7 @@ END_TEST
 
 /* the class rules, one road user at a time driving 4 s along x at 20 m:
  * bus, van, car, a car seen edge-on (narrow, 13 m/s: a car, not a
- * cyclist), a cyclist (5.5 m/s) and a walker */
+ * cyclist), a cyclist (5.5 m/s) and a walker; a short van and an SUV */
 START_TEST(t_classes) {
   static const struct {
     double len, wid, h, v, head; /* head: the box's length axis against the motion */
@@ -264,6 +264,9 @@ START_TEST(t_classes) {
       {1.8, 0.5, 1.4, 5.5, 1.5707963, RS_CLASS_CAR},
       /* two walkers side by side, 1.6 m across, walking 1.4 m/s */
       {1.6, 0.5, 1.7, 1.4, 1.5707963, RS_CLASS_UNKNOWN},
+      /* a van 2.1 m tall, its returns 1.9 m from lowest to highest; an SUV's 1.6 m */
+      {5.0, 2.0, 1.9, 9.0, 0.0, RS_CLASS_VAN_TRUCK},
+      {4.7, 1.9, 1.6, 9.0, 0.0, RS_CLASS_CAR},
   };
   for (size_t k = 0; k < sizeof u / sizeof u[0]; k++) {
     init_default();

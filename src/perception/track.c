@@ -605,7 +605,7 @@ static rs_class_t classify(const rs_track_t *t) {
   const float L = t->length, W = t->width, H = t->height, V = t->max_speed, Hmax = t->height_max;
   if (t->state == RS_TRACK_TENTATIVE) return RS_CLASS_UNKNOWN;
   if (L >= 10.0f) return RS_CLASS_BUS;
-  if (L >= 5.6f || (L >= 4.0f && H >= 2.1f)) return RS_CLASS_VAN_TRUCK;
+  if (L >= 5.6f || (L >= 4.0f && H >= 1.8f)) return RS_CLASS_VAN_TRUCK;
   if (L >= 3.0f && W >= 1.3f) return RS_CLASS_CAR;
   if (L >= 1.2f && V >= 9.0f) return RS_CLASS_CAR;
   if (t->across >= 1.3f && L >= 1.5f && V >= 3.5f) return RS_CLASS_CAR; /* as wide as a car across its motion */

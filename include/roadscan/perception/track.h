@@ -72,7 +72,7 @@
  * the box's axis (ambiguous by 180 degrees) is turned to it.
  * Class, from the smoothed box (length L, width W, height H, metres) and the
  * highest speed seen (V, m/s), the first rule that holds:
- *   bus: L >= 10; van/truck: L >= 5.6, or L >= 4 and H >= 2.1;
+ *   bus: L >= 10; van/truck: L >= 5.6, or L >= 4 and H >= 1.8;
  *   car: L >= 3 and W >= 1.3, or L >= 1.2 and V >= 9 (a vehicle seen edge-on);
  *   cyclist: L >= 1.2 and W < 1.2 and V >= 2;
  *   pedestrian: L < 1.3 and W < 1.3 and H <= 2.3 and Hmax >= 0.9 and V < 4,
