@@ -57,6 +57,7 @@ typedef struct {
   rs_count_zones_t zones;
   double count_interval;
   double count_hidden;
+  double count_hidden_window;
   int method;            /* rs_cluster_method_t */
   double eps;            /* the method's, when given */
   int min_pts;           /* the method's, when given */
@@ -246,6 +247,9 @@ static const rs_opt_t table[] = {
       "a track first seen past a line, moving away from it, crossed it unseen when its path run back S seconds "
       "meets the line (a far lane hidden by the near lanes' traffic); not when the vehicle's earlier track was "
       "counted there (0 = off)"),
+    D("count-hidden-window", "S", count_hidden_window, 0.0, 10.0,
+      "the hidden-crossing check is repeated at each confirmed frame until S seconds after the track was first "
+      "seen, with its mean velocity since then (0 = at its first confirmed frame only)"),
     S("counts-out", "FILE", cfg.counts_out, "CSV t_start,t_end,line,direction,class,count per closed interval"),
     RS_OPT_HEAD("lcm", "LCM: per frame an object list, a track list and a statistics message; an event per "
                        "track that ends"),
@@ -334,6 +338,7 @@ int main(int argc, char **argv) {
   rs_track_cfg_default(&st.tcfg);
   st.count_interval = 60.0;
   st.count_hidden = 3.0;
+  st.count_hidden_window = 2.0;
   st.buffer_kib = RS_CAPTURE_BUFFER_DEFAULT / 1024;
   st.pub = (rs_publish_cfg_t){.channel = RS_PUB_DEFAULT_CHANNEL,
                               .stats_channel = RS_PUB_DEFAULT_STATS,
@@ -469,6 +474,7 @@ int main(int argc, char **argv) {
         rs_count_add_zones(&counter, st.zones.zone, st.zones.n, err, sizeof err) != RS_OK)
       return bad(err);
     counter.hidden_s = st.count_hidden;
+    counter.hidden_window_s = st.count_hidden_window;
     cfg->counter = &counter;
   }
   if (!st.no_publish) {

@@ -190,6 +190,7 @@ int rs_count_init(rs_counter_t *c, const rs_count_line_t *lines, int nlines, con
   c->nlines = nlines;
   c->interval_s = interval_s;
   c->hidden_s = 3.0;
+  c->hidden_window_s = 2.0;
   c->t_first = -1.0;
   c->cur.t_start = c->cur.t_end = -1.0;
   if (pose) {
@@ -355,7 +356,10 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       c->slot[i].x = x; /* where it was first seen: crossings while tentative count when it is confirmed */
       c->slot[i].y = y;
       c->slot[i].t0 = t;
+      c->slot[i].x0 = x;
+      c->slot[i].y0 = y;
       c->slot[i].confirmed = false;
+      c->slot[i].born = tr->state == RS_TRACK_TENTATIVE;
     }
     c->slot[i].frame = c->frame_no;
     if (tr->state != RS_TRACK_CONFIRMED) continue; /* tentative, or coasting on a prediction */
@@ -370,12 +374,13 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
         double u, s;
         meet(&c->lines[l], px, py, x, y, &u, &s);
         remember(c, l, t, s, dir);
-      } else if (first_confirmed) {
+      } else if (first_confirmed || (c->slot[i].born && t - c->slot[i].t0 <= c->hidden_window_s)) {
         double tc = 0, sc = 0;
-        dir = hidden_crossing(c, l, c->slot[i].t0, px, py, t, x, y, &tc, &sc);
+        dir = hidden_crossing(c, l, c->slot[i].t0, c->slot[i].x0, c->slot[i].y0, t, x, y, &tc, &sc);
         if (dir == 0) continue;
         if (counted_near(c, l, tc, sc, dir)) {
           c->hidden_dup++;
+          c->slot[i].counted |= (uint16_t)(1u << l); /* its vehicle's: not checked again */
           continue;
         }
         remember(c, l, tc, sc, dir);

@@ -21,13 +21,18 @@
  *
  * Hidden crossings: a track first seen past a line, moving away from it, may
  * have crossed it unseen (a vehicle on a far lane hidden by the near lanes'
- * traffic until it is over the line). At its first confirmed frame, its
- * path is run back from where it was first seen, at its mean velocity since
- * then (at least 1 m/s), for at most `hidden_s` seconds (default 3, 0 =
- * off): when that meets a line it was not counted on, at a time after the
- * run's first frame, it is counted as crossed there, unless a crossing of
- * that line in the same direction was counted within 1.5 s and 2.5 m of it
- * (the same vehicle, counted by the track it had before it was hidden).
+ * traffic until it is over the line). At its first confirmed frame, and at
+ * each one after until `hidden_window_s` (default 2) after it was first
+ * seen, its path is run back from where it was first seen, at its mean
+ * velocity since then (at least 1 m/s), for at most `hidden_s` seconds
+ * (default 3, 0 = off): when that meets a line it was not counted on, at a
+ * time after the run's first frame, it is counted as crossed there, unless a
+ * crossing of that line in the same direction was counted within 1.5 s and
+ * 2.5 m of it (the same vehicle, counted by the track it had before it was
+ * hidden; the line is then done for this track). The repeats are for a box
+ * growing as the vehicle comes into view, whose centre moves little or the
+ * wrong way at first; only for a track first listed tentative (born there),
+ * not a lost one taken up again.
  * Every counted crossing is remembered per line (time, place along it) for
  * that check: the last RS_COUNT_RECENT.
  *
@@ -95,6 +100,7 @@ typedef struct {
   uint64_t hidden;                       /* of the crossings: inferred for tracks first seen past a line */
   uint64_t hidden_dup;                   /* hidden crossings not counted: the vehicle's earlier track was */
   double hidden_s;                       /* how far back a track's path is run (s; 0 = off); default 3 */
+  double hidden_window_s;                /* ... at each confirmed frame this long after it was first seen (s); default 2 */
   double t_first;                        /* the run's first frame (s) */
   struct {
     double t, s;                         /* when, and where along the line (m from A) */
@@ -106,7 +112,9 @@ typedef struct {
     uint16_t counted;                    /* lines this track was counted on */
     uint8_t inside;                      /* zones it is inside (as of its last confirmed frame, or first seen) */
     bool confirmed;                      /* it had a confirmed frame */
+    bool born;                           /* it was tentative when first seen (not a lost track taken up again) */
     double t0;                           /* when it was first seen */
+    double x0, y0;                       /* where (site frame) */
     uint32_t frame;                      /* last frame it was seen (low 32 bits) */
     double x, y;                         /* last position, site frame */
   } slot[RS_COUNT_SLOTS];
