@@ -829,61 +829,44 @@ START_TEST(t_crowd_and_config) {
   }
   ck_assert_uint_eq(tr.n.born, 120);
   ck_assert_uint_ge(tr.n.greedy_groups, 1);
+  /* rs_track_init refuses a value out of range in the struct */
+#define INIT_REFUSED(field, value)                                                         \
+  do {                                                                                     \
+    rs_track_cfg_t bad;                                                                    \
+    rs_track_cfg_default(&bad);                                                            \
+    bad.field = value;                                                                     \
+    ck_assert_msg(rs_track_init(&tr, &bad) == RS_E_INVAL, #field " = " #value " accepted"); \
+  } while (0)
+  INIT_REFUSED(coast_s, 0);
+  INIT_REFUSED(gate_m, NAN);
+  INIT_REFUSED(q_small, 0);
+  INIT_REFUSED(meas_sd_fit, -0.1);
+  INIT_REFUSED(meas_sd_misfit, NAN);
+  INIT_REFUSED(confirm_walk_m, NAN);
+  INIT_REFUSED(hidden_anchor, 3);
+  INIT_REFUSED(reacq_across_m, 21);
+  INIT_REFUSED(split_full_size, -1);
+  INIT_REFUSED(lost_walker_s, NAN);
+#undef INIT_REFUSED
+  /* set by name: in range taken, out of range refused with the parameter's name */
   rs_track_cfg_t c;
-  rs_track_cfg_default(&c);
-  c.coast_s = 0;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
-  rs_track_cfg_default(&c);
-  c.gate_m = NAN;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
-  /* the noise of the fit and a walker's process noise: checked like the rest, set by name */
-  rs_track_cfg_default(&c);
-  c.q_small = 0;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
-  rs_track_cfg_default(&c);
-  c.meas_sd_fit = -0.1;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
-  rs_track_cfg_default(&c);
-  c.meas_sd_misfit = NAN;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
   rs_track_cfg_default(&c);
   char err[512];
   ck_assert_int_eq(rs_track_cfg_set(&c, "q_small", "0.5", err, sizeof err), RS_OK);
   ck_assert_double_eq(c.q_small, 0.5);
   ck_assert_int_eq(rs_track_cfg_set(&c, "meas_sd_fit", "0", err, sizeof err), RS_OK);
   ck_assert_double_eq(c.meas_sd_fit, 0.0);
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
-  ck_assert_int_eq(rs_track_cfg_set(&c, "meas_sd_misfit", "11", err, sizeof err), RS_E_INVAL);
-  ck_assert_msg(strstr(err, "meas_sd_misfit") != NULL, "%s", err);
-  /* the hidden-end, lane, walker and split rules: by name, out of range refused with the name */
   ck_assert_int_eq(rs_track_cfg_set(&c, "hidden_anchor", "0", err, sizeof err), RS_OK);
   ck_assert_int_eq(c.hidden_anchor, 0);
-  ck_assert_int_eq(rs_track_cfg_set(&c, "hidden_anchor", "2", err, sizeof err), RS_E_INVAL);
-  ck_assert_msg(strstr(err, "hidden_anchor") != NULL, "%s", err);
-  ck_assert_int_eq(rs_track_cfg_set(&c, "reacq_across_m", "-1", err, sizeof err), RS_E_INVAL);
-  ck_assert_msg(strstr(err, "reacq_across_m") != NULL, "%s", err);
   ck_assert_int_eq(rs_track_cfg_set(&c, "confirm_walk_m", "0", err, sizeof err), RS_OK);
   ck_assert_double_eq(c.confirm_walk_m, 0.0);
   ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
-  rs_track_cfg_default(&c);
-  c.confirm_walk_m = NAN;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
-  rs_track_cfg_default(&c);
-  c.hidden_anchor = 3;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
-  rs_track_cfg_default(&c);
-  c.reacq_across_m = 21;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
-  ck_assert_int_eq(rs_track_cfg_set(&c, "split_full_size", "2", err, sizeof err), RS_E_INVAL);
-  ck_assert_msg(strstr(err, "split_full_size") != NULL, "%s", err);
-  rs_track_cfg_default(&c);
-  c.split_full_size = -1;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
-  ck_assert_int_eq(rs_track_cfg_set(&c, "lost_walker_s", "61", err, sizeof err), RS_E_INVAL);
-  ck_assert_msg(strstr(err, "lost_walker_s") != NULL, "%s", err);
-  rs_track_cfg_default(&c);
-  c.lost_walker_s = NAN;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
+  static const char *const refused[][2] = {{"meas_sd_misfit", "11"}, {"hidden_anchor", "2"}, {"reacq_across_m", "-1"},
+                                           {"split_full_size", "2"},  {"lost_walker_s", "61"}};
+  for (size_t k = 0; k < sizeof refused / sizeof refused[0]; k++) {
+    ck_assert_int_eq(rs_track_cfg_set(&c, refused[k][0], refused[k][1], err, sizeof err), RS_E_INVAL);
+    ck_assert_msg(strstr(err, refused[k][0]) != NULL, "%s", err);
+  }
 }
 END_TEST
 

@@ -357,15 +357,24 @@ static bool in_box(const rs_object_t *o, double c, double s, double px, double p
   return fabs(u) <= 0.5 * o->sensor.obb_length + m && fabs(v) <= 0.5 * o->sensor.obb_width + m;
 }
 
-/* inside track t's box (at its current state) grown by RS_TRACK_SPLIT_MARGIN
- * (at most half its length) along its length and half that across; with
- * full, a track of known size is measured by its full size */
-static bool in_track_box(const rs_track_t *t, double px, double py, bool full) {
+/* the size split parts are measured by: a track of known size's full size
+ * (split_full_size; never below its smoothed box, take() keeps it so),
+ * else its smoothed box */
+static void split_size(const rs_tracker_t *tr, const rs_track_t *t, double *len, double *wid) {
+  const bool full = tr->cfg.split_full_size && size_known(t);
+  *len = full ? t->full_length : t->length;
+  *wid = full ? t->full_width : t->width;
+}
+
+/* inside track t's box (at its current state, split_size) grown by
+ * RS_TRACK_SPLIT_MARGIN (at most half its length) along its length and half
+ * that across */
+static bool in_track_box(const rs_tracker_t *tr, const rs_track_t *t, double px, double py) {
   const double c = t->hcos, s = t->hsin;
   const double dx = px - t->x[0], dy = py - t->x[1];
   const double u = dx * c + dy * s, v = -dx * s + dy * c;
-  const double len = full && size_known(t) ? fmax(t->length, t->full_length) : t->length;
-  const double wid = full && size_known(t) ? fmax(t->width, t->full_width) : t->width;
+  double len, wid;
+  split_size(tr, t, &len, &wid);
   const double m = fmin(RS_TRACK_SPLIT_MARGIN, 0.5 * len); /* a walker's box is not grown by a stride */
   return fabs(u) <= 0.5 * len + m && fabs(v) <= 0.5 * wid + 0.5 * m;
 }
@@ -379,14 +388,14 @@ static bool move_alike(const rs_track_t *a, const rs_track_t *b) {
 }
 
 /* objects a (taken by track t this frame) and b fit together in t's known
- * size (grown by RS_TRACK_SPLIT_MARGIN both ways): parts of one vehicle (a
- * far car's near side and its roof, apart by a row's gap) */
-static bool fits_with(const rs_track_t *t, const rs_object_t *a, const rs_object_t *b, bool full) {
+ * size (split_size, grown by RS_TRACK_SPLIT_MARGIN both ways): parts of one
+ * vehicle (a far car's near side and its roof, apart by a row's gap) */
+static bool fits_with(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *a, const rs_object_t *b) {
   if (!size_known(t)) return false;
-  double ea[4], eb[4];
+  double ea[4], eb[4], len, wid;
   box_on_axes(t, a, ea);
   box_on_axes(t, b, eb);
-  const double len = full ? fmax(t->length, t->full_length) : t->length, wid = full ? fmax(t->width, t->full_width) : t->width;
+  split_size(tr, t, &len, &wid);
   return fmax(ea[1], eb[1]) - fmin(ea[0], eb[0]) <= len + RS_TRACK_SPLIT_MARGIN &&
          fmax(ea[3], eb[3]) - fmin(ea[2], eb[2]) <= wid + RS_TRACK_SPLIT_MARGIN;
 }
@@ -772,7 +781,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       const uint32_t i = tr->near[q];
       const rs_track_t *t = &L->track[i];
       if (t->object < 0 && (t->state == RS_TRACK_TENTATIVE || t->state == RS_TRACK_LOST)) continue;
-      if (!in_track_box(t, zx, zy, cf->split_full_size != 0) && !(t->object >= 0 && fits_with(t, &objs->obj[t->object], &objs->obj[k], cf->split_full_size != 0))) continue;
+      if (!in_track_box(tr, t, zx, zy) && !(t->object >= 0 && fits_with(tr, t, &objs->obj[t->object], &objs->obj[k]))) continue;
       tr->taken_by[k] = (int32_t)i;
       L->object_track[k] = t->id;
       tr->n.absorbed++;
@@ -890,7 +899,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       if (o == t || o->id == 0) continue;
       if (tentative) {
         dup = (o->state == RS_TRACK_CONFIRMED || o->state == RS_TRACK_COASTING) && o->length >= t->length &&
-              in_track_box(o, t->x[0], t->x[1], cf->split_full_size != 0);
+              in_track_box(tr, o, t->x[0], t->x[1]);
       } else if (o->id < t->id && o->object >= 0) {
         const double lmax = fmax(o->length, t->length), lmin = fmin(o->length, t->length);
         const double dx = o->x[0] - px, dy = o->x[1] - py, r = fmax(0.5, 0.35 * o->length);
