@@ -155,6 +155,10 @@ static const rs_opt_t table[] = {
     RS_OPT_DBL_("occluded", "SHARE", T, params.occluded_max, 0, 1,
                 "a nearer cluster seen throughout, at one range, with at most SHARE of the returns behind it when "
                 "it is not seen (the rest in front: traffic hiding it) is a surface (0 = off)"),
+    RS_OPT_DBL_("void-stay", "SHARE", T, params.void_stay, 0, 1,
+                "the farthest cluster of a cell is no surface when the cell returns nothing more often than it "
+                "and, once seen, it is back in the next frame at least SHARE of the time (a vehicle standing "
+                "where nothing behind it returns) (0 = off)"),
     {.type = RS_OPT_BOOL, .name = "support", .arg = "on|off", .off = offsetof(T, params.support),
      .help = "a nearer cluster that a neighbouring cell sees as static in half its frames or more is static too "
              "(edges)"},

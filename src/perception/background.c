@@ -23,6 +23,7 @@ void rs_bg_params_default(rs_bg_params_t *p) {
   p->eps_max = 0.40;
   p->eps_step = 0.01;
   p->persist_max = 0.8;
+  p->void_stay = 0.6;
   p->flicker_lift = 0.25;
   p->coverage_min = 0.8;
   p->window_s = 5.0;
@@ -752,9 +753,19 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
       }
     }
     /* "no return" as a persistent state of the cell: sky behind */
-    bool sky = cl[k].count >= min_pts && cl[k].pairs >= 10 && (double)cl[k].stay / cl[k].pairs >= p->persist_max;
+    const bool sky = cl[k].count >= min_pts && cl[k].pairs >= 10 && (double)cl[k].stay / cl[k].pairs >= p->persist_max;
+    /* a vehicle standing where nothing behind it returns (a queue's last car
+     * in front of a road out of reach): the farthest cluster, but the cell
+     * returns nothing more often than it, and it stays (a far wall seen
+     * between the cars of a queue also returns less often than nothing when
+     * its returns drop out, but then at random: back in the next frame only
+     * as often as it is detected) */
+    const bool void_far = p->void_stay > 0 && k >= 1 && cl[k - 1].pairs >= 10 && cl[k].count > cl[k - 1].count &&
+                          (double)cl[k - 1].stay >= p->void_stay * cl[k - 1].pairs &&
+                          !flickers(&cl[k - 1], npairs, p->flicker_lift);
+    const bool far_surface = !sky && !void_far; /* the farthest cluster is the cell's static surface */
     /* decide every cluster, nearest first: the farthest is the static
-     * surface (unless sky); a nearer one is background when it flickers and
+     * surface (unless sky or void_far); a nearer one is background when it flickers and
      * is present throughout the capture (most windows). Consecutive
      * background clusters close together are one entry (leaves of a canopy
      * come out as many clusters); the farthest CAND entries are kept. */
@@ -776,7 +787,7 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
       for (int m = j + 1; m < k; m++)
         if (cl[m].pairs > 0 && cl[m].stay < RS_BG_INTERMITTENT * cl[m].pairs) behind_edge += cl[m].count;
       const double behind = (double)cl[j].behind - behind_edge;
-      bg[j] = !wide[j] && ((j == k - 1 && !sky) || (fl[j] && (double)cl[j].windows / nwin >= p->coverage_min));
+      bg[j] = !wide[j] && ((j == k - 1 && far_surface) || (fl[j] && (double)cl[j].windows / nwin >= p->coverage_min));
       /* hidden, not gone: a nearer cluster seen in a good share of the frames,
        * throughout the capture, at one range, and when it is not seen the
        * cell mostly returns something nearer (traffic in front of it; not
@@ -816,7 +827,7 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
     int ne = 0;
     for (int j = 0; j < k; j++) {
       cand_t c = {cl[j].lo, cl[j].hi, (uint16_t)lround(10000.0 * cl[j].count / nf), 0, 0, 0, 0};
-      c.farthest = j == k - 1 && !sky && !wide[j];
+      c.farthest = j == k - 1 && far_surface && !wide[j];
       c.wide = wide[j];
       c.bg = bg[j];
       c.stays = cl[j].pairs >= 10 && !fl[j] && !hidden[j];

@@ -104,6 +104,12 @@ typedef struct {
   double connect_min;     /* a surface interval reaches half-way to the nearest interval of the
                              cell on either side in the row when they are less than */
   double connect_share;   /* max(connect_min, connect_share x range) apart: 0.5 m, 0.05; 0 = off */
+  double void_stay;       /* the farthest cluster is no surface (judged as a nearer one) when the
+                             cell returns nothing more often than it and, once seen, it is back in
+                             the next frame at least this often (a vehicle standing where nothing
+                             behind it returns: a road too dark or too far at that angle; a far
+                             surface whose returns drop out is back only as often as it is
+                             detected); default 0.6, 0 = off; not stored in the model file */
   double wide_min;        /* a cluster spread over more than max(wide_min, wide_share x range) is */
   double wide_share;      /* no surface (a queue creeping through the cell): 2 m, 0.15 */
   double percentile;      /* percentile method: background range percentile, default 50 */
