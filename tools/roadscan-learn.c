@@ -155,6 +155,9 @@ static const rs_opt_t table[] = {
     RS_OPT_DBL_("occluded", "SHARE", T, params.occluded_max, 0, 1,
                 "a nearer cluster seen throughout, at one range, with at most SHARE of the returns behind it when "
                 "it is not seen (the rest in front: traffic hiding it) is a surface (0 = off)"),
+    RS_OPT_DBL_("occluded-clear", "SHARE", T, params.occluded_clear, 0, 1,
+                "a nearer cluster hidden by traffic with nothing steady behind it needs only SHARE of the 5 s "
+                "windows (not half) and may spread 2.5 times as much (0 = off)"),
     RS_OPT_DBL_("void-stay", "SHARE", T, params.void_stay, 0, 1,
                 "the farthest cluster of a cell is no surface when the cell returns nothing more often than it "
                 "and, once seen, it is back in the next frame at least SHARE of the time (a vehicle standing "

@@ -37,6 +37,7 @@ void rs_bg_params_default(rs_bg_params_t *p) {
   p->occluded_seen = 0.1;
   p->occluded_windows = 0.5;
   p->occluded_spread = 0.15;
+  p->occluded_clear = 0.2;
   p->support = true;
   p->support_tol_min = 0.3;
   p->support_tol_share = 0.03;
@@ -795,12 +796,23 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
        * a surface behind a lane, occluded by queues in runs of frames (so it
        * does not flicker). A vehicle that stops in the cell leaves what it
        * hides (the road behind it) to be seen when it is not there. */
+      /* Nothing steady behind it (occluded_clear): beyond it, when it is not
+       * seen, only the intermittent far side of an edge (at most
+       * RS_BG_CLEAR_BEHIND of the returns in front), and the cell returns
+       * nothing less often than it is seen: a post behind queues that stand
+       * in front of it for most of the capture, its cluster spread by the
+       * mixed returns of its edge. Then a smaller share of the windows and a
+       * wider spread do. A vehicle that stops leaves what it hid to be seen;
+       * one in front of nothing leaves nothing (void_stay above). */
+      const bool clear = p->occluded_clear > 0 && behind <= RS_BG_CLEAR_BEHIND * cl[j].front && cl[k].count <= cl[j].count;
       const double spread_max = fmax(p->occluded_spread * 100.0, 0.01 * cl[j].lo);
+      const double windows_min = clear ? fmin(p->occluded_windows, p->occluded_clear) : p->occluded_windows;
       const bool hid = !wide[j] && p->occluded_max > 0 && nf >= RS_BG_JUDGE_FRAMES &&
-                       cl[j].count >= p->occluded_seen * nf && (double)cl[j].windows / nwin >= p->occluded_windows &&
+                       cl[j].count >= p->occluded_seen * nf && (double)cl[j].windows / nwin >= windows_min &&
                        cl[j].front >= 0.5 * (double)(nf - (int)cl[j].count) &&
                        behind <= p->occluded_max * ((double)cl[j].front + behind);
-      if (!bg[j] && hid && cl[j].hi - cl[j].lo <= (int32_t)lround(spread_max)) bg[j] = true;
+      const double spread_bg = clear ? RS_BG_CLEAR_SPREAD * spread_max : spread_max;
+      if (!bg[j] && hid && cl[j].hi - cl[j].lo <= (int32_t)lround(spread_bg)) bg[j] = true;
       /* the same, spread a little more (a slanted post's edge, where the
        * firings fall on either side): not decided here, but no vehicle stood
        * in it (what it hid hardly showed), so the support pass may take it */

@@ -63,6 +63,9 @@
 #define RS_BG_INTERMITTENT 0.6 /* a cluster back in the next frame less often than this is intermittent */
 #define RS_BG_HIDDEN_SUPPORT 1.5 /* a cluster hidden by traffic as occluded_* says, but spread up to this
                                     many times occluded_spread: the cells beside may support it */
+#define RS_BG_CLEAR_BEHIND 0.02 /* "nothing steady behind": returns beyond a cluster (but the intermittent
+                                  far side of an edge) at most this share of those in front */
+#define RS_BG_CLEAR_SPREAD 2.5  /* ... then a hidden cluster may spread this many times occluded_spread */
 #define RS_BG_JUDGE_FRAMES 10 /* fewer frames: every cluster seen is the scene */ /* a farthest surface seen in this % of frames or more is solid */
 
 typedef enum { RS_BG_DBSCAN = 0, RS_BG_PERCENTILE = 1 } rs_bg_method_t;
@@ -95,6 +98,9 @@ typedef struct {
   double occluded_seen;   /* seen in this share of the frames (0.1), */
   double occluded_windows;/* in this share of the 5 s windows (0.5), */
   double occluded_spread; /* within max(this, 1 % of the range) (0.15 m). Not stored in the model file */
+  double occluded_clear;  /* with nothing steady behind it (RS_BG_CLEAR_BEHIND; the cell returns nothing
+                             less often than it is seen): in this share of the windows (0.2) and within
+                             RS_BG_CLEAR_SPREAD times that spread; 0 = off; not stored in the model file */
   bool support;           /* a nearer cluster within support_tol of a background cluster that the
                              cell beside it in the row sees in half its frames or more is background
                              too, unless it stays for several frames (edges) and is not hidden by
