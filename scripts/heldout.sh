@@ -1,9 +1,8 @@
 #!/usr/bin/env bash
 # A held-out site, default settings: light and rush captures of both sensors
-# at site SITE (roadscan-sim --set site_seed=SITE), learned on LEARN_SEED for
-# 150 s and scored on TEST_SEED for 30 s (made in out/site<SITE> when absent;
-# the models always learned anew by the current roadscan-learn), labelled by
-# roadscand's defaults and scored by roadscan-eval. One markdown row per
+# at site SITE, learned on LEARN_SEED for 150 s and scored on TEST_SEED for
+# 30 s (scripts/site-captures.sh, in out/site<SITE>), labelled by roadscand's
+# defaults and scored by roadscan-eval. One markdown row per
 # capture. docs/background.md: site 13 (seeds 61/62) and site 17 (71/72),
 # made after the rules they check.
 # Usage: scripts/heldout.sh SITE LEARN_SEED TEST_SEED
@@ -13,25 +12,18 @@ set -euo pipefail
 export ROADSCAN_ALLOW_ROOT=1
 cd "$(dirname "$0")/.."
 if [ $# -ne 3 ]; then
-  sed -n 9p "$0" >&2
+  sed -n 8p "$0" >&2
   exit 2
 fi
 site=$1 seed_learn=$2 seed_test=$3
 bin=${BIN:-build/bin}
 dir=out/site$site
-mkdir -p "$dir"
+scripts/site-captures.sh "$dir" "$site" "$seed_learn" "$seed_test" VLP-32C VLP-16
 echo "| capture | precision | recall | IoU | matched instances | static kept | objects kept |"
 echo "|---|---|---|---|---|---|---|"
 for sensor in VLP-32C VLP-16; do
   for sc in light rush; do
     tag=$sensor-$sc-site$site
-    if [ ! -s "$dir/$tag.pcap" ] || [ ! -s "$dir/$tag-truth.csv" ] || [ ! -s "$dir/$tag-learn.pcap" ]; then
-      $bin/roadscan-sim --sensor "$sensor" --scenario $sc --set site_seed="$site" --seconds 150 --seed "$seed_learn" \
-        -o "$dir/$tag-learn.pcap" --labels "$dir/$tag-learn.csv" 2>/dev/null
-      $bin/roadscan-sim --sensor "$sensor" --scenario $sc --set site_seed="$site" --seconds 30 --seed "$seed_test" \
-        -o "$dir/$tag.pcap" --labels "$dir/$tag-truth.csv" --truth-states "$dir/$tag-states.csv" 2>/dev/null
-    fi
-    $bin/roadscan-learn "$dir/$tag-learn.pcap" -o "$dir/$tag.bg" 2>/dev/null
     $bin/roadscand --pcap "$dir/$tag.pcap" --fast --background "$dir/$tag.bg" --no-publish --no-tracking --quiet \
       --labels-out "$dir/$tag-labels.csv" 2>/dev/null
     $bin/roadscan-eval "$dir/$tag.pcap" "$dir/$tag-truth.csv" "$dir/$tag-labels.csv" --json > "$dir/$tag.json" 2>/dev/null

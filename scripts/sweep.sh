@@ -22,19 +22,8 @@ option=$1 site13=$2 out=$3 sensors=$4 seed_learn=$5 seed_test=$6
 shift 6
 bin=${BIN:-build/bin}
 res=out/results
-mkdir -p "$site13" "$out"
-for sensor in $sensors; do
-  for sc in light rush; do
-    tag=$sensor-$sc-site13
-    if [ ! -s "$site13/$tag.pcap" ] || [ ! -s "$site13/$tag-truth.csv" ] || [ ! -s "$site13/$tag-learn.pcap" ]; then
-      $bin/roadscan-sim --sensor "$sensor" --scenario $sc --set site_seed=13 --seconds 150 --seed "$seed_learn" \
-        -o "$site13/$tag-learn.pcap" --labels "$site13/$tag-learn.csv" 2>/dev/null
-      $bin/roadscan-sim --sensor "$sensor" --scenario $sc --set site_seed=13 --seconds 30 --seed "$seed_test" \
-        -o "$site13/$tag.pcap" --labels "$site13/$tag-truth.csv" 2>/dev/null
-    fi
-    $bin/roadscan-learn "$site13/$tag-learn.pcap" -o "$site13/$tag.bg" 2>/dev/null
-  done
-done
+mkdir -p "$out"
+scripts/site-captures.sh "$site13" 13 "$seed_learn" "$seed_test" $sensors
 echo "| capture | $option | precision | recall | IoU | matched instances | merged | split | clusters cut |"
 echo "|---|---|---|---|---|---|---|---|---|"
 for sensor in $sensors; do

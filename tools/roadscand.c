@@ -337,8 +337,8 @@ int main(int argc, char **argv) {
   rs_cluster_cfg_default(&st.ccfg);
   rs_track_cfg_default(&st.tcfg);
   st.count_interval = 60.0;
-  st.count_hidden = 3.0;
-  st.count_hidden_window = 2.0;
+  st.count_hidden = RS_COUNT_HIDDEN_S;
+  st.count_hidden_window = RS_COUNT_HIDDEN_WINDOW_S;
   st.buffer_kib = RS_CAPTURE_BUFFER_DEFAULT / 1024;
   st.pub = (rs_publish_cfg_t){.channel = RS_PUB_DEFAULT_CHANNEL,
                               .stats_channel = RS_PUB_DEFAULT_STATS,

@@ -755,16 +755,6 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
     }
     /* "no return" as a persistent state of the cell: sky behind */
     const bool sky = cl[k].count >= min_pts && cl[k].pairs >= 10 && (double)cl[k].stay / cl[k].pairs >= p->persist_max;
-    /* a vehicle standing where nothing behind it returns (a queue's last car
-     * in front of a road out of reach): the farthest cluster, but the cell
-     * returns nothing more often than it, and it stays (a far wall seen
-     * between the cars of a queue also returns less often than nothing when
-     * its returns drop out, but then at random: back in the next frame only
-     * as often as it is detected) */
-    const bool void_far = p->void_stay > 0 && k >= 1 && cl[k - 1].pairs >= 10 && cl[k].count > cl[k - 1].count &&
-                          (double)cl[k - 1].stay >= p->void_stay * cl[k - 1].pairs &&
-                          !flickers(&cl[k - 1], npairs, p->flicker_lift);
-    const bool far_surface = !sky && !void_far; /* the farthest cluster is the cell's static surface */
     /* decide every cluster, nearest first: the farthest is the static
      * surface (unless sky or void_far); a nearer one is background when it flickers and
      * is present throughout the capture (most windows). Consecutive
@@ -778,6 +768,15 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
     for (int j = 0; j < k; j++)
       wide[j] = cl[j].hi - cl[j].lo > (int32_t)lround(fmax(p->wide_min * 100.0, p->wide_share * cl[j].lo));
     for (int j = 0; j < k; j++) fl[j] = flickers(&cl[j], npairs, p->flicker_lift);
+    /* a vehicle standing where nothing behind it returns (a queue's last car
+     * in front of a road out of reach): the farthest cluster, but the cell
+     * returns nothing more often than it, and it stays (a far wall seen
+     * between the cars of a queue also returns less often than nothing when
+     * its returns drop out, but then at random: back in the next frame only
+     * as often as it is detected) */
+    const bool void_far = p->void_stay > 0 && k >= 1 && cl[k - 1].pairs >= 10 && !fl[k - 1] &&
+                          cl[k].count > cl[k - 1].count && (double)cl[k - 1].stay >= p->void_stay * cl[k - 1].pairs;
+    const bool far_surface = !sky && !void_far; /* the farthest cluster is the cell's static surface */
     for (int j = 0; j < k; j++) {
       /* the returns behind it that come from a cluster seen only now and
        * then (back in the next frame less than RS_BG_INTERMITTENT of the

@@ -189,8 +189,8 @@ int rs_count_init(rs_counter_t *c, const rs_count_line_t *lines, int nlines, con
   }
   c->nlines = nlines;
   c->interval_s = interval_s;
-  c->hidden_s = 3.0;
-  c->hidden_window_s = 2.0;
+  c->hidden_s = RS_COUNT_HIDDEN_S;
+  c->hidden_window_s = RS_COUNT_HIDDEN_WINDOW_S;
   c->t_first = -1.0;
   c->cur.t_start = c->cur.t_end = -1.0;
   if (pose) {

@@ -53,7 +53,7 @@
 #define RS_BG_SEE_THROUGH 2
 #define RS_BG_MAGIC "RSBGMDL1"
 #define RS_BG_VERSION 2
-#define RS_BG_SOLID_PCT 80
+#define RS_BG_SOLID_PCT 80      /* a farthest surface seen in this % of frames or more is solid */
 #define RS_BG_SHIFT_TOL 0.15    /* m: how far a surface seen from a displaced sensor may lie */
 #define RS_BG_SHIFT_DEG 0.3     /* ... or the range x tan(this): the sensor turned */
 #define RS_BG_SHIFT_GATE 0.0015 /* share of a frame's returns that are evidence of displacement */
@@ -66,7 +66,7 @@
 #define RS_BG_CLEAR_BEHIND 0.02 /* "nothing steady behind": returns beyond a cluster (but the intermittent
                                   far side of an edge) at most this share of those in front */
 #define RS_BG_CLEAR_SPREAD 2.5  /* ... then a hidden cluster may spread this many times occluded_spread */
-#define RS_BG_JUDGE_FRAMES 10 /* fewer frames: every cluster seen is the scene */ /* a farthest surface seen in this % of frames or more is solid */
+#define RS_BG_JUDGE_FRAMES 10 /* fewer frames: every cluster seen is the scene */
 
 typedef enum { RS_BG_DBSCAN = 0, RS_BG_PERCENTILE = 1 } rs_bg_method_t;
 

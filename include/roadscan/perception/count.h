@@ -53,6 +53,8 @@
 #define RS_COUNT_NAME 32
 #define RS_COUNT_SLOTS (2 * RS_TRACK_MAX) /* open addressing: at most half full */
 #define RS_COUNT_RECENT 32                /* crossings remembered per line (hidden crossings' check) */
+#define RS_COUNT_HIDDEN_S 3.0             /* default hidden_s */
+#define RS_COUNT_HIDDEN_WINDOW_S 2.0      /* default hidden_window_s */
 
 _Static_assert(RS_COUNT_LINES <= 16, "lines counted per track fit in a uint16_t mask");
 _Static_assert(RS_COUNT_ZONES <= 8, "zones a track is inside fit in a uint8_t mask");
@@ -99,8 +101,8 @@ typedef struct {
   uint64_t intervals, crossings, zone_events, forgotten_full;
   uint64_t hidden;                       /* of the crossings: inferred for tracks first seen past a line */
   uint64_t hidden_dup;                   /* hidden crossings not counted: the vehicle's earlier track was */
-  double hidden_s;                       /* how far back a track's path is run (s; 0 = off); default 3 */
-  double hidden_window_s;                /* ... at each confirmed frame this long after it was first seen (s); default 2 */
+  double hidden_s;                       /* how far back a track's path is run (s; 0 = off); default RS_COUNT_HIDDEN_S */
+  double hidden_window_s;                /* ... at each confirmed frame this long after it was first seen (s); RS_COUNT_HIDDEN_WINDOW_S */
   double t_first;                        /* the run's first frame (s) */
   struct {
     double t, s;                         /* when, and where along the line (m from A) */
