@@ -3,7 +3,9 @@
  * coasting tracks not counted, intervals on multiples of the interval,
  * tracks forgotten, the site frame of a pose, bad lines; zones: entries,
  * exits, occupancy, a track first seen inside, tentative and coasting
- * tracks, bad zones; hidden crossings (a track first seen past a line). */
+ * tracks, bad zones; hidden crossings (a track first seen past a line);
+ * the class delay (a crossing tallied under the class its track settles on);
+ * a lost track taken up again past a line. */
 #include "roadscan/perception/count.h"
 #include "roadscan/util/error.h"
 #include "testutil.h"
@@ -30,6 +32,7 @@ static void setup(const char *const *texts, int n, const rs_pose_t *pose, double
   char err[RS_ERRMSG_SIZE];
   for (int i = 0; i < n; i++) ck_assert_int_eq(rs_count_parse_line(texts[i], &lines[i], err, sizeof err), RS_OK);
   ck_assert_int_eq(rs_count_init(&cnt, lines, n, pose, interval, err, sizeof err), RS_OK);
+  cnt.class_delay_s = 0; /* tallied when found: t_class_delay tests the delay */
 }
 
 static uint32_t sum(const uint32_t *v) {
@@ -299,8 +302,8 @@ END_TEST
  * other way, so at its first confirmed frame (the third) its path run back
  * meets nothing. hidden_window_s: the check is repeated until 2 s after it
  * was first seen, with its mean velocity since then: counted once, at 1 s;
- * with the window 0, not. A lost track taken up again 6 m past the line
- * (first listed confirmed) is not a track first seen there: not counted. */
+ * with the window 0, not. A track first listed confirmed 6 m past the line
+ * (taken up again before the counter knew it) was not born there: not counted. */
 static uint64_t growing(double window, uint32_t *when) {
   static const char *const l[] = {"gate 0 -5 0 5"};
   setup(l, 1, NULL, 60);
@@ -335,6 +338,63 @@ START_TEST(t_hidden_window) {
     rs_count_frame(&cnt, &tl, 60.0 + 0.1 * f);
   }
   ck_assert_uint_eq(cnt.crossings, 1);
+}
+END_TEST
+
+/* A car seen as a cyclist when it crosses (head-on at range), a car from
+ * 0.7 s later: with the delay (2 s) it is tallied as a car, 2 s after it
+ * crossed and not before; at once (0) as a cyclist. A van whose track leaves
+ * the list 0.6 s after its crossing is tallied then, as a van; a crossing
+ * 0.5 s before the end of the run is tallied by rs_count_flush. Crossings at
+ * 9.5 s land in the interval open when they are tallied (10-20 s). */
+static void class_run(double delay) {
+  static const char *const l[] = {"gate 0 -5 0 5"};
+  setup(l, 1, NULL, 10);
+  cnt.class_delay_s = delay;
+  for (int f = 0; f <= 105; f++) {
+    const double t = 9.2 + 0.1 * f;
+    tl.count = 0;
+    one(20, RS_TRACK_CONFIRMED, f < 10 ? RS_CLASS_CYCLIST : RS_CLASS_CAR, 2.5 - f, 0.0); /* found at 9.5 */
+    if (f <= 8) one(21, RS_TRACK_CONFIRMED, RS_CLASS_VAN_TRUCK, 2.5 - f, 2.0);
+    one(22, RS_TRACK_CONFIRMED, RS_CLASS_BUS, -100.5 + f, -2.0); /* found at 19.3 */
+    if (rs_count_frame(&cnt, &tl, t)) ck_assert_uint_eq(sum(cnt.closed.line[0].forward), delay > 0 ? 0u : 2u);
+    if (delay > 0 && f == 3) ck_assert_uint_eq(cnt.pending, 2);
+    if (delay > 0 && f == 9) ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_VAN_TRUCK], 1); /* 21 left at f 9 */
+    if (delay > 0 && f == 22) ck_assert_uint_eq(cnt.crossings, 1);                        /* 20 at 11.4: not yet */
+    if (delay > 0 && f == 24) ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_CAR], 1);   /* 11.6: tallied */
+  }
+  ck_assert(rs_count_flush(&cnt, 19.8));
+  ck_assert_uint_eq(cnt.pending, 0);
+  ck_assert_uint_eq(cnt.crossings, 3);
+  ck_assert_uint_eq(cnt.total[0].backward[RS_CLASS_BUS], 1);
+}
+
+START_TEST(t_class_delay) {
+  class_run(2.0);
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_CAR], 1);
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_CYCLIST], 0);
+  ck_assert_uint_eq(sum(cnt.closed.line[0].forward), 2); /* both in the last interval */
+  class_run(0.0);
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_CAR], 0);
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_CYCLIST], 1);
+}
+END_TEST
+
+/* A track lost (unpublished, kept for re-acquisition) while it crosses the
+ * line and taken up again past it crossed it: counted once, forward. One
+ * first listed lost (a counter started mid-run) is not. */
+START_TEST(t_lost_taken_up) {
+  static const char *const l[] = {"gate 0 -5 0 5"};
+  setup(l, 1, NULL, 60);
+  for (int f = 0; f < 12; f++) {
+    tl.count = 0;
+    one(30, f < 3 || f >= 9 ? RS_TRACK_CONFIRMED : f < 5 ? RS_TRACK_COASTING : RS_TRACK_LOST, RS_CLASS_CAR,
+        3.0 - f, 0.0); /* crosses x = 0 at the fourth frame, while coasting; seen again at x = -6 */
+    one(31, f < 6 ? RS_TRACK_LOST : RS_TRACK_CONFIRMED, RS_CLASS_CAR, 2.0 - f, 3.0);
+    rs_count_frame(&cnt, &tl, 10.0 + 0.1 * f);
+    ck_assert_uint_eq(cnt.crossings, f < 9 ? 0u : 1u);
+  }
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_CAR], 1);
 }
 END_TEST
 
@@ -395,6 +455,8 @@ int main(void) {
   tcase_add_test(tc, t_zones);
   tcase_add_test(tc, t_hidden_crossings);
   tcase_add_test(tc, t_hidden_window);
+  tcase_add_test(tc, t_class_delay);
+  tcase_add_test(tc, t_lost_taken_up);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

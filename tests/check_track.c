@@ -284,6 +284,33 @@ START_TEST(t_classes) {
 }
 END_TEST
 
+/* The class is the one most returns were seen as. A van passes near the
+ * sensor at 6 m/s, seen whole (5.8 m long, 300 returns) for 2 s, then drives
+ * off seen end-on (1.8 m across, 0.4 m deep, 25 returns) for 4 s: the box
+ * shrinks and the rule's class for it (shape_cls) is no longer van/truck, its
+ * track still is. Seen end-on first (4 s far off) and then whole for 2 s, it
+ * is van/truck once the near views outweigh the far ones. */
+static void van_views(bool near_first) {
+  init_default();
+  for (int f = 0; f < 60; f++) {
+    const double t = 0.1 * f, x = -6.0 + 6.0 * t;
+    clear();
+    if (near_first ? f < 20 : f >= 40) put(t, x, 5.0, 5.8, 2.0, 0.0, 2.0, 300);
+    else put(t, x - 2.7, 5.0, 1.8, 0.4, 1.5707963, 1.2, 25);
+    rs_track_frame(&tr, &objs, t + 0.05);
+  }
+  ck_assert_uint_eq(tr.n.born, 1);
+}
+
+START_TEST(t_class_votes) {
+  van_views(true);
+  ck_assert_int_eq(tr.list.track[0].cls, RS_CLASS_VAN_TRUCK);
+  ck_assert_int_ne(tr.list.track[0].shape_cls, RS_CLASS_VAN_TRUCK);
+  van_views(false);
+  ck_assert_int_eq(tr.list.track[0].cls, RS_CLASS_VAN_TRUCK);
+}
+END_TEST
+
 /* A car speeds up from 4 to 14 m/s at 1.5 m/s^2, seen whole; every third
  * frame only its near half (a partial view: the box 2.3 m long, its centre
  * 1.1 m nearer the sensor). From 1 s into the speeding up, the speed is
@@ -923,6 +950,7 @@ int main(void) {
   tcase_add_test(tc, t_reacquired_after_long_occlusion);
   tcase_add_test(tc, t_sparse_pedestrian);
   tcase_add_test(tc, t_classes);
+  tcase_add_test(tc, t_class_votes);
   tcase_add_test(tc, t_queued_merge);
   tcase_add_test(tc, t_passing_not_stitched);
   tcase_add_test(tc, t_crowd_divided);

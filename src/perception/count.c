@@ -191,6 +191,7 @@ int rs_count_init(rs_counter_t *c, const rs_count_line_t *lines, int nlines, con
   c->interval_s = interval_s;
   c->hidden_s = RS_COUNT_HIDDEN_S;
   c->hidden_window_s = RS_COUNT_HIDDEN_WINDOW_S;
+  c->class_delay_s = RS_COUNT_CLASS_DELAY_S;
   c->t_first = -1.0;
   c->cur.t_start = c->cur.t_end = -1.0;
   if (pose) {
@@ -293,6 +294,18 @@ static uint8_t zones_at(const rs_counter_t *c, double x, double y) {
 
 static uint32_t hash_id(uint32_t id) { return (id * 2654435761u) & (RS_COUNT_SLOTS - 1); }
 
+/* slot i's pending crossings, tallied under its class */
+static void tally_pending(rs_counter_t *c, uint32_t i) {
+  for (int l = 0; l < c->nlines && c->slot[i].pending; l++) {
+    const uint16_t bit = (uint16_t)(1u << l);
+    if (!(c->slot[i].pending & bit)) continue;
+    tally(c, l, (c->slot[i].pending_fwd & bit) ? 1 : -1, c->slot[i].cls);
+    c->slot[i].pending &= (uint16_t)~bit;
+    c->pending--;
+  }
+  c->slot[i].pending_fwd = 0;
+}
+
 static void close_interval(rs_counter_t *c, double t_end) {
   c->cur.t_end = t_end;
   c->closed = c->cur;
@@ -335,7 +348,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
   const uint32_t n = tl->count < RS_TRACK_MAX ? tl->count : RS_TRACK_MAX;
   for (uint32_t k = 0; k < n; k++) {
     const rs_track_t *tr = &tl->track[k];
-    if (tr->id == 0 || tr->state == RS_TRACK_LOST) continue;
+    if (tr->id == 0) continue;
     double x = tr->x[0], y = tr->x[1];
     if (c->have_pose) {
       const double sx = c->rot[0] * x + c->rot[1] * y + c->trans[0], sy = c->rot[2] * x + c->rot[3] * y + c->trans[1];
@@ -345,6 +358,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
     uint32_t i = hash_id(tr->id);
     int guard = 0;
     while (c->slot[i].id != 0 && c->slot[i].id != tr->id && guard++ < RS_COUNT_SLOTS) i = (i + 1) & (RS_COUNT_SLOTS - 1);
+    if (c->slot[i].id != tr->id && tr->state == RS_TRACK_LOST) continue; /* (a counter started mid-run) */
     if (c->slot[i].id != tr->id) {
       if (c->slot[i].id != 0) { /* full: cannot happen with at most RS_TRACK_MAX tracks listed */
         c->forgotten_full++;
@@ -352,6 +366,8 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       }
       c->slot[i].id = tr->id;
       c->slot[i].counted = 0;
+      c->slot[i].pending = c->slot[i].pending_fwd = 0;
+      c->slot[i].cls = 0;
       c->slot[i].inside = zones_at(c, x, y); /* inside when first seen: not an entry */
       c->slot[i].x = x; /* where it was first seen: crossings while tentative count when it is confirmed */
       c->slot[i].y = y;
@@ -362,10 +378,11 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       c->slot[i].born = tr->state == RS_TRACK_TENTATIVE;
     }
     c->slot[i].frame = c->frame_no;
-    if (tr->state != RS_TRACK_CONFIRMED) continue; /* tentative, or coasting on a prediction */
+    if (tr->state == RS_TRACK_CONFIRMED) c->slot[i].cls = (uint8_t)((unsigned)tr->cls < RS_CLASS_COUNT ? tr->cls : 0);
+    if (c->slot[i].pending && t >= c->slot[i].t_tally) tally_pending(c, i);
+    if (tr->state != RS_TRACK_CONFIRMED) continue; /* tentative, or coasting (lost) on a prediction */
     const bool first_confirmed = !c->slot[i].confirmed;
     c->slot[i].confirmed = true;
-    const unsigned ccls = (unsigned)tr->cls < RS_CLASS_COUNT ? (unsigned)tr->cls : 0;
     for (int l = 0; l < c->nlines; l++) {
       if (c->slot[i].counted & (1u << l)) continue;
       const double px = c->slot[i].x, py = c->slot[i].y;
@@ -387,9 +404,14 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
         c->hidden++;
       }
       if (dir == 0) continue;
-      c->slot[i].counted |= (uint16_t)(1u << l);
-      tally(c, l, dir, ccls);
+      const uint16_t bit = (uint16_t)(1u << l);
+      c->slot[i].counted |= bit;
+      if (!c->slot[i].pending) c->slot[i].t_tally = t + c->class_delay_s;
+      c->slot[i].pending |= bit;
+      if (dir > 0) c->slot[i].pending_fwd |= bit;
+      c->pending++;
     }
+    if (c->slot[i].pending && t >= c->slot[i].t_tally) tally_pending(c, i);
     c->slot[i].x = x;
     c->slot[i].y = y;
     /* zones: the change since its last confirmed frame (or where it was first seen) */
@@ -419,6 +441,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
   /* tracks no longer listed are forgotten */
   for (uint32_t i = 0; i < RS_COUNT_SLOTS; i++) {
     if (c->slot[i].id == 0 || c->slot[i].frame == c->frame_no) continue;
+    tally_pending(c, i); /* its crossings, under its last class */
     forget(c, i);
     if (c->slot[i].id != 0 && c->slot[i].frame != c->frame_no) i--; /* a later entry moved here: look again */
   }
@@ -426,6 +449,8 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
 }
 
 bool rs_count_flush(rs_counter_t *c, double t) {
+  for (uint32_t i = 0; i < RS_COUNT_SLOTS; i++)
+    if (c->slot[i].id != 0 && c->slot[i].pending) tally_pending(c, i);
   if (c->cur.t_start < 0) return false;
   close_interval(c, t > c->cur.t_start ? t : c->cur.t_start);
   memset(&c->cur, 0, sizeof c->cur);

@@ -584,7 +584,7 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
           const double m2 = (dx * dx * s11 - 2 * dx * dy * s01 + dy * dy * s00) / det;
           if (m2 > cf->gate_chi2) continue;
           /* a pedestrian does not turn into a vehicle (one passing where it walked, or was last seen) */
-          if (t->cls == RS_CLASS_PEDESTRIAN && vehicle_sized(o->sensor.obb_length, o->sensor.obb_width)) continue;
+          if (t->shape_cls == RS_CLASS_PEDESTRIAN && vehicle_sized(o->sensor.obb_length, o->sensor.obb_width)) continue;
           /* and how unlike the track's last object it is: a track keeps its object, not a fragment beside it */
           /* (beyond what counting noise explains: 3 sd of the smaller count) */
           const double lo = o->points < t->points ? o->points : t->points, hi = o->points < t->points ? t->points : o->points;
@@ -621,6 +621,20 @@ static rs_class_t classify(const rs_track_t *t) {
   if (L >= 1.2f && W < 1.2f && V >= 2.0f) return RS_CLASS_CYCLIST;
   if (L < WALKER_M && W < WALKER_M && Hmax >= 0.9f && H <= 2.3f && V < 4.0f) return RS_CLASS_PEDESTRIAN;
   return RS_CLASS_UNKNOWN;
+}
+
+/* The class a track reports: the one most of its returns were seen as. Each
+ * confirmed update adds its object's returns to the vote of the rule's class
+ * for the box at that moment; unknown does not vote. A car seen head-on at
+ * range is cyclist-sized for a while and a car once it is near: the near views
+ * have the returns. Ties go to the lower class index; no vote yet: the rule's. */
+static rs_class_t voted_class(rs_track_t *t, bool updated) {
+  if (updated && t->state != RS_TRACK_TENTATIVE && t->shape_cls != RS_CLASS_UNKNOWN)
+    t->class_votes[t->shape_cls] += (float)t->points;
+  int best = 0;
+  for (int c = 1; c < RS_CLASS_COUNT; c++)
+    if (t->class_votes[c] > t->class_votes[best]) best = c;
+  return t->class_votes[best] > 0.0f ? (rs_class_t)best : t->shape_cls;
 }
 
 static float smooth(float cur, float obs, bool first) {
@@ -809,7 +823,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       const uint32_t j = tr->near[q];
       const rs_track_t *o = &L->track[j];
       if (j == i || o->id == 0 || o->object >= 0) continue; /* (stitched this frame) */
-      if (o->cls == RS_CLASS_PEDESTRIAN && vehicle_sized(y->length, y->width)) continue; /* a walker is not a vehicle */
+      if (o->shape_cls == RS_CLASS_PEDESTRIAN && vehicle_sized(y->length, y->width)) continue; /* a walker is not a vehicle */
       /* far from its position at the frame's time: out of every gate below (at most 2 gate_m from its
        * prediction at y's time, which is within 0.15 s x max_speed of it) */
       const double gx = y->x[0] - tr->tpos[j][0], gy = y->x[1] - tr->tpos[j][1], gr = 2.0 * cf->gate_m + 0.15 * cf->max_speed;
@@ -864,6 +878,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       o->distance += hypot(o->x[0] - ox, o->x[1] - oy);
       o->hits += y->hits - 1;
     }
+    for (int c = 0; c < RS_CLASS_COUNT; c++) o->class_votes[c] += y->class_votes[c]; /* what y saw of it */
     o->prev[0] = o->x[0];
     o->prev[1] = o->x[1];
     o->object = k;
@@ -940,7 +955,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
         tr->n.confirmed++;
       }
     } else {
-      const double lost = t->cls == RS_CLASS_PEDESTRIAN ? fmax(cf->lost_s, cf->lost_walker_s) : cf->lost_s;
+      const double lost = t->shape_cls == RS_CLASS_PEDESTRIAN ? fmax(cf->lost_s, cf->lost_walker_s) : cf->lost_s;
       if (since > cf->coast_s + lost) ends = true;
       else if (updated || rs_track_held(t)) t->state = RS_TRACK_CONFIRMED;
       else t->state = since > cf->coast_s ? RS_TRACK_LOST : RS_TRACK_COASTING;
@@ -959,7 +974,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       t->sum_speed += t->speed;
       t->speed_n++;
     }
-    t->cls = classify(t);
+    t->shape_cls = classify(t);
+    t->cls = voted_class(t, updated);
     if (w != i) L->track[w] = *t; /* taken_by[] keeps old indices: only its sign is read below */
     w++;
   }
@@ -991,7 +1007,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     t->object = (int32_t)k;
     t->held_object = -1;
     take(tr, t, o, tr->obj_t[k]);
-    t->cls = RS_CLASS_UNKNOWN;
+    t->cls = t->shape_cls = RS_CLASS_UNKNOWN;
     report_speed(tr, t);
     L->object_track[k] = t->id;
     tr->n.born++;

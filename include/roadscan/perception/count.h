@@ -6,7 +6,8 @@
  * when the segment from its previous position to its current one meets the
  * line segment; it is counted once per line, in the direction it crossed
  * ("forward": from the right of A -> B to its left, i.e. counter-clockwise
- * about A; "backward" the other way), under its class at that moment.
+ * about A; "backward" the other way), under its class (see the class delay
+ * below).
  * Counts accumulate over intervals of sensor time (default 60 s); when an
  * interval ends, rs_count_frame says so and the closed interval's counts
  * are in `closed` for the sinks (LCM, CSV). Totals over the run are kept.
@@ -36,6 +37,15 @@
  * Every counted crossing is remembered per line (time, place along it) for
  * that check: the last RS_COUNT_RECENT.
  *
+ * Class delay: a crossing is found when it happens but tallied
+ * `class_delay_s` (default 2) later, under the track's class then (a car
+ * seen head-on at range settles as a car once it is near): at the first frame
+ * that late, when the track leaves the list, or at rs_count_flush. It lands
+ * in the interval open at that moment.
+ *
+ * A lost track (unpublished, kept by the tracker for re-acquisition) keeps
+ * its memory: taken up again past a line, it crossed it.
+ *
  * Per-track memory (last position, lines already counted, zones inside) lives
  * in a fixed table keyed by track id; a track no longer in the list is forgotten. */
 #ifndef ROADSCAN_COUNT_H
@@ -55,6 +65,7 @@
 #define RS_COUNT_RECENT 32                /* crossings remembered per line (hidden crossings' check) */
 #define RS_COUNT_HIDDEN_S 3.0             /* default hidden_s */
 #define RS_COUNT_HIDDEN_WINDOW_S 2.0      /* default hidden_window_s */
+#define RS_COUNT_CLASS_DELAY_S 2.0        /* default class_delay_s */
 
 _Static_assert(RS_COUNT_LINES <= 16, "lines counted per track fit in a uint16_t mask");
 _Static_assert(RS_COUNT_ZONES <= 8, "zones a track is inside fit in a uint8_t mask");
@@ -103,6 +114,9 @@ typedef struct {
   uint64_t hidden_dup;                   /* hidden crossings not counted: the vehicle's earlier track was */
   double hidden_s;                       /* how far back a track's path is run (s; 0 = off); default RS_COUNT_HIDDEN_S */
   double hidden_window_s;                /* ... at each confirmed frame this long after it was first seen (s); RS_COUNT_HIDDEN_WINDOW_S */
+  double class_delay_s;                  /* a crossing is tallied this long after it, under the track's class
+                                            then (s; 0 = at once); RS_COUNT_CLASS_DELAY_S */
+  uint64_t pending;                      /* crossings found and not yet tallied (their class is settling) */
   double t_first;                        /* the run's first frame (s) */
   struct {
     double t, s;                         /* when, and where along the line (m from A) */
@@ -112,6 +126,9 @@ typedef struct {
   struct {
     uint32_t id;                         /* 0 = free */
     uint16_t counted;                    /* lines this track was counted on */
+    uint16_t pending, pending_fwd;       /* of those, not yet tallied; and which of them forward */
+    double t_tally;                      /* when the pending ones are tallied */
+    uint8_t cls;                         /* its class at its last confirmed frame */
     uint8_t inside;                      /* zones it is inside (as of its last confirmed frame, or first seen) */
     bool confirmed;                      /* it had a confirmed frame */
     bool born;                           /* it was tentative when first seen (not a lost track taken up again) */

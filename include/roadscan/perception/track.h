@@ -163,7 +163,9 @@ typedef struct {
 typedef struct {
   uint32_t id;
   rs_track_state_t state;
-  rs_class_t cls;
+  rs_class_t cls;            /* the class most of its returns were seen as (the votes below; docs/tracking.md) */
+  rs_class_t shape_cls;      /* the class rule's answer for the smoothed box as it is now */
+  float class_votes[RS_CLASS_COUNT]; /* returns of its confirmed updates, by shape_cls (unknown not counted) */
   double t_birth, t_update;  /* capture time (s) of the first and last update */
   double t_state;            /* time of the state x below */
   double x[4];               /* px py vx vy, sensor frame */
