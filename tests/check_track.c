@@ -731,6 +731,42 @@ START_TEST(t_still_vehicle_confirms_fast) {
 }
 END_TEST
 
+/* The same far off: a car waiting 50 m away, hit by 15 returns (a VLP-16's
+ * share there), confirms at its third hit too (the returns needed fall with
+ * the square of the range beyond confirm_still_range, 20 m: 30 -> 10 here);
+ * a still cluster of 15 returns 15 m away (a part of a near car split off by
+ * the beams) waits 1.5 s; with confirm_still_range 0 the far car waits too. */
+static int far_still_confirmed(double range_m, uint32_t *near_at) {
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  c.confirm_still_range = range_m;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  int at[2] = {-1, -1};
+  for (int f = 0; f < 20; f++) {
+    const double t = 50.0 + 0.1 * f, j = 0.03 * ((f % 3) - 1);
+    clear();
+    put(t, 48.0 + j, 14.0 - j, 4.5, 1.8, 0.0, 1.2, 15);
+    put(t, -10.0 + j, -11.0, 1.2, 0.8, 0.0, 1.0, 15);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    for (uint32_t i = 0; i < tr.list.count; i++) {
+      const rs_track_t *k = &tr.list.track[i];
+      const int which = k->x[0] > 0 ? 0 : 1;
+      if (k->state != RS_TRACK_TENTATIVE && at[which] < 0) at[which] = f;
+    }
+  }
+  ck_assert_uint_eq(tr.n.born, 2);
+  *near_at = (uint32_t)at[1];
+  return at[0];
+}
+
+START_TEST(t_far_still_confirms_fast) {
+  uint32_t near_at;
+  ck_assert_int_eq(far_still_confirmed(20.0, &near_at), 2);
+  ck_assert_uint_ge(near_at, 14);
+  ck_assert_int_ge(far_still_confirmed(0.0, &near_at), 14);
+}
+END_TEST
+
 /* foliage: a cluster at one place, there in half the frames, its centre
  * jittering by 0.3 m, for 20 s: never confirmed */
 START_TEST(t_foliage_never_confirms) {
@@ -966,6 +1002,7 @@ int main(void) {
   tcase_add_test(tc, t_foliage_never_confirms);
   tcase_add_test(tc, t_walker_confirms_fast);
   tcase_add_test(tc, t_still_vehicle_confirms_fast);
+  tcase_add_test(tc, t_far_still_confirms_fast);
   tcase_add_test(tc, t_across_column_zero);
   tcase_add_test(tc, t_lost_frame_dt);
   tcase_add_test(tc, t_capacity);

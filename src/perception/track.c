@@ -50,6 +50,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->size_weight = 2.0;
   c->confirm_still_spread = 0.15;
   c->confirm_still_points = 30;
+  c->confirm_still_range = 20.0;
   c->hidden_anchor = 1;
   c->reacq_across_m = 1.0;
   c->confirm_walk_m = 0.3;
@@ -65,6 +66,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->confirm_hits < 1 || !(cfg->confirm_move_m >= 0) || !(cfg->confirm_still_s >= 0) ||
       !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100) ||
       !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1 ||
+      !(cfg->confirm_still_range >= 0 && cfg->confirm_still_range <= 1000) ||
       cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20) ||
       !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
       !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60))
@@ -91,6 +93,7 @@ static const rs_opt_t knobs[] = {
     KNOB(confirm_move_m, 0.0, 20.0),  KNOB(confirm_still_s, 0.0, 60.0), KNOB(tentative_miss_s, 0.01, 10.0),
     KNOB(coast_s, 0.01, 60.0),        KNOB(lost_s, 0.0, 60.0),          KNOB(still_speed, 0.0, 5.0),
     KNOB(size_weight, 0.0, 100.0),    KNOB(confirm_still_spread, 0.0, 5.0), KNOB_INT(confirm_still_points, 1, 100000),
+    KNOB(confirm_still_range, 0.0, 1000.0),
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),
 };
@@ -610,6 +613,18 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
   }
 }
 
+/* The returns a still track's object needs for the fast confirmation: a
+ * car has fewer of them the farther it is (about the square of the range),
+ * so beyond confirm_still_range the bar falls the same way, never below a
+ * true object's least. A fragment of a near car (a part split off by the
+ * beams, 12-17 returns at 15 m) still waits like foliage. */
+static uint32_t still_points(const rs_track_cfg_t *cf, const rs_track_t *t) {
+  const double r = hypot(t->x[0], t->x[1]), r0 = cf->confirm_still_range;
+  if (!(r0 > 0) || r <= r0) return (uint32_t)cf->confirm_still_points;
+  const double bar = fmax(RS_TRACK_STILL_POINTS_MIN, ceil(cf->confirm_still_points * (r0 / r) * (r0 / r)));
+  return (uint32_t)fmin(bar, cf->confirm_still_points);
+}
+
 static rs_class_t classify(const rs_track_t *t) {
   const float L = t->length, W = t->width, H = t->height, V = t->max_speed, Hmax = t->height_max;
   if (t->state == RS_TRACK_TENTATIVE) return RS_CLASS_UNKNOWN;
@@ -949,7 +964,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
                   (cf->confirm_walk_m > 0 && t->misses == 0 && t->length < WALKER_M && t->width < WALKER_M &&
                    t->hits >= (uint32_t)cf->confirm_hits + 1 && moved >= cf->confirm_walk_m && moved >= 0.8 * t->distance) ||
                   (t->misses == 0 && t->t_update - t->t_birth >= cf->confirm_still_s) ||
-                  (t->misses == 0 && cf->confirm_still_spread > 0 && t->points >= (uint32_t)cf->confirm_still_points &&
+                  (t->misses == 0 && cf->confirm_still_spread > 0 && t->points >= still_points(cf, t) &&
                    t->spread <= cf->confirm_still_spread + 0.005 * hypot(t->px0, t->py0)))) {
         t->state = RS_TRACK_CONFIRMED;
         tr->n.confirmed++;

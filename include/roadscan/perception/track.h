@@ -98,6 +98,7 @@
 #define RS_TRACK_EDGES_PER_TRACK 8 /* the best gated objects a track keeps per round */
 #define RS_TRACK_GRID_BUCKETS 4096 /* object lookup grid (4 m cells, hashed) */
 #define RS_TRACK_HOLD_MAX 4        /* held tracks one shared cluster's returns are divided between */
+#define RS_TRACK_STILL_POINTS_MIN 10 /* returns: a true object's least (the evaluation's instance) */
 
 _Static_assert(RS_TRACK_MAX <= RS_OBJ_MAX, "a track index fits where an object index does");
 _Static_assert(RS_TRACK_GROUP_MAX * RS_TRACK_GROUP_MAX <= 4096, "the association matrix stays small");
@@ -144,6 +145,9 @@ typedef struct {
                                   confirm_hits (default 0.15; 0 = only after confirm_still_s) */
   int confirm_still_points;    /* ... when its last object has this many returns or more (default 30):
                                   a vehicle waiting at the line, not leaves */
+  double confirm_still_range;  /* m: beyond this range the returns needed fall with the square of the range,
+                                  to no fewer than RS_TRACK_STILL_POINTS_MIN (default 20; 0 = the same
+                                  everywhere) */
   int hidden_anchor;           /* 1: a box end beside something nearer is where the rest of the object may be
                                   (rs_object_t.occluded): its centre is placed from the other end (default 1) */
   double reacq_across_m;       /* a moving vehicle's track unseen for more than 0.5 s takes no object farther
