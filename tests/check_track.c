@@ -697,6 +697,15 @@ START_TEST(t_split_shrinking) {
 }
 END_TEST
 
+/* the frame at which a track on the +x side (at[0]) and on the -x side (at[1]) was first confirmed */
+static void note_confirmed(int at[2], int f) {
+  for (uint32_t i = 0; i < tr.list.count; i++) {
+    const rs_track_t *k = &tr.list.track[i];
+    const int which = k->x[0] > 0 ? 0 : 1;
+    if (k->state != RS_TRACK_TENTATIVE && at[which] < 0) at[which] = f;
+  }
+}
+
 /* A car waiting at the line from the first frame (its centre within 3 cm)
  * confirms at its third hit, 0.2 s; a small cluster as still (12 returns)
  * only after 1.5 s; a car whose centre wanders by 0.4 m, or missed once (a
@@ -716,11 +725,7 @@ START_TEST(t_still_vehicle_confirms_fast) {
       if (!(variant == 2 && f == 1)) car(t, 20.0 + j + wander, 5.0 - j, 0.0);
       put(t, -12.0 + j, 9.0, 0.6, 0.5, 0.0, 1.7, 12);
       rs_track_frame(&tr, &objs, t + 0.05);
-      for (uint32_t i = 0; i < tr.list.count; i++) {
-        const rs_track_t *k = &tr.list.track[i];
-        const int which = k->x[0] > 0 ? 0 : 1;
-        if (k->state != RS_TRACK_TENTATIVE && confirmed_at[which] < 0) confirmed_at[which] = f;
-      }
+      note_confirmed(confirmed_at, f);
     }
     ck_assert_int_eq(tr.n.born, 2);
     if (variant == 0) ck_assert_int_eq(confirmed_at[0], 2);
@@ -748,11 +753,7 @@ static int far_still_confirmed(double range_m, uint32_t *near_at) {
     put(t, 48.0 + j, 14.0 - j, 4.5, 1.8, 0.0, 1.2, 15);
     put(t, -10.0 + j, -11.0, 1.2, 0.8, 0.0, 1.0, 15);
     rs_track_frame(&tr, &objs, t + 0.05);
-    for (uint32_t i = 0; i < tr.list.count; i++) {
-      const rs_track_t *k = &tr.list.track[i];
-      const int which = k->x[0] > 0 ? 0 : 1;
-      if (k->state != RS_TRACK_TENTATIVE && at[which] < 0) at[which] = f;
-    }
+    note_confirmed(at, f);
   }
   ck_assert_uint_eq(tr.n.born, 2);
   *near_at = (uint32_t)at[1];
