@@ -233,6 +233,7 @@ void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sens
   const int nf = o->have_pose ? 2 : 1;
   out->site_valid = o->have_pose;
   out->candidates_overflow = out->approx_boxes = 0;
+  out->lowest_beam_deg = sen->lasers > 0 ? sen->elevation_deg[sen->laser_of_row[0]] : 0.0f; /* row 0: the lowest */
   if (o->trig_cols != cols) {
     for (int c = 0; c < cols; c++) {
       double az = (c + 0.5) * 2.0 * PI / cols;

@@ -56,6 +56,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->confirm_walk_m = 0.3;
   c->split_full_size = 1;
   c->lost_walker_s = 4.0;
+  c->below_beam = 0;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -69,7 +70,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->confirm_still_range >= 0 && cfg->confirm_still_range <= 1000) ||
       cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20) ||
       !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
-      !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60))
+      !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1)
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -95,7 +96,7 @@ static const rs_opt_t knobs[] = {
     KNOB(size_weight, 0.0, 100.0),    KNOB(confirm_still_spread, 0.0, 5.0), KNOB_INT(confirm_still_points, 1, 100000),
     KNOB(confirm_still_range, 0.0, 1000.0),
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
-    KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),
+    KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -201,6 +202,55 @@ static int hidden_end(const rs_track_t *t, const rs_object_t *o, const double e[
  * (the visible end is where the object is; the track's length says how far
  * behind its centre lies). *misfit: how far the box's extents are from the
  * track's size (m, both axes; -1 when the size is not known). */
+/* Below the lowest beam. A point of height z (sensor frame, below the
+ * sensor) is returned only from beyond |z| / tan(depression of the lowest
+ * beam); an object's top is seen the nearest, from rb. A track of known size
+ * whose box, predicted to the object's time, reaches inside rb is seen only
+ * outside it: its returns' box is that part's (a car passing a sensor 5.5 m
+ * up within 8.6 m shows its ends, or its far half). The part is found on a
+ * grid over the track's box at its top (BB_NU x BB_NV points); the
+ * measurement is moved by the part's offset from the full box's centre, and
+ * its misfit is against the part's extents. false (nothing done) when all of
+ * the box is seen or none of it. */
+static double obj_time(const rs_object_t *o, double t_frame);
+/* how near the sensor the lowest beam reaches track t's top (m; 0: everywhere, or not known) */
+static double beam_reach(const rs_tracker_t *tr, const rs_track_t *t) {
+  const double top = (double)t->z_min + (double)t->height;
+  return tr->low_tan > 0 && top < -0.05 ? -top / tr->low_tan : 0.0;
+}
+
+#define BB_NU 17
+#define BB_NV 5
+#define BB_SD 0.3 /* m added to the update noise: the grid, the smoothed top, a beam's width */
+static bool below_beam_view(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o, const double e[4],
+                            double *z, double *sd, double *misfit) {
+  const double rb = beam_reach(tr, t);
+  if (!(rb > 0) || !t->seen_whole) return false; /* a size learned inside rb is the seen part's */
+  const double dt = fmax(0.0, obj_time(o, t->t_state) - t->t_state);
+  const double pcx = t->x[0] + t->x[2] * dt, pcy = t->x[1] + t->x[3] * dt;
+  const double len = t->length, wid = t->width, c = t->hcos, s = t->hsin;
+  if (hypot(pcx, pcy) - 0.5 * hypot(len, wid) > rb) return false; /* all of it beyond rb */
+  double umin = INFINITY, umax = -INFINITY, vmin = INFINITY, vmax = -INFINITY;
+  int seen = 0;
+  for (int i = 0; i < BB_NU; i++)
+    for (int j = 0; j < BB_NV; j++) {
+      const double u = len * ((double)i / (BB_NU - 1) - 0.5), v = wid * ((double)j / (BB_NV - 1) - 0.5);
+      if (hypot(pcx + u * c - v * s, pcy + u * s + v * c) < rb) continue;
+      seen++;
+      umin = fmin(umin, u);
+      umax = fmax(umax, u);
+      vmin = fmin(vmin, v);
+      vmax = fmax(vmax, v);
+    }
+  if (seen == 0 || seen == BB_NU * BB_NV) return false;
+  const double cu = 0.5 * (umin + umax), cv = 0.5 * (vmin + vmax);
+  z[0] -= cu * c - cv * s;
+  z[1] -= cu * s + cv * c;
+  *misfit = fabs((e[1] - e[0]) - (umax - umin)) + fabs((e[3] - e[2]) - (vmax - vmin));
+  *sd += BB_SD;
+  return true;
+}
+
 static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o, double *z, double *sd, double *misfit) {
   meas(tr, o, z, sd);
   *misfit = -1.0;
@@ -220,6 +270,7 @@ static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_objec
     *sd += 0.5 * miss_u;
     return;
   }
+  if (tr->cfg.below_beam && hidden == 0 && below_beam_view(tr, t, o, e, z, sd, misfit)) return;
   *misfit = fabs((double)t->length - ext_u) + fabs((double)t->width - ext_v);
   const double miss_v = fmin(MAX_SHIFT, fmax(0.0, 0.5 * ((double)t->width - ext_v)));
   const double su = hidden ? hidden * miss_u : pu >= 0 ? miss_u : -miss_u, sv = pv >= 0 ? miss_v : -miss_v;
@@ -674,6 +725,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   t->height_max = smooth(t->height_max, o->sensor.box_max[2] - o->sensor.box_min[2] + o->height_gap, first);
   t->z_min = first ? o->sensor.box_min[2] : 0.9f * t->z_min + 0.1f * o->sensor.box_min[2];
   t->full_length = fmaxf(t->length, t->full_length - 0.05f);
+  if (!t->seen_whole && hypot(t->x[0], t->x[1]) - 0.5 * hypot(t->length, t->width) > beam_reach(tr, t)) t->seen_whole = true;
   t->full_width = fmaxf(t->width, t->full_width - 0.02f);
   t->hits++;
   t->t_update = tk;
@@ -720,6 +772,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   const rs_track_cfg_t *cf = &tr->cfg;
   const uint32_t nobj = objs->count < RS_OBJ_MAX ? objs->count : RS_OBJ_MAX;
   tr->n.frames++;
+  tr->low_tan = objs->lowest_beam_deg < -1.0f ? tan(-objs->lowest_beam_deg * PI / 180.0) : 0.0;
   L->t = t_frame;
   L->ended = 0;
   if (t_frame < tr->last_t) t_frame = tr->last_t; /* time never runs back */

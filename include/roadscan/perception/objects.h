@@ -83,6 +83,7 @@ typedef struct {
   uint32_t count;           /* objects in obj[] */
   uint32_t candidates_overflow; /* objects whose hull lost candidates (box may be small) */
   uint32_t approx_boxes;    /* objects whose rectangle search skipped hull edges */
+  float lowest_beam_deg;    /* the sensor's lowest beam's elevation (degrees; 0: not known) */
   rs_object_t obj[RS_OBJ_MAX];
 } rs_object_list_t;
 

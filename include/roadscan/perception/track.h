@@ -159,6 +159,9 @@ typedef struct {
   double lost_walker_s;        /* a pedestrian's track is kept this long unpublished instead, when longer
                                   than lost_s: walkers stay hidden behind passing and queued vehicles
                                   longer than vehicles do behind each other (default 4.0) */
+  int below_beam;              /* 1: a track of known size, seen whole before, partly nearer the sensor than its
+                                  lowest beam reaches at the track's top, is measured by the part that beam can
+                                  see (default 0: mixed on held-out sites; docs/tracking.md) */
   int split_full_size;         /* 1: a free object is a split part of a track when both fit in the track's
                                   full size (its largest box, falling 0.05 m an update), not only in its
                                   smoothed box, which shrinks while the object is partly hidden (default 1) */
@@ -196,6 +199,7 @@ typedef struct {
   int32_t object;            /* index in this frame's object list, -1 none */
   int32_t held_object;       /* held: the object it shares with another track this frame, -1 none */
   bool was_held;             /* ... held the frame before */
+  bool seen_whole;           /* updated once with all of its box beyond the lowest beam's reach (below_beam) */
 } rs_track_t;
 
 /* whether track t shares a cluster with another track this frame (track.h's "held") */
@@ -234,6 +238,7 @@ typedef struct {
   rs_track_cfg_t cfg;
   rs_track_list_t list;      /* the tracks, in id order */
   uint32_t next_id;
+  double low_tan;            /* tangent of the lowest beam's depression (this frame's objects; 0: none) */
   rs_track_counters_t n;
   double last_t;
   /* work areas */
