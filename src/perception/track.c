@@ -192,16 +192,13 @@ static int hidden_end(const rs_track_t *t, const rs_object_t *o, const double e[
   return (h == RS_OBJ_HIDDEN_START) == larger_first ? 1 : -1;
 }
 
-/* The same, as track t sees it: the sensor sees the faces of an object that
- * face it, so a box shorter (narrower) than the track's along its axes is
- * its near part; its centre is moved away from the sensor by half what is
- * missing (at most MAX_SHIFT), on each of the track's axes. Only for
- * tracks whose size is known. Along the track's axis, an end beside
- * something nearer (hidden_end) is where the rest may be: with hidden_anchor,
- * the centre is moved towards that end instead, for any track seen before
- * (the visible end is where the object is; the track's length says how far
- * behind its centre lies). *misfit: how far the box's extents are from the
- * track's size (m, both axes; -1 when the size is not known). */
+static double obj_time(const rs_object_t *o, double t_frame);
+/* how near the sensor the lowest beam reaches track t's top (m; 0: everywhere, or not known) */
+static double beam_reach(const rs_tracker_t *tr, const rs_track_t *t) {
+  const double top = (double)t->z_min + (double)t->height;
+  return tr->low_tan > 0 && top < -0.05 ? -top / tr->low_tan : 0.0;
+}
+
 /* Below the lowest beam. A point of height z (sensor frame, below the
  * sensor) is returned only from beyond |z| / tan(depression of the lowest
  * beam); an object's top is seen the nearest, from rb. A track of known size
@@ -211,14 +208,9 @@ static int hidden_end(const rs_track_t *t, const rs_object_t *o, const double e[
  * grid over the track's box at its top (BB_NU x BB_NV points); the
  * measurement is moved by the part's offset from the full box's centre, and
  * its misfit is against the part's extents. false (nothing done) when all of
- * the box is seen or none of it. */
-static double obj_time(const rs_object_t *o, double t_frame);
-/* how near the sensor the lowest beam reaches track t's top (m; 0: everywhere, or not known) */
-static double beam_reach(const rs_tracker_t *tr, const rs_track_t *t) {
-  const double top = (double)t->z_min + (double)t->height;
-  return tr->low_tan > 0 && top < -0.05 ? -top / tr->low_tan : 0.0;
-}
-
+ * the box is seen or none of it, or when the track was never updated with all
+ * of its box beyond rb (one waiting inside from the start has learned the
+ * size of its seen part). */
 #define BB_NU 17
 #define BB_NV 5
 #define BB_SD 0.3 /* m added to the update noise: the grid, the smoothed top, a beam's width */
@@ -251,6 +243,18 @@ static bool below_beam_view(const rs_tracker_t *tr, const rs_track_t *t, const r
   return true;
 }
 
+/* meas(), as track t sees it: the sensor sees the faces of an object that
+ * face it, so a box shorter (narrower) than the track's along its axes is
+ * its near part; its centre is moved away from the sensor by half what is
+ * missing (at most MAX_SHIFT), on each of the track's axes. Only for
+ * tracks whose size is known. Along the track's axis, an end beside
+ * something nearer (hidden_end) is where the rest may be: with hidden_anchor,
+ * the centre is moved towards that end instead, for any track seen before
+ * (the visible end is where the object is; the track's length says how far
+ * behind its centre lies). With below_beam, a box partly nearer than the
+ * lowest beam reaches is measured by its seen part instead (below_beam_view).
+ * *misfit: how far the box's extents are from the track's size (m, both
+ * axes; -1 when the size is not known). */
 static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o, double *z, double *sd, double *misfit) {
   meas(tr, o, z, sd);
   *misfit = -1.0;
