@@ -6,6 +6,12 @@
 # out, a site the tuning never saw (site_seed 5, seeds 21 and 22). Then the
 # tracker stage's time (roadscan-bench). Takes about 10 minutes on 2 cores
 # when the captures exist, 30 more when they do not.
+#
+#   scripts/tracking.sh --site SITE LEARN_SEED TEST_SEED
+# instead scores another held-out site (its captures made by
+# scripts/site-captures.sh in out/site<SITE>, as scripts/heldout.sh does) and
+# prints its rows (the table's columns) without touching the doc; extra="..."
+# passes roadscand options as for the doc (docs/tracking.md: sites 13, 17, 21, 25).
 set -euo pipefail
 # roadscand refuses to run as root unless told (it needs no privilege to replay a file): these
 # scripts are often run as root (containers, CI), so they say so
@@ -15,6 +21,14 @@ bin=${BIN:-build/bin}
 out=out/results
 mkdir -p "$out" out/tracking
 doc=docs/tracking-results.md
+if [ "${1:-}" = "--site" ]; then
+  if [ $# -ne 4 ]; then
+    echo "usage: scripts/tracking.sh --site SITE LEARN_SEED TEST_SEED" >&2
+    exit 2
+  fi
+  out=out/site$2
+  scripts/site-captures.sh "$out" "$2" "$3" "$4" VLP-32C VLP-16
+fi
 capture() { # tag sensor preset seed_learn seed_test [site args]
   local tag=$1 sensor=$2 sc=$3 sl=$4 st=$5; shift 5
   if [ ! -f "$out/$tag.bg" ]; then
@@ -54,6 +68,16 @@ print(f"| {label} | {pct(j['mota'])} | {pct(j['idf1'])} | {pct(j['motp_iou'])} |
                   if k.startswith('count_') and (v['true'] or v['counted'])) + " |")
 PY
 }
+if [ "${1:-}" = "--site" ]; then
+  echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks | speed RMSE | position RMSE | confirmed in 0.3 s | class count error | crossings | per line |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+  for sensor in VLP-32C VLP-16; do
+    for sc in light rush; do
+      row "$sensor-$sc-site$2" "held out: $sensor $sc, site $2, seed $4"
+    done
+  done
+  exit 0
+fi
 {
   echo "# Results: tracking on simulated intersections"
   echo
