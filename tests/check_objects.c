@@ -172,7 +172,29 @@ START_TEST(test_centroid_and_extents) {
                       tan(sensor.elevation_deg[sensor.laser_of_row[2]] * PI / 180.0);
     ck_assert_float_gt(o->height_gap, 0.1f);
     ck_assert_float_eq_tol(o->height_gap, 21.0 * tn, 1e-3);
+    /* the row above alone bounds its top */
+    const double up = tan(sensor.elevation_deg[sensor.laser_of_row[7]] * PI / 180.0) -
+                      tan(sensor.elevation_deg[sensor.laser_of_row[6]] * PI / 180.0);
+    ck_assert_float_eq_tol(o->top_gap, 21.0 * up, 1e-3);
   }
+}
+END_TEST
+
+/* an object in the top row: no row above bounds its top */
+START_TEST(test_top_gap_top_row) {
+  clear_map();
+  const int top = (int)sensor.lasers - 1;
+  for (int r = top - 1; r <= top; r++)
+    for (int c = 200; c <= 209; c++) {
+      uint32_t i = rs_cell(&slot, 0, r, c);
+      slot.range[i] = 15.0f;
+      slot.label[i] = 3;
+    }
+  rs_objects_init(&objs, NULL);
+  rs_objects_extract(&objs, &slot, &sensor, &list);
+  ck_assert_uint_eq(list.count, 1);
+  ck_assert_uint_eq(list.obj[0].row_max, (uint32_t)top);
+  ck_assert_float_eq(list.obj[0].top_gap, -1.0f);
 }
 END_TEST
 
@@ -318,6 +340,7 @@ int main(void) {
   tcase_set_timeout(tc, 60);
   tcase_add_test(tc, test_box_comes_back);
   tcase_add_test(tc, test_centroid_and_extents);
+  tcase_add_test(tc, test_top_gap_top_row);
   tcase_add_test(tc, test_seam_missing_labels_and_times);
   tcase_add_test(tc, test_site_frame);
   tcase_add_test(tc, test_hidden_sides);

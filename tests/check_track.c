@@ -337,6 +337,97 @@ START_TEST(t_below_beam) {
 }
 END_TEST
 
+/* The top the reach is taken at. A sensor whose lowest beam points 15
+ * degrees down, a car whose roof is 3.0 m below it: the roof is seen from
+ * 11.2 m on, and a car stopping across the line of sight 13.5 m away is seen
+ * whole. Sparse rows hit only its lower half (returns up to 3.8 m below the
+ * sensor), the row above passes 1.6 m higher. Taken at the returns' top the
+ * reach would be 14.2 m, the car's near half "below the beam" and its track
+ * moved away from where the whole car is; midway to the row above (3.0 m)
+ * nothing is hidden and the track stays on the car. top_gap 0 (the row above
+ * at the returns' top) is the old rule: the track is moved off the car and
+ * the car starts a second one. */
+static double below_beam_top_error(float top_gap) {
+  init_default();
+  double err = 0;
+  for (int f = 0; f < 80; f++) {
+    const double t = 0.1 * f, y = f < 50 ? -40.0 + 8.0 * t : 0.0;
+    clear();
+    objs.lowest_beam_deg = -15.0f;
+    put(t, 13.5, y, 4.5, 1.8, M_PI / 2, 0.5, 120);
+    objs.obj[0].sensor.box_min[2] = -4.3f;
+    objs.obj[0].sensor.box_max[2] = -3.8f;
+    objs.obj[0].top_gap = top_gap;
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f >= 60) err = fmax(err, hypot(tr.list.track[0].x[0] - 13.5, tr.list.track[0].x[1]));
+  }
+  return tr.n.born == 1 ? err : 1e3; /* a second track: the first was moved off the car */
+}
+
+START_TEST(t_below_beam_top) {
+  const double mid = below_beam_top_error(1.6f), low = below_beam_top_error(0.0f);
+  ck_assert_msg(mid < 0.1, "off by %.2f m (1e3: a second track)", mid);
+  ck_assert_msg(low > mid + 0.2, "returns' top: %.2f m, midway: %.2f m", low, mid);
+}
+END_TEST
+
+/* The blind circle. A sensor whose lowest beam points 15 degrees down sees
+ * a car's roof, 3.0 m below it, only from 11.2 m on. A car waits 3 s at a
+ * line 13 m west of the sensor's foot, 6 m off it (seen whole), then pulls
+ * away east at 2.5 m/s^2, through the circle (the part of it outside the
+ * circle is what the objects show; nothing while under 20 of its grid's
+ * cells are), and comes out at the other side 2 s later at 10 m/s. With
+ * blind_s the track that comes out is the waiting car's (one id from start
+ * to end); with 0 it is a new one. */
+static uint32_t blind_ids(double blind_s) {
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  c.blind_s = blind_s;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  const double rb = 3.0 / tan(15.0 * M_PI / 180.0), y0 = 6.0;
+  uint32_t first = 0, last = 0;
+  for (int f = 0; f < 100; f++) {
+    const double t = 0.1 * f, x = t < 3.0 ? -13.0 : -13.0 + 1.25 * (t - 3.0) * (t - 3.0);
+    clear();
+    objs.lowest_beam_deg = -15.0f;
+    double umin = 1e9, umax = -1e9, vmin = 1e9, vmax = -1e9;
+    int n = 0;
+    for (double u = -2.25; u <= 2.25 + 1e-9; u += 0.05)
+      for (double v = -0.9; v <= 0.9 + 1e-9; v += 0.05) {
+        if (hypot(x + u, y0 + v) < rb) continue;
+        n++;
+        umin = fmin(umin, u), umax = fmax(umax, u), vmin = fmin(vmin, v), vmax = fmax(vmax, v);
+      }
+    if (n > 20) {
+      put(t, x + 0.5 * (umin + umax), y0 + 0.5 * (vmin + vmax), umax - umin, vmax - vmin, 0.0, 1.3, (uint32_t)(n / 4));
+      objs.obj[0].sensor.box_min[2] = -4.3f; /* the car from 0.2 m to its roof, 1.5 m, the sensor 4.5 m up */
+      objs.obj[0].sensor.box_max[2] = -3.0f;
+      objs.obj[0].top_gap = 0.4f;
+      if (objs.obj[0].sensor.obb_length < objs.obj[0].sensor.obb_width) {
+        const float w = objs.obj[0].sensor.obb_length;
+        objs.obj[0].sensor.obb_length = objs.obj[0].sensor.obb_width;
+        objs.obj[0].sensor.obb_width = w;
+        objs.obj[0].sensor.obb_heading = (float)(M_PI / 2);
+      }
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    for (uint32_t i = 0; i < tr.list.count; i++) {
+      if (tr.list.track[i].state != RS_TRACK_CONFIRMED || tr.list.track[i].object < 0) continue;
+      if (first == 0) first = tr.list.track[i].id;
+      last = tr.list.track[i].id;
+    }
+  }
+  ck_assert_msg(first != 0 && last != 0, "no confirmed track");
+  return first == last ? 1u : 2u;
+}
+
+START_TEST(t_blind_circle) {
+  ck_assert_uint_eq(blind_ids(8.0), 1);
+  ck_assert_uint_eq(tr.n.blind_linked, 1);
+  ck_assert_uint_eq(blind_ids(0.0), 2);
+}
+END_TEST
+
 /* The class is the one most returns were seen as. A van passes near the
  * sensor at 6 m/s, seen whole (5.8 m long, 300 returns) for 2 s, then drives
  * off seen end-on (1.8 m across, 0.4 m deep, 25 returns) for 4 s: the box
@@ -1042,6 +1133,8 @@ int main(void) {
   tcase_add_test(tc, t_classes);
   tcase_add_test(tc, t_class_votes);
   tcase_add_test(tc, t_below_beam);
+  tcase_add_test(tc, t_below_beam_top);
+  tcase_add_test(tc, t_blind_circle);
   tcase_add_test(tc, t_queued_merge);
   tcase_add_test(tc, t_passing_not_stitched);
   tcase_add_test(tc, t_crowd_divided);

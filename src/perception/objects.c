@@ -342,9 +342,12 @@ void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sens
       const int top = ob->row_max, bot = ob->row_min;
       const double rr = ob->range_min;
       double gap = 0.0;
-      if (top + 1 < (int)sen->lasers)
+      ob->top_gap = -1.0f;
+      if (top + 1 < (int)sen->lasers) {
         gap += rr * (tan(sen->elevation_deg[sen->laser_of_row[top + 1]] * (PI / 180.0)) -
                      tan(sen->elevation_deg[sen->laser_of_row[top]] * (PI / 180.0)));
+        ob->top_gap = (float)fmax(gap, 0.0);
+      }
       if (bot > 0)
         gap += rr * (tan(sen->elevation_deg[sen->laser_of_row[bot]] * (PI / 180.0)) -
                      tan(sen->elevation_deg[sen->laser_of_row[bot - 1]] * (PI / 180.0)));

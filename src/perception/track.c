@@ -56,7 +56,8 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->confirm_walk_m = 0.3;
   c->split_full_size = 1;
   c->lost_walker_s = 4.0;
-  c->below_beam = 0;
+  c->below_beam = 1;
+  c->blind_s = 8.0;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -70,7 +71,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->confirm_still_range >= 0 && cfg->confirm_still_range <= 1000) ||
       cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20) ||
       !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
-      !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1)
+      !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 ||
+      !(cfg->blind_s >= 0 && cfg->blind_s <= 60))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -97,6 +99,7 @@ static const rs_opt_t knobs[] = {
     KNOB(confirm_still_range, 0.0, 1000.0),
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
+    KNOB(blind_s, 0.0, 60.0),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -193,10 +196,66 @@ static int hidden_end(const rs_track_t *t, const rs_object_t *o, const double e[
 }
 
 static double obj_time(const rs_object_t *o, double t_frame);
-/* how near the sensor the lowest beam reaches track t's top (m; 0: everywhere, or not known) */
+/* how near the sensor the lowest beam reaches track t's top (m; 0: everywhere, or not known). The
+ * top is midway between its objects' returns' top and the row above them (top), not the returns' top
+ * alone: one or two sparse rows on a car's side put that half a metre or more below its roof, and
+ * the reach by it too far out */
 static double beam_reach(const rs_tracker_t *tr, const rs_track_t *t) {
+  const double top = t->top;
+  return tr->low_tan > 0 && t->top_n > 0 && top < -0.05 ? -top / tr->low_tan : 0.0;
+}
+
+/* The blind circle. A vehicle waiting at a line beside the sensor pulls
+ * away through the circle its top is below the lowest beam in (a VLP-16
+ * 4.5 m up: about 11 m for a car; a lane 6 m from the pole crosses 18 m of
+ * it) and comes out at the other side seconds later, faster than its track
+ * last knew (it was still, or seen in part). Its track, last seen at the
+ * circle's edge, is kept for blind_s; a young moving track born at the
+ * circle's other side in its lane, moving away along its axis, is it
+ * (blind_link) and gives it its object and state. The reach is taken at
+ * its returns' top, not beam_reach's: the farther of the two, as a test of
+ * where it may have gone unseen should be (the rows above a car waiting
+ * 12 m from a VLP-32C 5 m up, between its two lowest rows, never bound its
+ * top). */
+#define BLIND_EDGE_M 1.0  /* m: last seen this near the reach (its box's nearest corner) */
+#define BLIND_BIRTH_M 3.0 /* m: the young track born this near it (its first box's centre) */
+#define BLIND_WAY_M 2.0   /* m: the way between them passes this near it, or inside */
+static double blind_reach(const rs_tracker_t *tr, const rs_track_t *t) {
   const double top = (double)t->z_min + (double)t->height;
   return tr->low_tan > 0 && top < -0.05 ? -top / tr->low_tan : 0.0;
+}
+
+static bool at_blind_edge(const rs_tracker_t *tr, const rs_track_t *t) {
+  if (!(tr->cfg.blind_s > 0) || t->hits == 0) return false;
+  const double rb = blind_reach(tr, t);
+  return rb > 0 && hypot(t->last_z[0], t->last_z[1]) - 0.5 * hypot(t->length, t->width) <= rb + BLIND_EDGE_M;
+}
+
+/* young track y is track o come out of the blind circle: born within
+ * blind_s after o was last seen at its edge, y's first centre near the
+ * circle, at least 2 m from where o was and no farther than half max_speed
+ * could take it, the straight way between the two passing inside the
+ * circle grown by BLIND_WAY_M (a top a few decimetres off moves the reach
+ * by a metre), y moving that way (within 40 degrees; a young track's velocity
+ * is a growing box's, it comes right within a second, y is tried each
+ * frame until 1.5 s old), and so was o when it moved (over 2 m/s; a waiting
+ * car's box axis says nothing). Returns 1 - the cosine of y's angle off the
+ * way (the least wins), or -1. */
+static double blind_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_track_t *y) {
+  const rs_track_cfg_t *cf = &tr->cfg;
+  const double dt = y->t_birth - o->t_update;
+  if (!(dt > 0) || dt > cf->blind_s || !at_blind_edge(tr, o)) return -1.0;
+  const double rb = blind_reach(tr, o);
+  if (hypot(y->px0, y->py0) > rb + BLIND_BIRTH_M) return -1.0;
+  const double ax = o->last_z[0], ay = o->last_z[1], dx = y->px0 - ax, dy = y->py0 - ay, d = hypot(dx, dy);
+  if (d < 2.0 || d > 0.5 * cf->max_speed * dt + 5.0) return -1.0;
+  const double vx = y->x[2], vy = y->x[3], v = hypot(vx, vy), cosv = (vx * dx + vy * dy) / (v * d);
+  if (v < 1.0 || cosv < 0.766) return -1.0;
+  const double vo = hypot(o->x[2], o->x[3]);
+  if (vo > 2.0 && o->x[2] * dx + o->x[3] * dy < 0.766 * vo * d) return -1.0;
+  double u = -(ax * dx + ay * dy) / (d * d); /* the way's point nearest the sensor */
+  u = u < 0 ? 0 : u > 1 ? 1 : u;
+  return hypot(ax + u * dx, ay + u * dy) < rb + BLIND_WAY_M ? 1.0 - cosv : -1.0;
 }
 
 /* Below the lowest beam. A point of height z (sensor frame, below the
@@ -611,7 +670,7 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
   const rs_track_cfg_t *cf = &tr->cfg;
   for (uint32_t i = 0; i < tr->list.count; i++) {
     rs_track_t *t = &tr->list.track[i];
-    if (rs_track_held(t) || t->object >= 0) continue;
+    if (rs_track_held(t) || t->object >= 0 || t->blind_kept) continue;
     if ((t->state != RS_TRACK_TENTATIVE) != confirmed_round) continue;
     const double sp = hypot(t->x[2], t->x[3]);
     const double radius = cf->gate_m + sp * 0.15 + MAX_SHIFT;
@@ -728,6 +787,11 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   t->height = smooth(t->height, o->sensor.box_max[2] - o->sensor.box_min[2], first);
   t->height_max = smooth(t->height_max, o->sensor.box_max[2] - o->sensor.box_min[2] + o->height_gap, first);
   t->z_min = first ? o->sensor.box_min[2] : 0.9f * t->z_min + 0.1f * o->sensor.box_min[2];
+  if (o->top_gap >= 0.0f && o->top_gap <= RS_TRACK_TOP_GAP) { /* its top is between its returns' and the row above */
+    const float top = o->sensor.box_max[2] + 0.5f * o->top_gap;
+    t->top = t->top_n == 0 ? top : t->top + 0.2f * (top - t->top);
+    t->top_n++;
+  }
   t->full_length = fmaxf(t->length, t->full_length - 0.05f);
   if (!t->seen_whole && hypot(t->x[0], t->x[1]) - 0.5 * hypot(t->length, t->width) > beam_reach(tr, t)) t->seen_whole = true;
   t->full_width = fmaxf(t->width, t->full_width - 0.02f);
@@ -769,6 +833,52 @@ static void end_track(rs_tracker_t *tr, const rs_track_t *t, double t_end) {
   e->distance = t->distance_seen; /* to where it was last seen */
   e->mean_speed = t->speed_n ? t->sum_speed / t->speed_n : 0.0;
   e->max_speed = t->max_speed;
+}
+
+/* track y's object is unseen track oi's (stitching, the blind-circle link):
+ * oi takes it over and its id continues; y ends without an event. copy: oi
+ * takes y's state (y has seen more, or oi's is seconds old), else a Kalman
+ * update of oi's own (its velocity, learned over many frames, is kept) */
+static void stitch(rs_tracker_t *tr, const rs_object_list_t *objs, uint32_t nobj, uint32_t oi, rs_track_t *y, bool copy) {
+  rs_track_list_t *L = &tr->list;
+  rs_track_t *o = &L->track[oi];
+  const uint32_t yid = y->id;
+  const int32_t k = y->object;
+  if (copy) {
+    predict(tr, o, y->t_state);
+    o->distance += hypot(y->x[0] - o->prev[0], y->x[1] - o->prev[1]);
+    memcpy(o->x, y->x, sizeof o->x);
+    for (int a = 0; a < 4; a++)
+      for (int b = 0; b < 4; b++) o->P[a][b] = y->P[a][b];
+    o->t_state = y->t_state;
+    o->t_update = y->t_update;
+    o->last_z[0] = y->last_z[0];
+    o->last_z[1] = y->last_z[1];
+    o->t_z = y->t_z;
+    o->points = y->points;
+    o->hits += y->hits;
+    if (hypot(o->x[2], o->x[3]) > 1.0) set_heading(o, y->heading);
+  } else {
+    const double ox = o->x[0], oy = o->x[1];
+    take(tr, o, &objs->obj[k], tr->obj_t[k]);
+    o->distance += hypot(o->x[0] - ox, o->x[1] - oy);
+    o->hits += y->hits - 1;
+  }
+  for (int c = 0; c < RS_CLASS_COUNT; c++) o->class_votes[c] += y->class_votes[c]; /* what y saw of it */
+  o->prev[0] = o->x[0];
+  o->prev[1] = o->x[1];
+  o->object = k;
+  o->state = RS_TRACK_CONFIRMED;
+  tr->taken_by[k] = (int32_t)oi;
+  for (uint32_t q = 0; q < nobj; q++)
+    if (L->object_track[q] == yid) L->object_track[q] = o->id;
+  y->object = -1;
+  y->id = 0; /* removed below */
+}
+
+/* coasting or lost, not held, not taken this frame */
+static bool unseen(const rs_track_t *o) {
+  return o->id != 0 && o->object < 0 && !rs_track_held(o) && (o->state == RS_TRACK_COASTING || o->state == RS_TRACK_LOST);
 }
 
 void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_frame) {
@@ -883,8 +993,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   uint32_t nunseen = 0; /* the coasting and lost tracks not held, in index order */
   for (uint32_t j = 0; j < L->count; j++) {
     const rs_track_t *o = &L->track[j];
-    if (o->id != 0 && o->object < 0 && !rs_track_held(o) && (o->state == RS_TRACK_COASTING || o->state == RS_TRACK_LOST))
-      tr->near[nunseen++] = (uint16_t)j;
+    if (unseen(o) && !o->blind_kept) tr->near[nunseen++] = (uint16_t)j;
   }
   for (uint32_t i = 0; i < L->count && nunseen > 0; i++) {
     rs_track_t *y = &L->track[i];
@@ -924,43 +1033,32 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       }
     }
     if (best < 0) continue;
-    rs_track_t *o = &L->track[best];
-    const uint32_t yid = y->id;
-    /* the older track takes the younger one's object: a Kalman update of its
-     * own state (its velocity, learned over many frames, is kept), unless the
-     * younger one has seen more */
-    const int32_t k = y->object;
-    if (y->hits > o->hits) {
-      predict(tr, o, y->t_state);
-      o->distance += hypot(y->x[0] - o->prev[0], y->x[1] - o->prev[1]);
-      memcpy(o->x, y->x, sizeof o->x);
-      for (int a = 0; a < 4; a++)
-        for (int b = 0; b < 4; b++) o->P[a][b] = y->P[a][b];
-      o->t_state = y->t_state;
-      o->t_update = y->t_update;
-      o->last_z[0] = y->last_z[0];
-      o->last_z[1] = y->last_z[1];
-      o->t_z = y->t_z;
-      o->points = y->points;
-      o->hits += y->hits;
-      if (hypot(o->x[2], o->x[3]) > 1.0) set_heading(o, y->heading);
-    } else {
-      const double ox = o->x[0], oy = o->x[1];
-      take(tr, o, &objs->obj[k], tr->obj_t[k]);
-      o->distance += hypot(o->x[0] - ox, o->x[1] - oy);
-      o->hits += y->hits - 1;
-    }
-    for (int c = 0; c < RS_CLASS_COUNT; c++) o->class_votes[c] += y->class_votes[c]; /* what y saw of it */
-    o->prev[0] = o->x[0];
-    o->prev[1] = o->x[1];
-    o->object = k;
-    o->state = RS_TRACK_CONFIRMED;
-    tr->taken_by[k] = (int32_t)best;
-    for (uint32_t q = 0; q < nobj; q++)
-      if (L->object_track[q] == yid) L->object_track[q] = o->id;
-    y->object = -1;
-    y->id = 0; /* removed below */
+    stitch(tr, objs, nobj, (uint32_t)best, y, y->hits > L->track[best].hits);
     tr->n.stitched++;
+  }
+  /* the blind-circle link: a young moving track, born at the circle's other
+   * side of an unseen track last seen at its edge, is that track */
+  for (uint32_t i = 0; i < L->count && tr->cfg.blind_s > 0; i++) {
+    rs_track_t *y = &L->track[i];
+    if (y->object < 0 || y->id == 0 || y->hits < 3 || y->t_update - y->t_birth > 1.5) continue;
+    int best = -1;
+    double best_off = INFINITY;
+    for (uint32_t j = 0; j < L->count; j++) {
+      const rs_track_t *o = &L->track[j];
+      /* not a walker's: the sidewalks pass the pole and walkers cross them in groups, slowly (seconds in
+       * the circle); a young walker's track is no better sign of which one came out than a still one's
+       * of which one went in (held-out site 13, VLP-16 rush: three walkers' ids given to others) */
+      if (j == i || !unseen(o) || (o->full_length < WALKER_M && o->full_width < WALKER_M)) continue;
+      const double off = blind_link(tr, o, y);
+      if (off >= 0 && off < best_off) {
+        best_off = off;
+        best = (int)j;
+      }
+    }
+    if (best < 0) continue;
+    stitch(tr, objs, nobj, (uint32_t)best, y, true); /* its state is y's: o's is seconds old */
+    L->track[best].blind_kept = false;
+    tr->n.blind_linked++;
   }
   /* duplicates, ended without an event: a tentative track inside the box of
    * a confirmed one at least its size (a fragment of its object); a
@@ -1028,7 +1126,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       }
     } else {
       const double lost = t->shape_cls == RS_CLASS_PEDESTRIAN ? fmax(cf->lost_s, cf->lost_walker_s) : cf->lost_s;
-      if (since > cf->coast_s + lost) ends = true;
+      t->blind_kept = !updated && since > cf->coast_s + lost && since <= cf->blind_s && at_blind_edge(tr, t);
+      if (since > cf->coast_s + lost && !t->blind_kept) ends = true;
       else if (updated || rs_track_held(t)) t->state = RS_TRACK_CONFIRMED;
       else t->state = since > cf->coast_s ? RS_TRACK_LOST : RS_TRACK_COASTING;
     }

@@ -72,6 +72,8 @@ typedef struct {
   uint16_t row_min, row_max;
   float height_gap;         /* m: how much taller it may be than its returns show: the vertical gaps
                                to the rows above and below its own at its range (0 at the top row) */
+  float top_gap;            /* m: the gap to the row above its top row at its nearest range, which passed
+                               over it: its top is below box_max[2] + top_gap (-1: no row above) */
   uint16_t col_start, col_end; /* map columns, clockwise, may wrap past column 0 */
   uint8_t occluded;         /* RS_OBJ_HIDDEN_*: a side beside which something nearer returns (it may go on behind) */
   float intensity_mean;

@@ -98,6 +98,7 @@
 #define RS_TRACK_EDGES_PER_TRACK 8 /* the best gated objects a track keeps per round */
 #define RS_TRACK_GRID_BUCKETS 4096 /* object lookup grid (4 m cells, hashed) */
 #define RS_TRACK_HOLD_MAX 4        /* held tracks one shared cluster's returns are divided between */
+#define RS_TRACK_TOP_GAP 2.0f /* m: a row above an object's top this near bounds it (below_beam) */
 #define RS_TRACK_STILL_POINTS_MIN 10 /* returns: a true object's least (the evaluation's instance) */
 
 _Static_assert(RS_TRACK_MAX <= RS_OBJ_MAX, "a track index fits where an object index does");
@@ -161,7 +162,13 @@ typedef struct {
                                   longer than vehicles do behind each other (default 4.0) */
   int below_beam;              /* 1: a track of known size, seen whole before, partly nearer the sensor than its
                                   lowest beam reaches at the track's top, is measured by the part that beam can
-                                  see (default 0: mixed on held-out sites; docs/tracking.md) */
+                                  see; its top is midway between its returns' top and the row above (default 1;
+                                  docs/tracking.md) */
+  double blind_s;              /* a track last seen at the edge of the circle its top is below the lowest beam
+                                  in is kept this long unpublished, and a young moving track born at the
+                                  circle's other side, in its lane, heading away from it, takes its id: a
+                                  vehicle pulling away from the line beside the sensor, unseen while it
+                                  passes it (default 8.0; 0 = off; docs/tracking.md) */
   int split_full_size;         /* 1: a free object is a split part of a track when both fit in the track's
                                   full size (its largest box, falling 0.05 m an update), not only in its
                                   smoothed box, which shrinks while the object is partly hidden (default 1) */
@@ -184,6 +191,10 @@ typedef struct {
   double prev[2];            /* position at the previous frame (path length) */
   float length, width, height, z_min; /* smoothed box */
   float height_max;                   /* smoothed: height plus the objects' height_gap */
+  float top;                          /* smoothed: its top (sensor z), midway between its objects' returns'
+                                         top and the row above them, from the top_n objects whose row above
+                                         passed within RS_TRACK_TOP_GAP */
+  uint32_t top_n;
   float across;                       /* smoothed: the box's extent across the heading while moving (0 unknown) */
   float full_length, full_width;      /* the largest smoothed box, falling 0.05 (0.02) m an update */
   float heading;             /* radians from +X, counter-clockwise, (-pi, pi] */
@@ -200,6 +211,7 @@ typedef struct {
   int32_t held_object;       /* held: the object it shares with another track this frame, -1 none */
   bool was_held;             /* ... held the frame before */
   bool seen_whole;           /* updated once with all of its box beyond the lowest beam's reach (below_beam) */
+  bool blind_kept;           /* lost longer than lost_s, kept for the blind-circle link alone (blind_s) */
 } rs_track_t;
 
 /* whether track t shares a cluster with another track this frame (track.h's "held") */
@@ -225,7 +237,7 @@ typedef struct {
 } rs_track_list_t;
 
 typedef struct {
-  uint64_t frames, born, confirmed, ended, overflow, greedy_groups, held, absorbed, ends_dropped, duplicates, stitched;
+  uint64_t frames, born, confirmed, ended, overflow, greedy_groups, held, absorbed, ends_dropped, duplicates, stitched, blind_linked;
   uint64_t hold_overflow; /* held tracks beyond RS_TRACK_HOLD_MAX in one cluster (its returns go to the others) */
 } rs_track_counters_t;
 
