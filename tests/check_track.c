@@ -428,6 +428,32 @@ START_TEST(t_blind_circle) {
 }
 END_TEST
 
+/* Not any car that comes out: the waiting car of t_blind_circle pulls
+ * into the circle and turns off unseen; 2 s later a car on the crossing
+ * road comes out of the circle north of the pole, driving north, across
+ * the way the first one went: it is a track of its own. */
+START_TEST(t_blind_circle_crossing) {
+  init_default();
+  const double rb = 3.0 / tan(15.0 * M_PI / 180.0);
+  for (int f = 0; f < 90; f++) {
+    const double t = 0.1 * f;
+    clear();
+    objs.lowest_beam_deg = -15.0f;
+    const double x = t < 3.0 ? -13.0 : -13.0 + 1.25 * (t - 3.0) * (t - 3.0);
+    if (x + 2.25 < 0 && hypot(x + 2.25, 6.0) > rb + 0.5) put(t, x, 6.0, 4.5, 1.8, 0.0, 1.3, 120); /* until its front nears the circle */
+    if (t >= 6.0) put(t, 3.0, rb + 1.0 + 8.0 * (t - 6.0), 4.5, 1.8, M_PI / 2, 1.3, 120); /* north, from the circle's edge */
+    for (uint32_t k = 0; k < objs.count; k++) {
+      objs.obj[k].sensor.box_min[2] = -4.3f;
+      objs.obj[k].sensor.box_max[2] = -3.0f;
+      objs.obj[k].top_gap = 0.4f;
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+  }
+  ck_assert_uint_eq(tr.n.blind_linked, 0);
+  ck_assert_uint_eq(tr.n.born, 2);
+}
+END_TEST
+
 /* The class is the one most returns were seen as. A van passes near the
  * sensor at 6 m/s, seen whole (5.8 m long, 300 returns) for 2 s, then drives
  * off seen end-on (1.8 m across, 0.4 m deep, 25 returns) for 4 s: the box
@@ -1135,6 +1161,7 @@ int main(void) {
   tcase_add_test(tc, t_below_beam);
   tcase_add_test(tc, t_below_beam_top);
   tcase_add_test(tc, t_blind_circle);
+  tcase_add_test(tc, t_blind_circle_crossing);
   tcase_add_test(tc, t_queued_merge);
   tcase_add_test(tc, t_passing_not_stitched);
   tcase_add_test(tc, t_crowd_divided);

@@ -249,8 +249,10 @@ static double blind_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_t
   if (hypot(y->px0, y->py0) > rb + BLIND_BIRTH_M) return -1.0;
   const double ax = o->last_z[0], ay = o->last_z[1], dx = y->px0 - ax, dy = y->py0 - ay, d = hypot(dx, dy);
   if (d < 2.0 || d > 0.5 * cf->max_speed * dt + 5.0) return -1.0;
-  const double vx = y->x[2], vy = y->x[3], v = hypot(vx, vy), cosv = (vx * dx + vy * dy) / (v * d);
-  if (v < 1.0 || cosv < 0.766) return -1.0;
+  const double vx = y->x[2], vy = y->x[3], v = hypot(vx, vy);
+  if (v < 1.0) return -1.0;
+  const double cosv = (vx * dx + vy * dy) / (v * d);
+  if (cosv < 0.766) return -1.0;
   const double vo = hypot(o->x[2], o->x[3]);
   if (vo > 2.0 && o->x[2] * dx + o->x[3] * dy < 0.766 * vo * d) return -1.0;
   double u = -(ax * dx + ay * dy) / (d * d); /* the way's point nearest the sensor */
