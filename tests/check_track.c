@@ -284,6 +284,34 @@ START_TEST(t_classes) {
 }
 END_TEST
 
+/* A car (4.5 x 1.8 m) centred at (x, y0) heading along +X, of which only the
+ * part outside the circle of radius rb round the sensor returns: that part
+ * is the frame's object (its box on a 5 cm grid, returns by its area, from
+ * z0 to z1, the row above top_gap higher; length >= width, as the objects
+ * stage); none while fewer than 20 of its grid's points show. */
+static void put_seen_part(double t, double x, double y0, double rb, float z0, float z1, float top_gap) {
+  double umin = 1e9, umax = -1e9, vmin = 1e9, vmax = -1e9;
+  int n = 0;
+  for (double u = -2.25; u <= 2.25 + 1e-9; u += 0.05)
+    for (double v = -0.9; v <= 0.9 + 1e-9; v += 0.05) {
+      if (hypot(x + u, y0 + v) < rb) continue;
+      n++;
+      umin = fmin(umin, u), umax = fmax(umax, u), vmin = fmin(vmin, v), vmax = fmax(vmax, v);
+    }
+  if (n <= 20) return;
+  put(t, x + 0.5 * (umin + umax), y0 + 0.5 * (vmin + vmax), umax - umin, vmax - vmin, 0.0, 1.3, (uint32_t)(n / 4));
+  rs_object_t *o = &objs.obj[objs.count - 1];
+  o->sensor.box_min[2] = z0;
+  o->sensor.box_max[2] = z1;
+  o->top_gap = top_gap;
+  if (o->sensor.obb_length < o->sensor.obb_width) {
+    const float w = o->sensor.obb_length;
+    o->sensor.obb_length = o->sensor.obb_width;
+    o->sensor.obb_width = w;
+    o->sensor.obb_heading = (float)(M_PI / 2);
+  }
+}
+
 /* Below the lowest beam. A sensor 5.5 m up whose lowest beam points 25
  * degrees down sees a car's roof (1.5 m high) only from 8.6 m on: a car
  * driving past at 8 m/s, 6 m from the sensor at its nearest, shows only the
@@ -303,25 +331,8 @@ static double below_beam_error(int below) {
     const double t = 0.1 * f, x = -36.0 + 8.0 * t;
     clear();
     objs.lowest_beam_deg = -25.0f;
-    double umin = 1e9, umax = -1e9, vmin = 1e9, vmax = -1e9;
-    int n = 0;
-    for (double u = -2.25; u <= 2.25 + 1e-9; u += 0.05)
-      for (double v = -0.9; v <= 0.9 + 1e-9; v += 0.05) {
-        if (hypot(x + u, y0 + v) < rb) continue;
-        n++;
-        umin = fmin(umin, u), umax = fmax(umax, u), vmin = fmin(vmin, v), vmax = fmax(vmax, v);
-      }
-    if (n > 20) {
-      put(t, x + 0.5 * (umin + umax), y0 + 0.5 * (vmin + vmax), umax - umin, vmax - vmin, 0.0, 1.3, (uint32_t)(n / 4));
-      objs.obj[0].sensor.box_min[2] = -5.3f; /* the car from 0.2 m to its roof, 1.5 m: -4.0 in the sensor frame */
-      objs.obj[0].sensor.box_max[2] = -4.0f;
-      if (objs.obj[0].sensor.obb_length < objs.obj[0].sensor.obb_width) { /* length >= width, as the objects stage */
-        const float w = objs.obj[0].sensor.obb_length;
-        objs.obj[0].sensor.obb_length = objs.obj[0].sensor.obb_width;
-        objs.obj[0].sensor.obb_width = w;
-        objs.obj[0].sensor.obb_heading = (float)(M_PI / 2);
-      }
-    }
+    /* the car from 0.2 m to its roof, 1.5 m: -4.0 in the sensor frame */
+    put_seen_part(t, x, y0, rb, -5.3f, -4.0f, 0.0f);
     rs_track_frame(&tr, &objs, t + 0.05);
     if (fabs(x) <= 10.0 && tr.list.count > 0 && tr.list.track[0].state == RS_TRACK_CONFIRMED)
       worst = fmax(worst, fabs(tr.list.track[0].speed - 8.0));
@@ -390,26 +401,7 @@ static uint32_t blind_ids(double blind_s) {
     const double t = 0.1 * f, x = t < 3.0 ? -13.0 : -13.0 + 1.25 * (t - 3.0) * (t - 3.0);
     clear();
     objs.lowest_beam_deg = -15.0f;
-    double umin = 1e9, umax = -1e9, vmin = 1e9, vmax = -1e9;
-    int n = 0;
-    for (double u = -2.25; u <= 2.25 + 1e-9; u += 0.05)
-      for (double v = -0.9; v <= 0.9 + 1e-9; v += 0.05) {
-        if (hypot(x + u, y0 + v) < rb) continue;
-        n++;
-        umin = fmin(umin, u), umax = fmax(umax, u), vmin = fmin(vmin, v), vmax = fmax(vmax, v);
-      }
-    if (n > 20) {
-      put(t, x + 0.5 * (umin + umax), y0 + 0.5 * (vmin + vmax), umax - umin, vmax - vmin, 0.0, 1.3, (uint32_t)(n / 4));
-      objs.obj[0].sensor.box_min[2] = -4.3f; /* the car from 0.2 m to its roof, 1.5 m, the sensor 4.5 m up */
-      objs.obj[0].sensor.box_max[2] = -3.0f;
-      objs.obj[0].top_gap = 0.4f;
-      if (objs.obj[0].sensor.obb_length < objs.obj[0].sensor.obb_width) {
-        const float w = objs.obj[0].sensor.obb_length;
-        objs.obj[0].sensor.obb_length = objs.obj[0].sensor.obb_width;
-        objs.obj[0].sensor.obb_width = w;
-        objs.obj[0].sensor.obb_heading = (float)(M_PI / 2);
-      }
-    }
+    put_seen_part(t, x, y0, rb, -4.3f, -3.0f, 0.4f); /* the car from 0.2 m to its roof, 1.5 m, the sensor 4.5 m up */
     rs_track_frame(&tr, &objs, t + 0.05);
     for (uint32_t i = 0; i < tr.list.count; i++) {
       if (tr.list.track[i].state != RS_TRACK_CONFIRMED || tr.list.track[i].object < 0) continue;
@@ -1081,6 +1073,8 @@ START_TEST(t_crowd_and_config) {
   INIT_REFUSED(reacq_across_m, 21);
   INIT_REFUSED(split_full_size, -1);
   INIT_REFUSED(lost_walker_s, NAN);
+  INIT_REFUSED(below_beam, 2);
+  INIT_REFUSED(blind_s, -1);
 #undef INIT_REFUSED
   /* set by name: in range taken, out of range refused with the parameter's name */
   rs_track_cfg_t c;
@@ -1096,7 +1090,8 @@ START_TEST(t_crowd_and_config) {
   ck_assert_double_eq(c.confirm_walk_m, 0.0);
   ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
   static const char *const refused[][2] = {{"meas_sd_misfit", "11"}, {"hidden_anchor", "2"}, {"reacq_across_m", "-1"},
-                                           {"split_full_size", "2"},  {"lost_walker_s", "61"}};
+                                           {"split_full_size", "2"},  {"lost_walker_s", "61"},   {"below_beam", "-1"},
+                                           {"blind_s", "x"}};
   for (size_t k = 0; k < sizeof refused / sizeof refused[0]; k++) {
     ck_assert_int_eq(rs_track_cfg_set(&c, refused[k][0], refused[k][1], err, sizeof err), RS_E_INVAL);
     ck_assert_msg(strstr(err, refused[k][0]) != NULL, "%s", err);

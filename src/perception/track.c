@@ -196,14 +196,19 @@ static int hidden_end(const rs_track_t *t, const rs_object_t *o, const double e[
 }
 
 static double obj_time(const rs_object_t *o, double t_frame);
+/* how near the sensor the lowest beam reaches a top at sensor z = top (m; 0: everywhere, or not known) */
+static double reach_at(const rs_tracker_t *tr, double top) {
+  return tr->low_tan > 0 && top < -0.05 ? -top / tr->low_tan : 0.0;
+}
+
+/* how near the sensor the nearest corner of a box len x wid centred at (x, y) can be (m) */
+static double near_edge(double x, double y, double len, double wid) { return hypot(x, y) - 0.5 * hypot(len, wid); }
+
 /* how near the sensor the lowest beam reaches track t's top (m; 0: everywhere, or not known). The
  * top is midway between its objects' returns' top and the row above them (top), not the returns' top
  * alone: one or two sparse rows on a car's side put that half a metre or more below its roof, and
  * the reach by it too far out */
-static double beam_reach(const rs_tracker_t *tr, const rs_track_t *t) {
-  const double top = t->top;
-  return tr->low_tan > 0 && t->top_n > 0 && top < -0.05 ? -top / tr->low_tan : 0.0;
-}
+static double beam_reach(const rs_tracker_t *tr, const rs_track_t *t) { return t->top_n > 0 ? reach_at(tr, t->top) : 0.0; }
 
 /* The blind circle. A vehicle waiting at a line beside the sensor pulls
  * away through the circle its top is below the lowest beam in (a VLP-16
@@ -220,15 +225,13 @@ static double beam_reach(const rs_tracker_t *tr, const rs_track_t *t) {
 #define BLIND_EDGE_M 1.0  /* m: last seen this near the reach (its box's nearest corner) */
 #define BLIND_BIRTH_M 3.0 /* m: the young track born this near it (its first box's centre) */
 #define BLIND_WAY_M 2.0   /* m: the way between them passes this near it, or inside */
-static double blind_reach(const rs_tracker_t *tr, const rs_track_t *t) {
-  const double top = (double)t->z_min + (double)t->height;
-  return tr->low_tan > 0 && top < -0.05 ? -top / tr->low_tan : 0.0;
-}
+#define BLIND_COS 0.766   /* cos 40 degrees: the young track's velocity (and a moving old one's) off the way */
+static double blind_reach(const rs_tracker_t *tr, const rs_track_t *t) { return reach_at(tr, (double)t->z_min + (double)t->height); }
 
 static bool at_blind_edge(const rs_tracker_t *tr, const rs_track_t *t) {
   if (!(tr->cfg.blind_s > 0) || t->hits == 0) return false;
   const double rb = blind_reach(tr, t);
-  return rb > 0 && hypot(t->last_z[0], t->last_z[1]) - 0.5 * hypot(t->length, t->width) <= rb + BLIND_EDGE_M;
+  return rb > 0 && near_edge(t->last_z[0], t->last_z[1], t->length, t->width) <= rb + BLIND_EDGE_M;
 }
 
 /* young track y is track o come out of the blind circle: born within
@@ -252,9 +255,9 @@ static double blind_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_t
   const double vx = y->x[2], vy = y->x[3], v = hypot(vx, vy);
   if (v < 1.0) return -1.0;
   const double cosv = (vx * dx + vy * dy) / (v * d);
-  if (cosv < 0.766) return -1.0;
+  if (cosv < BLIND_COS) return -1.0;
   const double vo = hypot(o->x[2], o->x[3]);
-  if (vo > 2.0 && o->x[2] * dx + o->x[3] * dy < 0.766 * vo * d) return -1.0;
+  if (vo > 2.0 && o->x[2] * dx + o->x[3] * dy < BLIND_COS * vo * d) return -1.0;
   double u = -(ax * dx + ay * dy) / (d * d); /* the way's point nearest the sensor */
   u = u < 0 ? 0 : u > 1 ? 1 : u;
   return hypot(ax + u * dx, ay + u * dy) < rb + BLIND_WAY_M ? 1.0 - cosv : -1.0;
@@ -282,7 +285,7 @@ static bool below_beam_view(const rs_tracker_t *tr, const rs_track_t *t, const r
   const double dt = fmax(0.0, obj_time(o, t->t_state) - t->t_state);
   const double pcx = t->x[0] + t->x[2] * dt, pcy = t->x[1] + t->x[3] * dt;
   const double len = t->length, wid = t->width, c = t->hcos, s = t->hsin;
-  if (hypot(pcx, pcy) - 0.5 * hypot(len, wid) > rb) return false; /* all of it beyond rb */
+  if (near_edge(pcx, pcy, len, wid) > rb) return false; /* all of it beyond rb */
   double umin = INFINITY, umax = -INFINITY, vmin = INFINITY, vmax = -INFINITY;
   int seen = 0;
   for (int i = 0; i < BB_NU; i++)
@@ -795,7 +798,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
     t->top_n++;
   }
   t->full_length = fmaxf(t->length, t->full_length - 0.05f);
-  if (!t->seen_whole && hypot(t->x[0], t->x[1]) - 0.5 * hypot(t->length, t->width) > beam_reach(tr, t)) t->seen_whole = true;
+  if (!t->seen_whole && near_edge(t->x[0], t->x[1], t->length, t->width) > beam_reach(tr, t)) t->seen_whole = true;
   t->full_width = fmaxf(t->width, t->full_width - 0.02f);
   t->hits++;
   t->t_update = tk;
@@ -1039,7 +1042,9 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     tr->n.stitched++;
   }
   /* the blind-circle link: a young moving track, born at the circle's other
-   * side of an unseen track last seen at its edge, is that track */
+   * side of an unseen track last seen at its edge, is that track (at most
+   * RS_TRACK_MAX x RS_TRACK_MAX tests, each a few products; in practice the
+   * few tracks under 1.5 s old against the unseen ones) */
   for (uint32_t i = 0; i < L->count && tr->cfg.blind_s > 0; i++) {
     rs_track_t *y = &L->track[i];
     if (y->object < 0 || y->id == 0 || y->hits < 3 || y->t_update - y->t_birth > 1.5) continue;

@@ -165,7 +165,7 @@ typedef struct {
                                   see; its top is midway between its returns' top and the row above (default 1;
                                   docs/tracking.md) */
   double blind_s;              /* a track last seen at the edge of the circle its top is below the lowest beam
-                                  in is kept this long unpublished, and a young moving track born at the
+                                  in is kept, unpublished, until this long after it was last seen, and a young moving track born at the
                                   circle's other side, in its lane, heading away from it, takes its id: a
                                   vehicle pulling away from the line beside the sensor, unseen while it
                                   passes it (default 8.0; 0 = off; docs/tracking.md) */
