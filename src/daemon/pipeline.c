@@ -340,7 +340,7 @@ static void write_tracks(FILE *f, const rs_slot_t *s, const rs_track_list_t *tl)
     if (t->state == RS_TRACK_LOST) continue; /* kept for re-acquisition, not published */
     fprintf(f, "%" PRIu64 ",%.6f,%u,%s,%s,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.4f,%.2f,%.2f,%.2f,%u,%u,%u,%.3f,%.4f,%.4f,%.4f",
             s->meta.seq, t->t_state, t->id, rs_track_state_name(t->state), rs_class_name(t->cls), t->x[0], t->x[1],
-            (double)t->z_min, t->x[2], t->x[3], (double)t->speed, (double)t->heading, (double)t->length,
+            (double)t->z_min, t->vel[0], t->vel[1], (double)t->speed, (double)t->heading, (double)t->length,
             (double)t->width, (double)t->height, t->points, t->hits, t->misses, tl->t - t->t_birth, t->P[0][0],
             t->P[0][1], t->P[1][1]);
     if (tl->site_valid) /* (empty without a pose) */

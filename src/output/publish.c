@@ -299,8 +299,8 @@ static void track_to_wire(const rs_track_t *t, double t_frame, roadscan_track_t 
   w->position[0] = (float)t->x[0];
   w->position[1] = (float)t->x[1];
   w->position[2] = t->z_min;
-  w->velocity[0] = (float)t->x[2];
-  w->velocity[1] = (float)t->x[3];
+  w->velocity[0] = (float)t->vel[0];
+  w->velocity[1] = (float)t->vel[1];
   w->speed = t->speed;
   w->heading = t->heading;
   w->length = t->length;

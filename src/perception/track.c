@@ -58,6 +58,8 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->lost_walker_s = 4.0;
   c->below_beam = 1;
   c->blind_s = 8.0;
+  c->speed_imm = 1;
+  c->q_jerk = 1.0;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -72,7 +74,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20) ||
       !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
       !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 ||
-      !(cfg->blind_s >= 0 && cfg->blind_s <= 60))
+      !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->speed_imm < 0 || cfg->speed_imm > 1 ||
+      !(cfg->q_jerk > 0 && cfg->q_jerk <= 100))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -99,7 +102,7 @@ static const rs_opt_t knobs[] = {
     KNOB(confirm_still_range, 0.0, 1000.0),
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
-    KNOB(blind_s, 0.0, 60.0),
+    KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB(q_jerk, 0.01, 100.0),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -126,7 +129,7 @@ static void site_states(rs_tracker_t *tr) {
     const double p[3] = {t->x[0], t->x[1], t->z_min};
     for (int a = 0; a < 3; a++)
       t->site[a] = (float)(tr->rot[3 * a] * p[0] + tr->rot[3 * a + 1] * p[1] + tr->rot[3 * a + 2] * p[2] + tr->trans[a]);
-    const double vx = tr->rot[0] * t->x[2] + tr->rot[1] * t->x[3], vy = tr->rot[3] * t->x[2] + tr->rot[4] * t->x[3];
+    const double vx = tr->rot[0] * t->vel[0] + tr->rot[1] * t->vel[1], vy = tr->rot[3] * t->vel[0] + tr->rot[4] * t->vel[1];
     t->site_v[0] = (float)vx;
     t->site_v[1] = (float)vy;
     const double hx = tr->rot[0] * t->hcos + tr->rot[1] * t->hsin, hy = tr->rot[3] * t->hcos + tr->rot[4] * t->hsin;
@@ -462,6 +465,105 @@ static void update(rs_track_t *t, const double z[2], double sd) {
     for (int j = 0; j < 4; j++) t->P[i][j] = P[i][j];
 }
 
+/* ---- the speed estimator (rs_track_imm_t, speed_imm) ----
+ * Per axis, CV and CA states in one 3-vector (CV's acceleration 0). A step at
+ * a measurement: mix the two states by the probability that the model switched
+ * since the last one (at dt / IMM_SWITCH_S), predict each by its model, update
+ * each with the measurement and the Kalman filter's noise, weigh the models by
+ * their likelihoods; the reported velocity is the weighted mean. Both axes'
+ * likelihoods weigh the models together. About 700 flops, one exp and one log:
+ * a few hundred nanoseconds a track update. */
+#define IMM_SWITCH_S 2.0  /* s, the mean time between switches of model */
+#define IMM_ACCEL_SD 2.0  /* m/s^2, the CA model's acceleration uncertainty at start */
+#define IMM_RESTART_S 0.5 /* s unseen after which it starts again from the filter's state */
+static const int SYM[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
+
+/* both models from the Kalman filter's state (acceleration 0, of sd IMM_ACCEL_SD in CA) */
+static void imm_start(rs_track_t *t) {
+  rs_track_imm_t *m = &t->imm;
+  for (int j = 0; j < 2; j++)
+    for (int a = 0; a < 2; a++) {
+      double *x = m->x[j][a], *P = m->P[j][a];
+      x[0] = t->x[a];
+      x[1] = t->x[2 + a];
+      x[2] = 0.0;
+      P[0] = t->P[a][a];
+      P[1] = t->P[a][2 + a];
+      P[3] = t->P[2 + a][2 + a];
+      P[2] = P[4] = 0.0;
+      P[5] = j == 1 ? IMM_ACCEL_SD * IMM_ACCEL_SD : 0.0;
+    }
+  m->mu[0] = 0.9;
+  m->mu[1] = 0.1;
+  m->t = t->t_state;
+  m->v[0] = t->x[2];
+  m->v[1] = t->x[3];
+}
+
+/* one step with the measurement z (variance r) at time tk; q: the CV model's
+ * acceleration density along x and y (the filter's), jerk: the CA model's */
+static void imm_step(rs_track_t *t, const double z[2], double r, double tk, const double q[2], double jerk) {
+  rs_track_imm_t *m = &t->imm;
+  const double dt = tk - m->t;
+  if (!(dt >= 0.0) || dt > IMM_RESTART_S) {
+    imm_start(t);
+    return;
+  }
+  const double ps = fmin(0.5, dt / IMM_SWITCH_S);
+  const double d2 = dt * dt, d3 = d2 * dt;
+  double c[2], nis[2] = {0, 0}, logdet[2] = {0, 0};
+  for (int j = 0; j < 2; j++) c[j] = (1.0 - ps) * m->mu[j] + ps * m->mu[1 - j];
+  double x0[2][2][3], P0[2][2][3][3];
+  for (int j = 0; j < 2; j++) { /* mixing: model j's start from both */
+    const double w[2] = {(j == 0 ? 1.0 - ps : ps) * m->mu[0] / c[j], (j == 1 ? 1.0 - ps : ps) * m->mu[1] / c[j]};
+    for (int a = 0; a < 2; a++)
+      for (int u = 0; u < 3; u++) {
+        x0[j][a][u] = w[0] * m->x[0][a][u] + w[1] * m->x[1][a][u];
+        for (int v = 0; v <= u; v++) {
+          double s = 0;
+          for (int i = 0; i < 2; i++)
+            s += w[i] * (m->P[i][a][SYM[u][v]] + (m->x[i][a][u] - x0[j][a][u]) * (m->x[i][a][v] - x0[j][a][v]));
+          P0[j][a][u][v] = P0[j][a][v][u] = s;
+        }
+      }
+  }
+  for (int j = 0; j < 2; j++) {
+    double F[3][3] = {{1, dt, 0}, {0, 1, 0}, {0, 0, 0}};
+    if (j == 1) F[0][2] = 0.5 * d2, F[1][2] = dt, F[2][2] = 1;
+    for (int a = 0; a < 2; a++) {
+      double Q[3][3] = {{q[a] * d3 / 3, q[a] * d2 / 2, 0}, {q[a] * d2 / 2, q[a] * dt, 0}, {0, 0, 0}};
+      if (j == 1) { /* white-noise jerk */
+        const double d4 = d3 * dt, d5 = d4 * dt;
+        const double Qa[3][3] = {{d5 / 20, d4 / 8, d3 / 6}, {d4 / 8, d3 / 3, d2 / 2}, {d3 / 6, d2 / 2, dt}};
+        for (int u = 0; u < 3; u++)
+          for (int v = 0; v < 3; v++) Q[u][v] = jerk * Qa[u][v];
+      }
+      double x[3], FP[3][3], P[3][3];
+      for (int u = 0; u < 3; u++) {
+        x[u] = F[u][0] * x0[j][a][0] + F[u][1] * x0[j][a][1] + F[u][2] * x0[j][a][2];
+        for (int v = 0; v < 3; v++) FP[u][v] = F[u][0] * P0[j][a][0][v] + F[u][1] * P0[j][a][1][v] + F[u][2] * P0[j][a][2][v];
+      }
+      for (int u = 0; u < 3; u++)
+        for (int v = u; v < 3; v++) P[u][v] = Q[u][v] + FP[u][0] * F[v][0] + FP[u][1] * F[v][1] + FP[u][2] * F[v][2];
+      const double S = P[0][0] + r, y = z[a] - x[0];
+      const double K[3] = {P[0][0] / S, P[0][1] / S, P[0][2] / S};
+      for (int u = 0; u < 3; u++) {
+        m->x[j][a][u] = x[u] + K[u] * y;
+        for (int v = u; v < 3; v++) m->P[j][a][SYM[u][v]] = P[u][v] - K[u] * P[0][v];
+      }
+      nis[j] += y * y / S;
+      logdet[j] += log(S);
+    }
+  }
+  /* mu_j ~ c_j N(y_j; 0, S_j): the ratio CA / CV (bounded, a model never dies out) */
+  const double lr = fmax(-30.0, fmin(30.0, -0.5 * (nis[1] - nis[0]) - 0.5 * (logdet[1] - logdet[0])));
+  const double ratio = c[1] / c[0] * exp(lr);
+  m->mu[1] = fmin(0.999, fmax(0.001, ratio / (1.0 + ratio)));
+  m->mu[0] = 1.0 - m->mu[1];
+  m->t = tk;
+  for (int a = 0; a < 2; a++) m->v[a] = m->mu[0] * m->x[0][a][1] + m->mu[1] * m->x[1][a][1];
+}
+
 static void set_heading(rs_track_t *t, float h) {
   t->heading = h;
   t->hcos = cosf(h);
@@ -785,8 +887,16 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   t->t_z = tk;
   if (t->hits > 0) t->spread = fmax(t->spread, hypot(z[0] - t->px0, z[1] - t->py0));
   predict(tr, t, tk);
-  update(t, z, update_sd(tr, sd, misfit));
+  const double sdu = update_sd(tr, sd, misfit);
+  update(t, z, sdu);
   const bool first = t->hits == 0;
+  if (first) {
+    imm_start(t);
+  } else {
+    double q[3];
+    accel_density(tr, t, q);
+    imm_step(t, z, sdu * sdu, tk, (const double[2]){q[0], q[2]}, tr->cfg.q_jerk);
+  }
   t->length = smooth(t->length, o->sensor.obb_length, first);
   t->width = smooth(t->width, o->sensor.obb_width, first);
   t->height = smooth(t->height, o->sensor.box_max[2] - o->sensor.box_min[2], first);
@@ -816,8 +926,13 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   }
 }
 
+/* the velocity and speed track t reports: the speed estimator's for a track
+ * not of a walker's size (speed_imm), the filter's otherwise; 0 when still */
 static void report_speed(const rs_tracker_t *tr, rs_track_t *t) {
-  const double sp = hypot(t->x[2], t->x[3]), sdv = sqrt(0.5 * (t->P[2][2] + t->P[3][3]));
+  const bool imm = tr->cfg.speed_imm && !(t->length < WALKER_M && t->width < WALKER_M);
+  t->vel[0] = imm ? t->imm.v[0] : t->x[2];
+  t->vel[1] = imm ? t->imm.v[1] : t->x[3];
+  const double sp = hypot(t->vel[0], t->vel[1]), sdv = sqrt(0.5 * (t->P[2][2] + t->P[3][3]));
   const double floor_v = fmax(tr->cfg.still_speed, fmin(sdv, 1.0)); /* within one sd of 0 (at most 1 m/s) */
   t->speed = (float)(sp < floor_v ? 0.0 : sp);
 }
@@ -853,6 +968,7 @@ static void stitch(rs_tracker_t *tr, const rs_object_list_t *objs, uint32_t nobj
     predict(tr, o, y->t_state);
     o->distance += hypot(y->x[0] - o->prev[0], y->x[1] - o->prev[1]);
     memcpy(o->x, y->x, sizeof o->x);
+    o->imm = y->imm;
     for (int a = 0; a < 4; a++)
       for (int b = 0; b < 4; b++) o->P[a][b] = y->P[a][b];
     o->t_state = y->t_state;

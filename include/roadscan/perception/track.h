@@ -169,10 +169,29 @@ typedef struct {
                                   circle's other side, in its lane, heading away from it, takes its id: a
                                   vehicle pulling away from the line beside the sensor, unseen while it
                                   passes it (default 8.0; 0 = off; docs/tracking.md) */
+  int speed_imm;               /* 1: the speed and velocity a vehicle's track reports are the speed estimator's
+                                  (constant velocity and constant acceleration mixed; rs_track_imm_t), not
+                                  the constant-velocity filter's, which lags a vehicle speeding up or
+                                  braking (default 1; docs/tracking.md) */
+  double q_jerk;               /* m^2/s^5, the constant-acceleration model's jerk density (default 1) */
   int split_full_size;         /* 1: a free object is a split part of a track when both fit in the track's
                                   full size (its largest box, falling 0.05 m an update), not only in its
                                   smoothed box, which shrinks while the object is partly hidden (default 1) */
 } rs_track_cfg_t;
+
+/* The speed estimator of a track (speed_imm; docs/tracking.md): two models of
+ * its motion on each ground axis, constant velocity (CV: position, velocity)
+ * and constant acceleration (CA: the same and the acceleration, white-noise
+ * jerk), run side by side on the Kalman filter's measurements and mixed by how
+ * well each predicts them (an interacting multiple model filter). It only
+ * reports: association, gates and the track's state use the Kalman filter. */
+typedef struct {
+  double x[2][2][3];         /* [model][axis]: position, velocity, acceleration (0 in CV) */
+  double P[2][2][6];         /* [model][axis]: covariance, upper triangle 00 01 02 11 12 22 (CV: 02 12 22 are 0) */
+  double mu[2];              /* the models' probabilities, CV and CA */
+  double t;                  /* time of x */
+  double v[2];               /* the mixed velocity at t */
+} rs_track_imm_t;
 
 typedef struct {
   uint32_t id;
@@ -212,6 +231,9 @@ typedef struct {
   bool was_held;             /* ... held the frame before */
   bool seen_whole;           /* updated once with all of its box beyond the lowest beam's reach (below_beam) */
   bool blind_kept;           /* lost longer than lost_s, kept for the blind-circle link alone (blind_s) */
+  rs_track_imm_t imm;        /* the speed estimator (speed_imm) */
+  double vel[2];             /* reported velocity, m/s: the speed estimator's for a track not of a walker's size
+                                (speed_imm), the Kalman filter's otherwise */
 } rs_track_t;
 
 /* whether track t shares a cluster with another track this frame (track.h's "held") */
