@@ -511,7 +511,7 @@ static void imm_step(rs_track_t *t, const double z[2], double r, double tk, cons
   }
   const double ps = fmin(0.5, dt / IMM_SWITCH_S);
   const double d2 = dt * dt, d3 = d2 * dt;
-  double c[2], nis[2] = {0, 0}, logdet[2] = {0, 0};
+  double c[2], nis[2] = {0, 0}, det[2] = {1, 1};
   for (int j = 0; j < 2; j++) c[j] = (1.0 - ps) * m->mu[j] + ps * m->mu[1 - j];
   double x0[2][2][3], P0[2][2][3][3];
   for (int j = 0; j < 2; j++) { /* mixing: model j's start from both */
@@ -552,11 +552,11 @@ static void imm_step(rs_track_t *t, const double z[2], double r, double tk, cons
         for (int v = u; v < 3; v++) m->P[j][a][SYM[u][v]] = P[u][v] - K[u] * P[0][v];
       }
       nis[j] += y * y / S;
-      logdet[j] += log(S);
+      det[j] *= S;
     }
   }
   /* mu_j ~ c_j N(y_j; 0, S_j): the ratio CA / CV (bounded, a model never dies out) */
-  const double lr = fmax(-30.0, fmin(30.0, -0.5 * (nis[1] - nis[0]) - 0.5 * (logdet[1] - logdet[0])));
+  const double lr = fmax(-30.0, fmin(30.0, -0.5 * (nis[1] - nis[0]) - 0.5 * log(det[1] / det[0])));
   const double ratio = c[1] / c[0] * exp(lr);
   m->mu[1] = fmin(0.999, fmax(0.001, ratio / (1.0 + ratio)));
   m->mu[0] = 1.0 - m->mu[1];
