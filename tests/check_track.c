@@ -645,6 +645,24 @@ START_TEST(t_speed_imm) {
   const rs_track_t *w = &tr.list.track[0];
   ck_assert_double_eq(w->vel[0], w->x[2]);
   ck_assert_double_eq(w->vel[1], w->x[3]);
+  /* a car speeding up at 1.5 m/s^2, unseen for 0.7 s (over 0.5 s): the estimator, apart from the filter
+   * before, starts again from the filter's state when the car is seen again (same track, coasting) */
+  init_default();
+  double x = -30, v = 4;
+  for (int f = 0; f < 28; f++) {
+    v += 0.15;
+    x += 0.1 * v;
+    clear();
+    if (f < 20 || f >= 27) car(0.1 * f, x, 12.0, 0.0);
+    rs_track_frame(&tr, &objs, 0.1 * f + 0.05);
+    ck_assert_uint_eq(tr.n.born, 1);
+    const rs_track_t *k = &tr.list.track[0];
+    if (f == 19) ck_assert_msg(fabs(k->vel[0] - k->x[2]) > 0.01, "estimator %.3f, filter %.3f", k->vel[0], k->x[2]);
+    if (f == 27) {
+      ck_assert_double_eq(k->vel[0], k->x[2]);
+      ck_assert_double_eq(k->vel[1], k->x[3]);
+    }
+  }
 }
 END_TEST
 

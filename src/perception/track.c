@@ -166,6 +166,9 @@ static bool vehicle_sized(float length, float width) {
   return length > RS_TRACK_PED_MAX_LENGTH || width > RS_TRACK_PED_MAX_WIDTH;
 }
 
+/* track t's smoothed box is a walker's size (q_small, the speed estimator, the walker's confirmation) */
+static bool walker_sized(const rs_track_t *t) { return t->length < WALKER_M && t->width < WALKER_M; }
+
 /* track t knows the size of what it follows: confirmed, 5 hits, a vehicle's length */
 static bool size_known(const rs_track_t *t) { return t->state != RS_TRACK_TENTATIVE && t->hits >= 5 && t->length >= 1.5f; }
 
@@ -377,7 +380,7 @@ static double update_sd(const rs_tracker_t *tr, double sd, double misfit) {
 static void accel_density(const rs_tracker_t *tr, const rs_track_t *t, double q[3]) {
   const double vx = t->x[2], vy = t->x[3], v2 = vx * vx + vy * vy;
   double ql = tr->cfg.q_long, qc = tr->cfg.q_accel;
-  if (t->hits >= 3 && t->length < WALKER_M && t->width < WALKER_M) ql = qc = tr->cfg.q_small; /* a walker's size */
+  if (t->hits >= 3 && walker_sized(t)) ql = qc = tr->cfg.q_small; /* a walker's size */
   if (v2 < 1.0 || ql == qc) {
     q[0] = q[2] = qc;
     q[1] = 0.0;
@@ -496,8 +499,6 @@ static void imm_start(rs_track_t *t) {
   m->mu[0] = 0.9;
   m->mu[1] = 0.1;
   m->t = t->t_state;
-  m->v[0] = t->x[2];
-  m->v[1] = t->x[3];
 }
 
 /* one step with the measurement z (variance r) at time tk; q: the CV model's
@@ -561,7 +562,6 @@ static void imm_step(rs_track_t *t, const double z[2], double r, double tk, cons
   m->mu[1] = fmin(0.999, fmax(0.001, ratio / (1.0 + ratio)));
   m->mu[0] = 1.0 - m->mu[1];
   m->t = tk;
-  for (int a = 0; a < 2; a++) m->v[a] = m->mu[0] * m->x[0][a][1] + m->mu[1] * m->x[1][a][1];
 }
 
 static void set_heading(rs_track_t *t, float h) {
@@ -929,9 +929,9 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
 /* the velocity and speed track t reports: the speed estimator's for a track
  * not of a walker's size (speed_imm), the filter's otherwise; 0 when still */
 static void report_speed(const rs_tracker_t *tr, rs_track_t *t) {
-  const bool imm = tr->cfg.speed_imm && !(t->length < WALKER_M && t->width < WALKER_M);
-  t->vel[0] = imm ? t->imm.v[0] : t->x[2];
-  t->vel[1] = imm ? t->imm.v[1] : t->x[3];
+  const bool imm = tr->cfg.speed_imm && !walker_sized(t);
+  for (int a = 0; a < 2; a++) /* the models' velocities, weighed */
+    t->vel[a] = imm ? t->imm.mu[0] * t->imm.x[0][a][1] + t->imm.mu[1] * t->imm.x[1][a][1] : t->x[2 + a];
   const double sp = hypot(t->vel[0], t->vel[1]), sdv = sqrt(0.5 * (t->P[2][2] + t->P[3][3]));
   const double floor_v = fmax(tr->cfg.still_speed, fmin(sdv, 1.0)); /* within one sd of 0 (at most 1 m/s) */
   t->speed = (float)(sp < floor_v ? 0.0 : sp);
@@ -1239,7 +1239,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
         ends = true;
       } else if (updated && t->hits >= (uint32_t)cf->confirm_hits &&
                  ((moved >= cf->confirm_move_m && moved >= 0.5 * t->distance) ||
-                  (cf->confirm_walk_m > 0 && t->misses == 0 && t->length < WALKER_M && t->width < WALKER_M &&
+                  (cf->confirm_walk_m > 0 && t->misses == 0 && walker_sized(t) &&
                    t->hits >= (uint32_t)cf->confirm_hits + 1 && moved >= cf->confirm_walk_m && moved >= 0.8 * t->distance) ||
                   (t->misses == 0 && t->t_update - t->t_birth >= cf->confirm_still_s) ||
                   (t->misses == 0 && cf->confirm_still_spread > 0 && t->points >= still_points(cf, t) &&

@@ -190,7 +190,6 @@ typedef struct {
   double P[2][2][6];         /* [model][axis]: covariance, upper triangle 00 01 02 11 12 22 (CV: 02 12 22 are 0) */
   double mu[2];              /* the models' probabilities, CV and CA */
   double t;                  /* time of x */
-  double v[2];               /* the mixed velocity at t */
 } rs_track_imm_t;
 
 typedef struct {
