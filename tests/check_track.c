@@ -1009,6 +1009,41 @@ START_TEST(t_far_still_confirms_fast) {
 }
 END_TEST
 
+/* A walker standing (or just setting off: 0.1 m/s) 10 m away, hit by 22
+ * returns in every frame, confirms at its fourth hit (confirm_walker_points,
+ * 20), not after 1.5 s as a vehicle-sized still cluster of 22 returns (a
+ * part of a near car) does; with confirm_walker_points 0, or with 16
+ * returns, the walker waits 1.5 s too. The returns at 0, 1, 2: the walker's
+ * frame, the car part's. */
+static void walker_still_confirmed(int walker_points, uint32_t returns, int at[2]) {
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  c.confirm_walker_points = walker_points;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  at[0] = at[1] = -1;
+  for (int f = 0; f < 20; f++) {
+    const double t = 30.0 + 0.1 * f, j = 0.03 * ((f % 3) - 1);
+    clear();
+    put(t, 8.0 + 0.1 * 0.1 * f + j, 6.0 - j, 0.5, 0.4, 0.0, 1.7, returns);
+    put(t, -8.0 + j, -6.0, 2.2, 1.6, 0.0, 1.2, 22);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    note_confirmed(at, f);
+  }
+  ck_assert_uint_eq(tr.n.born, 2);
+}
+
+START_TEST(t_walker_still_confirms_fast) {
+  int at[2];
+  walker_still_confirmed(20, 22, at);
+  ck_assert_int_eq(at[0], 3);
+  ck_assert_int_ge(at[1], 14);
+  walker_still_confirmed(0, 22, at);
+  ck_assert_int_ge(at[0], 14);
+  walker_still_confirmed(20, 16, at);
+  ck_assert_int_ge(at[0], 14);
+}
+END_TEST
+
 /* foliage: a cluster at one place, there in half the frames, its centre
  * jittering by 0.3 m, for 20 s: never confirmed */
 START_TEST(t_foliage_never_confirms) {
@@ -1156,6 +1191,7 @@ START_TEST(t_crowd_and_config) {
   INIT_REFUSED(blind_s, -1);
   INIT_REFUSED(speed_imm, 2);
   INIT_REFUSED(q_jerk, 0);
+  INIT_REFUSED(confirm_walker_points, -1);
 #undef INIT_REFUSED
   /* set by name: in range taken, out of range refused with the parameter's name */
   rs_track_cfg_t c;
@@ -1172,7 +1208,8 @@ START_TEST(t_crowd_and_config) {
   ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
   static const char *const refused[][2] = {{"meas_sd_misfit", "11"}, {"hidden_anchor", "2"}, {"reacq_across_m", "-1"},
                                            {"split_full_size", "2"},  {"lost_walker_s", "61"},   {"below_beam", "-1"},
-                                           {"blind_s", "x"},          {"speed_imm", "-1"},       {"q_jerk", "101"}};
+                                           {"blind_s", "x"},          {"speed_imm", "-1"},       {"q_jerk", "101"},
+                                           {"confirm_walker_points", "-2"}};
   for (size_t k = 0; k < sizeof refused / sizeof refused[0]; k++) {
     ck_assert_int_eq(rs_track_cfg_set(&c, refused[k][0], refused[k][1], err, sizeof err), RS_E_INVAL);
     ck_assert_msg(strstr(err, refused[k][0]) != NULL, "%s", err);
@@ -1255,6 +1292,7 @@ int main(void) {
   tcase_add_test(tc, t_walker_confirms_fast);
   tcase_add_test(tc, t_still_vehicle_confirms_fast);
   tcase_add_test(tc, t_far_still_confirms_fast);
+  tcase_add_test(tc, t_walker_still_confirms_fast);
   tcase_add_test(tc, t_across_column_zero);
   tcase_add_test(tc, t_lost_frame_dt);
   tcase_add_test(tc, t_capacity);

@@ -51,6 +51,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->confirm_still_spread = 0.15;
   c->confirm_still_points = 30;
   c->confirm_still_range = 20.0;
+  c->confirm_walker_points = 20;
   c->hidden_anchor = 1;
   c->reacq_across_m = 1.0;
   c->confirm_walk_m = 0.3;
@@ -70,6 +71,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->confirm_hits < 1 || !(cfg->confirm_move_m >= 0) || !(cfg->confirm_still_s >= 0) ||
       !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100) ||
       !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1 ||
+      cfg->confirm_walker_points < 0 || cfg->confirm_walker_points > 100000 ||
       !(cfg->confirm_still_range >= 0 && cfg->confirm_still_range <= 1000) ||
       cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20) ||
       !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
@@ -99,6 +101,7 @@ static const rs_opt_t knobs[] = {
     KNOB(confirm_move_m, 0.0, 20.0),  KNOB(confirm_still_s, 0.0, 60.0), KNOB(tentative_miss_s, 0.01, 10.0),
     KNOB(coast_s, 0.01, 60.0),        KNOB(lost_s, 0.0, 60.0),          KNOB(still_speed, 0.0, 5.0),
     KNOB(size_weight, 0.0, 100.0),    KNOB(confirm_still_spread, 0.0, 5.0), KNOB_INT(confirm_still_points, 1, 100000),
+    KNOB_INT(confirm_walker_points, 0, 100000),
     KNOB(confirm_still_range, 0.0, 1000.0),
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
@@ -840,10 +843,14 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
  * true object's least. A fragment of a near car (a part split off by the
  * beams, 12-17 returns at 15 m) still waits like foliage. */
 static uint32_t still_points(const rs_track_cfg_t *cf, const rs_track_t *t) {
+  int need = cf->confirm_still_points;
+  if (cf->confirm_walker_points > 0 && cf->confirm_walker_points < need && walker_sized(t) &&
+      t->hits >= (uint32_t)cf->confirm_hits + 1)
+    need = cf->confirm_walker_points;
   const double r = hypot(t->x[0], t->x[1]), r0 = cf->confirm_still_range;
-  if (!(r0 > 0) || r <= r0) return (uint32_t)cf->confirm_still_points;
-  const double bar = fmax(RS_TRACK_STILL_POINTS_MIN, ceil(cf->confirm_still_points * (r0 / r) * (r0 / r)));
-  return (uint32_t)fmin(bar, cf->confirm_still_points);
+  if (!(r0 > 0) || r <= r0) return (uint32_t)need;
+  const double bar = fmax(RS_TRACK_STILL_POINTS_MIN, ceil(need * (r0 / r) * (r0 / r)));
+  return (uint32_t)fmin(bar, need);
 }
 
 static rs_class_t classify(const rs_track_t *t) {

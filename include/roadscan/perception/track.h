@@ -149,6 +149,9 @@ typedef struct {
   double confirm_still_range;  /* m: beyond this range the returns needed fall with the square of the range,
                                   to no fewer than RS_TRACK_STILL_POINTS_MIN (default 20; 0 = the same
                                   everywhere) */
+  int confirm_walker_points;   /* the same rule for a walker-sized track, hit in every frame for confirm_hits + 1
+                                  hits, needs this many returns instead (scaled by range the same way; default 20;
+                                  0 = as a vehicle) */
   int hidden_anchor;           /* 1: a box end beside something nearer is where the rest of the object may be
                                   (rs_object_t.occluded): its centre is placed from the other end (default 1) */
   double reacq_across_m;       /* a moving vehicle's track unseen for more than 0.5 s takes no object farther
