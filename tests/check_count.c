@@ -5,7 +5,8 @@
  * exits, occupancy, a track first seen inside, tentative and coasting
  * tracks, bad zones; hidden crossings (a track first seen past a line);
  * the class delay (a crossing tallied under the class its track settles on);
- * a lost track taken up again past a line. */
+ * a lost track taken up again past a line; unseen crossings (a track
+ * followed on its prediction, held until it is seen again or ends). */
 #include "roadscan/perception/count.h"
 #include "roadscan/util/error.h"
 #include "testutil.h"
@@ -297,6 +298,120 @@ START_TEST(t_hidden_crossings) {
 }
 END_TEST
 
+/* Unseen crossings. A car (20 hits) drives towards the line at x = 0 at
+ * -8 m/s (forward), seen until x = 2.4 (t = 100.7), then listed coasting
+ * and lost on its prediction, which crosses the line at t = 101.0. The
+ * crossing is held while the car is unseen and tallied when its track
+ * leaves the list (a vehicle hidden by the one behind it); seen again past
+ * the line it is counted once; seen again before it (it had stopped behind
+ * a bus) it is taken back, and its later crossing, seen, is counted. Not
+ * followed: an unseen track whose prediction crosses more than unseen_s
+ * after its last update (with unseen_s 4 it is), one of 3 hits (a flicker
+ * that confirmed), one slower than 1 m/s, any with unseen_s = 0.
+ * hidden_car: from x0 at vx, seen in frames 0 .. seen_until and from
+ * again_from on (then from again_x at vx; -1: never), listed until
+ * listed_until; unseen, its prediction is listed (coasting for 1 s, then
+ * lost). Then one empty frame: the track has left the list. */
+static void hidden_car(uint32_t id, uint32_t hits, double x0, double vx, int seen_until, int listed_until,
+                       int again_from, double again_x) {
+  int f = 0;
+  for (; f <= listed_until; f++) {
+    const double t = 100.0 + 0.1 * f;
+    const bool again = again_from >= 0 && f >= again_from, seen = f <= seen_until || again;
+    tl.count = 0;
+    rs_track_t *k = &tl.track[tl.count++];
+    memset(k, 0, sizeof *k);
+    k->id = id;
+    k->cls = RS_CLASS_CAR;
+    k->hits = hits;
+    k->state = seen ? RS_TRACK_CONFIRMED : (f - seen_until <= 10 ? RS_TRACK_COASTING : RS_TRACK_LOST);
+    k->t_update = seen ? t : 100.0 + 0.1 * seen_until;
+    k->x[0] = again ? again_x + vx * 0.1 * (f - again_from) : x0 + vx * 0.1 * f;
+    k->x[1] = 1.0;
+    k->x[2] = vx;
+    rs_count_frame(&cnt, &tl, t);
+  }
+  tl.count = 0;
+  rs_count_frame(&cnt, &tl, 100.0 + 0.1 * f);
+}
+
+START_TEST(t_unseen_crossings) {
+  static const char *const l[] = {"gate 0 -5 0 5"}; /* forward: towards -x */
+  /* hidden from x = 2.4 on, never seen again: held while listed, tallied when it leaves the list */
+  setup(l, 1, NULL, 60);
+  hidden_car(1, 20, 8.0, -8.0, 7, 24, -1, 0);
+  ck_assert_uint_eq(cnt.crossings, 1);
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_CAR], 1);
+  ck_assert_uint_eq(cnt.unseen, 1);
+  ck_assert_uint_eq(cnt.pending, 0);
+  /* held while unseen: the same car listed (lost) for a frame more, nothing tallied yet */
+  setup(l, 1, NULL, 60);
+  for (int f = 0; f <= 20; f++) {
+    tl.count = 0;
+    rs_track_t *k = &tl.track[tl.count++];
+    memset(k, 0, sizeof *k);
+    k->id = 7, k->cls = RS_CLASS_CAR, k->hits = 20, k->x[1] = 1.0, k->x[2] = -8.0;
+    k->x[0] = 8.0 - 0.8 * f;
+    k->state = f <= 7 ? RS_TRACK_CONFIRMED : RS_TRACK_COASTING;
+    k->t_update = 100.0 + 0.1 * (f <= 7 ? f : 7);
+    rs_count_frame(&cnt, &tl, 100.0 + 0.1 * f);
+  }
+  ck_assert_uint_eq(cnt.crossings, 0);
+  ck_assert_uint_eq(cnt.pending, 1);
+  /* seen again past the line (x = -5 at t = 101.3): counted once, when seen */
+  setup(l, 1, NULL, 60);
+  hidden_car(2, 20, 8.0, -8.0, 7, 20, 13, -5.0);
+  ck_assert_uint_eq(cnt.crossings, 1);
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_CAR], 1);
+  ck_assert_uint_eq(cnt.unseen, 1);
+  /* seen again before it (stopped at x = 2 behind a bus, seen at t = 101.4): taken back ... */
+  setup(l, 1, NULL, 60);
+  for (int f = 0; f <= 30; f++) {
+    const bool seen = f <= 7 || f >= 14;
+    tl.count = 0;
+    rs_track_t *k = &tl.track[tl.count++];
+    memset(k, 0, sizeof *k);
+    k->id = 3, k->cls = RS_CLASS_CAR, k->hits = 20, k->x[1] = 1.0;
+    k->state = seen ? RS_TRACK_CONFIRMED : RS_TRACK_COASTING;
+    k->t_update = 100.0 + 0.1 * (seen ? f : 7);
+    if (f <= 7) k->x[0] = 8.0 - 0.8 * f, k->x[2] = -8.0;           /* seen, coming */
+    else if (f < 14) k->x[0] = 2.4 - 0.8 * (f - 7), k->x[2] = -8.0; /* its prediction, over the line */
+    else if (f < 20) k->x[0] = 2.0, k->x[2] = 0.0;                  /* seen again, waiting before it */
+    else k->x[0] = 2.0 - 0.8 * (f - 19), k->x[2] = -8.0;            /* ... then driving across, seen */
+    rs_count_frame(&cnt, &tl, 100.0 + 0.1 * f);
+    if (f == 19) {
+      ck_assert_uint_eq(cnt.unseen_undone, 1);
+      ck_assert_uint_eq(cnt.pending + cnt.crossings, 0);
+    }
+  }
+  ck_assert_uint_eq(cnt.crossings, 1); /* ... and counted once when it crosses, seen */
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_CAR], 1);
+  ck_assert_uint_eq(sum(cnt.total[0].backward), 0);
+  ck_assert_uint_eq(cnt.unseen, 0);
+  /* the prediction crosses 3 s after the last update (at 2 m/s, unseen from x = 6): not followed;
+   * with unseen_s 4 it is */
+  setup(l, 1, NULL, 60);
+  hidden_car(4, 20, 8.0, -2.0, 10, 45, -1, 0);
+  ck_assert_uint_eq(cnt.crossings, 0);
+  setup(l, 1, NULL, 60);
+  cnt.unseen_s = 4.0;
+  hidden_car(4, 20, 8.0, -2.0, 10, 45, -1, 0);
+  ck_assert_uint_eq(cnt.crossings, 1);
+  /* 3 hits; slower than 1 m/s (0.8 m/s from x = 1, crossing 0.75 s after it was last seen); off */
+  setup(l, 1, NULL, 60);
+  hidden_car(5, 3, 8.0, -8.0, 7, 24, -1, 0);
+  ck_assert_uint_eq(cnt.crossings, 0);
+  setup(l, 1, NULL, 60);
+  hidden_car(6, 20, 1.0, -0.8, 5, 20, -1, 0);
+  ck_assert_uint_eq(cnt.crossings, 0);
+  setup(l, 1, NULL, 60);
+  cnt.unseen_s = 0;
+  hidden_car(7, 20, 8.0, -8.0, 7, 24, -1, 0);
+  ck_assert_uint_eq(cnt.crossings, 0);
+  ck_assert_uint_eq(cnt.unseen, 0);
+}
+END_TEST
+
 /* A car comes into view 6 m past the line at 8 m/s, its box growing away
  * from the sensor for its first 0.5 s: its centre creeps 0.05 m a frame the
  * other way, so at its first confirmed frame (the third) its path run back
@@ -457,6 +572,7 @@ int main(void) {
   tcase_add_test(tc, t_hidden_window);
   tcase_add_test(tc, t_class_delay);
   tcase_add_test(tc, t_lost_taken_up);
+  tcase_add_test(tc, t_unseen_crossings);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

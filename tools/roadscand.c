@@ -58,6 +58,7 @@ typedef struct {
   double count_interval;
   double count_hidden;
   double count_hidden_window;
+  double count_unseen;
   double count_class_delay;
   int method;            /* rs_cluster_method_t */
   double eps;            /* the method's, when given */
@@ -251,6 +252,10 @@ static const rs_opt_t table[] = {
     D("count-hidden-window", "S", count_hidden_window, 0.0, 10.0,
       "the hidden-crossing check is repeated at each confirmed frame until S seconds after the track was first "
       "seen, with its mean velocity since then (0 = at its first confirmed frame only)"),
+    D("count-unseen", "S", count_unseen, 0.0, 10.0,
+      "a confirmed track unseen for at most S seconds (coasting, or lost and kept), moving and of 5 hits or more, "
+      "is followed on its prediction: a crossing there is held until it is seen again past the line (counted), "
+      "before it (taken back) or ends (counted; 0 = off)"),
     D("count-class-delay", "S", count_class_delay, 0.0, 30.0,
       "a crossing is tallied S seconds after it, under the track's class then (its class settles as it comes "
       "near; 0 = at once)"),
@@ -343,6 +348,7 @@ int main(int argc, char **argv) {
   st.count_interval = 60.0;
   st.count_hidden = RS_COUNT_HIDDEN_S;
   st.count_hidden_window = RS_COUNT_HIDDEN_WINDOW_S;
+  st.count_unseen = RS_COUNT_UNSEEN_S;
   st.count_class_delay = RS_COUNT_CLASS_DELAY_S;
   st.buffer_kib = RS_CAPTURE_BUFFER_DEFAULT / 1024;
   st.pub = (rs_publish_cfg_t){.channel = RS_PUB_DEFAULT_CHANNEL,
@@ -480,6 +486,7 @@ int main(int argc, char **argv) {
       return bad(err);
     counter.hidden_s = st.count_hidden;
     counter.hidden_window_s = st.count_hidden_window;
+    counter.unseen_s = st.count_unseen;
     counter.class_delay_s = st.count_class_delay;
     cfg->counter = &counter;
   }

@@ -668,8 +668,11 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
               c->zones[z].name, in, out_n, c->zone_total[z].occupancy, c->zone_total[z].occupancy_max);
     }
     if (c->nlines)
-      fprintf(out, "; of the crossings %llu hidden (tracks first seen past a line; %llu more were the same vehicle's)",
-              (unsigned long long)c->hidden, (unsigned long long)c->hidden_dup);
+      fprintf(out,
+              "; of the crossings %llu hidden (tracks first seen past a line; %llu more were the same vehicle's), "
+              "%llu on a prediction (the track unseen; %llu more taken back: seen again before the line)",
+              (unsigned long long)c->hidden, (unsigned long long)c->hidden_dup, (unsigned long long)c->unseen,
+              (unsigned long long)c->unseen_undone);
     if (c->pending)
       fprintf(out, "; %llu more found, tallied once their class settles (--count-class-delay)", (unsigned long long)c->pending);
     fprintf(out, "\n");

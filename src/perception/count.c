@@ -3,8 +3,9 @@
  * Per frame: every track of the list is looked up in the slot table (by id,
  * linear probing); a confirmed one whose path since its last position (or,
  * at its first confirmed frame, since where it was first seen) crosses a
- * line it was not counted on is counted; slots of tracks no longer listed
- * are freed (backward-shift deletion keeps the probing chains whole). */
+ * line it was not counted on is counted; an unseen one is followed on its
+ * prediction for unseen_s (count.h); slots of tracks no longer listed are
+ * freed (backward-shift deletion keeps the probing chains whole). */
 #include "roadscan/perception/count.h"
 
 #include "roadscan/util/error.h"
@@ -192,6 +193,7 @@ int rs_count_init(rs_counter_t *c, const rs_count_line_t *lines, int nlines, con
   c->hidden_s = RS_COUNT_HIDDEN_S;
   c->hidden_window_s = RS_COUNT_HIDDEN_WINDOW_S;
   c->class_delay_s = RS_COUNT_CLASS_DELAY_S;
+  c->unseen_s = RS_COUNT_UNSEEN_S;
   c->t_first = -1.0;
   c->cur.t_start = c->cur.t_end = -1.0;
   if (pose) {
@@ -235,11 +237,19 @@ static void meet(const rs_count_line_t *l, double x0, double y0, double x1, doub
   *s = ((px - l->ax) * (l->bx - l->ax) + (py - l->ay) * (l->by - l->ay)) / len;
 }
 
-static void remember(rs_counter_t *c, int l, double t, double s, int dir) {
+static void remember(rs_counter_t *c, int l, double t, double s, int dir, uint32_t id) {
   const uint32_t k = c->recent_n[l]++ % RS_COUNT_RECENT;
   c->recent[l][k].t = t;
   c->recent[l][k].s = s;
   c->recent[l][k].dir = dir;
+  c->recent[l][k].id = id;
+}
+
+/* track id's remembered crossing of line l, taken back */
+static void unremember(rs_counter_t *c, int l, uint32_t id) {
+  const uint32_t n = c->recent_n[l] < RS_COUNT_RECENT ? c->recent_n[l] : RS_COUNT_RECENT;
+  for (uint32_t k = 0; k < n; k++)
+    if (c->recent[l][k].id == id) c->recent[l][k].dir = 0;
 }
 
 #define HIDDEN_DT 1.5 /* s: a counted crossing this close in time ... */
@@ -294,16 +304,51 @@ static uint8_t zones_at(const rs_counter_t *c, double x, double y) {
 
 static uint32_t hash_id(uint32_t id) { return (id * 2654435761u) & (RS_COUNT_SLOTS - 1); }
 
-/* slot i's pending crossings, tallied under its class */
-static void tally_pending(rs_counter_t *c, uint32_t i) {
+/* slot i's pending crossings, tallied under its class (those on a
+ * prediction only when `all`: the track has ended) */
+static void tally_pending(rs_counter_t *c, uint32_t i, bool all) {
   for (int l = 0; l < c->nlines && c->slot[i].pending; l++) {
     const uint16_t bit = (uint16_t)(1u << l);
-    if (!(c->slot[i].pending & bit)) continue;
+    if (!(c->slot[i].pending & bit) || (!all && (c->slot[i].predicted & bit))) continue;
     tally(c, l, (c->slot[i].pending_fwd & bit) ? 1 : -1, c->slot[i].cls);
     c->slot[i].pending &= (uint16_t)~bit;
+    c->slot[i].pending_fwd &= (uint16_t)~bit;
+    c->slot[i].predicted &= (uint16_t)~bit;
     c->pending--;
   }
-  c->slot[i].pending_fwd = 0;
+}
+
+#define UNSEEN_MIN_SPEED 1.0 /* m/s: a slower unseen track is not followed */
+
+/* slot i's track is confirmed but unseen this frame (coasting, or lost and
+ * kept for re-acquisition), predicted at (x, y): within unseen_s of its last
+ * update, a crossing of its prediction is held as pending on a prediction */
+static void unseen_crossings(rs_counter_t *c, uint32_t i, const rs_track_t *tr, double x, double y, double t) {
+  if (!c->slot[i].confirmed || !(c->unseen_s > 0) || t - tr->t_update > c->unseen_s ||
+      tr->hits < RS_COUNT_UNSEEN_MIN_HITS || hypot(tr->x[2], tr->x[3]) < UNSEEN_MIN_SPEED)
+    return;
+  for (int l = 0; l < c->nlines; l++) {
+    const uint16_t bit = (uint16_t)(1u << l);
+    if (c->slot[i].counted & bit) continue;
+    const int dir = crosses(&c->lines[l], c->slot[i].x, c->slot[i].y, x, y);
+    if (dir == 0) continue;
+    double u, s;
+    meet(&c->lines[l], c->slot[i].x, c->slot[i].y, x, y, &u, &s);
+    c->slot[i].counted |= bit;
+    if (counted_near(c, l, t, s, dir)) { /* the vehicle's new track counted it already */
+      c->hidden_dup++;
+      continue;
+    }
+    remember(c, l, t, s, dir, tr->id);
+    if (!c->slot[i].pending) c->slot[i].t_tally = t + c->class_delay_s;
+    c->slot[i].pending |= bit;
+    c->slot[i].predicted |= bit;
+    if (dir > 0) c->slot[i].pending_fwd |= bit;
+    c->pending++;
+    c->unseen++;
+  }
+  c->slot[i].x = x;
+  c->slot[i].y = y;
 }
 
 static void close_interval(rs_counter_t *c, double t_end) {
@@ -366,7 +411,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       }
       c->slot[i].id = tr->id;
       c->slot[i].counted = 0;
-      c->slot[i].pending = c->slot[i].pending_fwd = 0;
+      c->slot[i].pending = c->slot[i].pending_fwd = c->slot[i].predicted = 0;
       c->slot[i].cls = 0;
       c->slot[i].inside = zones_at(c, x, y); /* inside when first seen: not an entry */
       c->slot[i].x = x; /* where it was first seen: crossings while tentative count when it is confirmed */
@@ -379,18 +424,39 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
     }
     c->slot[i].frame = c->frame_no;
     if (tr->state == RS_TRACK_CONFIRMED) c->slot[i].cls = (uint8_t)((unsigned)tr->cls < RS_CLASS_COUNT ? tr->cls : 0);
-    if (c->slot[i].pending && t >= c->slot[i].t_tally) tally_pending(c, i);
-    if (tr->state != RS_TRACK_CONFIRMED) continue; /* tentative, or coasting (lost) on a prediction */
+    if (c->slot[i].pending && t >= c->slot[i].t_tally) tally_pending(c, i, false);
+    if (tr->state != RS_TRACK_CONFIRMED) { /* tentative, or coasting (lost) on a prediction */
+      if (tr->state != RS_TRACK_TENTATIVE) unseen_crossings(c, i, tr, x, y, t);
+      continue;
+    }
     const bool first_confirmed = !c->slot[i].confirmed;
     c->slot[i].confirmed = true;
+    /* seen again: a crossing on its prediction stands, unless it is back before the line */
+    uint16_t undone = 0;
+    for (int l = 0; l < c->nlines && c->slot[i].predicted; l++) {
+      const uint16_t bit = (uint16_t)(1u << l);
+      if (!(c->slot[i].predicted & bit)) continue;
+      c->slot[i].predicted &= (uint16_t)~bit;
+      const int back = crosses(&c->lines[l], c->slot[i].x, c->slot[i].y, x, y);
+      if (back != 0 && (back > 0) != ((c->slot[i].pending_fwd & bit) != 0)) {
+        c->slot[i].pending &= (uint16_t)~bit;
+        c->slot[i].pending_fwd &= (uint16_t)~bit;
+        c->slot[i].counted &= (uint16_t)~bit;
+        c->pending--;
+        c->unseen--;
+        c->unseen_undone++;
+        unremember(c, l, tr->id);
+        undone |= bit;
+      }
+    }
     for (int l = 0; l < c->nlines; l++) {
-      if (c->slot[i].counted & (1u << l)) continue;
+      if ((c->slot[i].counted | undone) & (1u << l)) continue;
       const double px = c->slot[i].x, py = c->slot[i].y;
       int dir = crosses(&c->lines[l], px, py, x, y);
       if (dir != 0) {
         double u, s;
         meet(&c->lines[l], px, py, x, y, &u, &s);
-        remember(c, l, t, s, dir);
+        remember(c, l, t, s, dir, tr->id);
       } else if (first_confirmed || (c->slot[i].born && t - c->slot[i].t0 <= c->hidden_window_s)) {
         double tc = 0, sc = 0;
         dir = hidden_crossing(c, l, c->slot[i].t0, c->slot[i].x0, c->slot[i].y0, t, x, y, &tc, &sc);
@@ -400,7 +466,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
           c->slot[i].counted |= (uint16_t)(1u << l); /* its vehicle's: not checked again */
           continue;
         }
-        remember(c, l, tc, sc, dir);
+        remember(c, l, tc, sc, dir, tr->id);
         c->hidden++;
       }
       if (dir == 0) continue;
@@ -411,7 +477,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       if (dir > 0) c->slot[i].pending_fwd |= bit;
       c->pending++;
     }
-    if (c->slot[i].pending && t >= c->slot[i].t_tally) tally_pending(c, i);
+    if (c->slot[i].pending && t >= c->slot[i].t_tally) tally_pending(c, i, false);
     c->slot[i].x = x;
     c->slot[i].y = y;
     /* zones: the change since its last confirmed frame (or where it was first seen) */
@@ -441,7 +507,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
   /* tracks no longer listed are forgotten */
   for (uint32_t i = 0; i < RS_COUNT_SLOTS; i++) {
     if (c->slot[i].id == 0 || c->slot[i].frame == c->frame_no) continue;
-    tally_pending(c, i); /* its crossings, under its last class */
+    tally_pending(c, i, true); /* its crossings, under its last class */
     forget(c, i);
     if (c->slot[i].id != 0 && c->slot[i].frame != c->frame_no) i--; /* a later entry moved here: look again */
   }
@@ -450,7 +516,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
 
 bool rs_count_flush(rs_counter_t *c, double t) {
   for (uint32_t i = 0; i < RS_COUNT_SLOTS; i++)
-    if (c->slot[i].id != 0 && c->slot[i].pending) tally_pending(c, i);
+    if (c->slot[i].id != 0 && c->slot[i].pending) tally_pending(c, i, true);
   if (c->cur.t_start < 0) return false;
   close_interval(c, t > c->cur.t_start ? t : c->cur.t_start);
   memset(&c->cur, 0, sizeof c->cur);

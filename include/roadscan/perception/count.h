@@ -46,6 +46,17 @@
  * A lost track (unpublished, kept by the tracker for re-acquisition) keeps
  * its memory: taken up again past a line, it crossed it.
  *
+ * Unseen crossings: a confirmed track not seen this frame (coasting, or lost
+ * and kept), of RS_COUNT_UNSEEN_MIN_HITS hits or more, moving at 1 m/s or
+ * more, is followed on its prediction until `unseen_s` (default 2, 0 = off)
+ * after its last update: a vehicle hidden by the one behind it as it drives
+ * away from the sensor crosses a far line unseen and is never seen again.
+ * Such a crossing is held (not tallied) until the track is seen again:
+ * past the line it stands; back before it (it stopped behind something) it
+ * is taken back; or until the track ends, when it is tallied. It is not
+ * counted when a crossing of the line in its direction was counted within
+ * 1.5 s and 2.5 m (the vehicle's new track), as for hidden crossings.
+ *
  * Per-track memory (last position, lines already counted, zones inside) lives
  * in a fixed table keyed by track id; a track no longer in the list is forgotten. */
 #ifndef ROADSCAN_COUNT_H
@@ -66,6 +77,8 @@
 #define RS_COUNT_HIDDEN_S 3.0             /* default hidden_s */
 #define RS_COUNT_HIDDEN_WINDOW_S 2.0      /* default hidden_window_s */
 #define RS_COUNT_CLASS_DELAY_S 2.0        /* default class_delay_s */
+#define RS_COUNT_UNSEEN_S 2.0             /* default unseen_s */
+#define RS_COUNT_UNSEEN_MIN_HITS 5        /* an unseen track of fewer hits is not followed (a flicker confirmed on 3) */
 
 _Static_assert(RS_COUNT_LINES <= 16, "lines counted per track fit in a uint16_t mask");
 _Static_assert(RS_COUNT_ZONES <= 8, "zones a track is inside fit in a uint8_t mask");
@@ -116,17 +129,23 @@ typedef struct {
   double hidden_window_s;                /* ... at each confirmed frame this long after it was first seen (s); RS_COUNT_HIDDEN_WINDOW_S */
   double class_delay_s;                  /* a crossing is tallied this long after it, under the track's class
                                             then (s; 0 = at once); RS_COUNT_CLASS_DELAY_S */
+  double unseen_s;                       /* a confirmed track unseen this long or less is followed on its
+                                            prediction (s; 0 = off); RS_COUNT_UNSEEN_S */
+  uint64_t unseen;                       /* of the crossings: on a prediction, the track unseen */
+  uint64_t unseen_undone;                /* crossings on a prediction taken back: the track seen again before the line */
   uint64_t pending;                      /* crossings found and not yet tallied (their class is settling) */
   double t_first;                        /* the run's first frame (s) */
   struct {
     double t, s;                         /* when, and where along the line (m from A) */
-    int dir;
+    int dir;                             /* 1 forward, -1 backward, 0 taken back */
+    uint32_t id;                         /* the track counted */
   } recent[RS_COUNT_LINES][RS_COUNT_RECENT];
   uint32_t recent_n[RS_COUNT_LINES];     /* crossings recorded (the ring holds the last RS_COUNT_RECENT) */
   struct {
     uint32_t id;                         /* 0 = free */
     uint16_t counted;                    /* lines this track was counted on */
     uint16_t pending, pending_fwd;       /* of those, not yet tallied; and which of them forward */
+    uint16_t predicted;                  /* of the pending, crossed on a prediction (held until seen or ended) */
     double t_tally;                      /* when the pending ones are tallied */
     uint8_t cls;                         /* its class at its last confirmed frame */
     uint8_t inside;                      /* zones it is inside (as of its last confirmed frame, or first seen) */
