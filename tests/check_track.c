@@ -979,10 +979,10 @@ END_TEST
 
 /* The same far off: a car waiting 50 m away, hit by 15 returns (a VLP-16's
  * share there), confirms at its third hit too (the returns needed fall with
- * the square of the range beyond confirm_still_range, 20 m: 30 -> 10 here);
+ * the square of the range beyond confirm_still_range, 20 m: 30 -> 8 here);
  * a still cluster of 15 returns 15 m away (a part of a near car split off by
  * the beams) waits 1.5 s; with confirm_still_range 0 the far car waits too. */
-static int far_still_confirmed(double range_m, uint32_t *near_at) {
+static int far_still_confirmed(double range_m, uint32_t returns, uint32_t *near_at) {
   rs_track_cfg_t c;
   rs_track_cfg_default(&c);
   c.confirm_still_range = range_m;
@@ -991,7 +991,7 @@ static int far_still_confirmed(double range_m, uint32_t *near_at) {
   for (int f = 0; f < 20; f++) {
     const double t = 50.0 + 0.1 * f, j = 0.03 * ((f % 3) - 1);
     clear();
-    put(t, 48.0 + j, 14.0 - j, 4.5, 1.8, 0.0, 1.2, 15);
+    put(t, 48.0 + j, 14.0 - j, 4.5, 1.8, 0.0, 1.2, returns);
     put(t, -10.0 + j, -11.0, 1.2, 0.8, 0.0, 1.0, 15);
     rs_track_frame(&tr, &objs, t + 0.05);
     note_confirmed(at, f);
@@ -1003,9 +1003,12 @@ static int far_still_confirmed(double range_m, uint32_t *near_at) {
 
 START_TEST(t_far_still_confirms_fast) {
   uint32_t near_at;
-  ck_assert_int_eq(far_still_confirmed(20.0, &near_at), 2);
+  ck_assert_int_eq(far_still_confirmed(20.0, 15, &near_at), 2);
   ck_assert_uint_ge(near_at, 14);
-  ck_assert_int_ge(far_still_confirmed(0.0, &near_at), 14);
+  ck_assert_int_ge(far_still_confirmed(0.0, 15, &near_at), 14);
+  /* the bar never falls below RS_TRACK_STILL_POINTS_MIN (8): 9 returns there are enough, 7 are not */
+  ck_assert_int_eq(far_still_confirmed(20.0, 9, &near_at), 2);
+  ck_assert_int_ge(far_still_confirmed(20.0, 7, &near_at), 14);
 }
 END_TEST
 

@@ -839,8 +839,8 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
 
 /* The returns a still track's object needs for the fast confirmation: a
  * car has fewer of them the farther it is (about the square of the range),
- * so beyond confirm_still_range the bar falls the same way, never below a
- * true object's least. A fragment of a near car (a part split off by the
+ * so beyond confirm_still_range the bar falls the same way, never below
+ * RS_TRACK_STILL_POINTS_MIN. A fragment of a near car (a part split off by the
  * beams, 12-17 returns at 15 m) still waits like foliage. */
 static uint32_t still_points(const rs_track_cfg_t *cf, const rs_track_t *t) {
   int need = cf->confirm_still_points;
