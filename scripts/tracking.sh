@@ -40,10 +40,11 @@ capture() { # tag sensor preset seed_learn seed_test [site args]
   $bin/roadscan-sim --sensor "$sensor" --scenario "$sc" "$@" --seconds 30 --seed "$st" -o "$out/$tag.pcap" --labels "$out/$tag-truth.csv" --truth-states "$out/$tag-states.csv" 2>/dev/null
 }
 # counting lines across the four approaches 30 m from the centre of the intersection (its roads are 14 m
-# wide; the sensor's pole stands at -11.5, -11.5 of it) and across one sidewalk, in the sensor frame
+# wide; the sensor's pole stands at -11.5, -11.5 of it) and across one sidewalk, and a zone over the
+# junction (the 14 m square where the roads cross), in the sensor frame
 lines=(--count-line "east 41.5 4.5 41.5 18.5" --count-line "west -18.5 4.5 -18.5 18.5"
        --count-line "north 4.5 41.5 18.5 41.5" --count-line "south 4.5 -18.5 18.5 -18.5"
-       --count-line "walk 31.5 19.5 31.5 23.5")
+       --count-line "walk 31.5 19.5 31.5 23.5" --count-zone "junction 4.5 4.5 18.5 4.5 18.5 18.5 4.5 18.5")
 row() { # tag label
   local tag=$1 label=$2
   $bin/roadscand --pcap "$out/$tag.pcap" --fast --background "$out/$tag.bg" --no-publish --quiet ${extra:-} \
@@ -65,12 +66,14 @@ print(f"| {label} | {pct(j['mota'])} | {pct(j['idf1'])} | {pct(j['motp_iou'])} |
       + f"{sum(v['counted'] for k, v in j.items() if k.startswith('count_'))} / "
       + f"{sum(v['true'] for k, v in j.items() if k.startswith('count_'))} | "
       + ", ".join(f"{k[6:].replace('_', ' ')} {v['counted']}/{v['true']}" for k, v in j.items()
-                  if k.startswith('count_') and (v['true'] or v['counted'])) + " |")
+                  if k.startswith('count_') and (v['true'] or v['counted'])) + " | "
+      + f"{j['zone_junction_entered']['counted']}/{j['zone_junction_entered']['true']} in, "
+      + f"{j['zone_junction_exited']['counted']}/{j['zone_junction_exited']['true']} out |")
 PY
 }
 if [ "${1:-}" = "--site" ]; then
-  echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks | speed RMSE | position RMSE | confirmed in 0.3 s | class count error | crossings | per line |"
-  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+  echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks | speed RMSE | position RMSE | confirmed in 0.3 s | class count error | crossings | per line | junction |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
   for sensor in VLP-32C VLP-16; do
     for sc in light rush; do
       row "$sensor-$sc-site$2" "held out: $sensor $sc, site $2, seed $4"
@@ -93,10 +96,12 @@ fi
   echo "crossings of five lines (the four approaches 30 m from the centre, one sidewalk; \`--count-line\` in"
   echo "this script) counted / true (every road user of the true states once per line), then per line and"
   echo "direction. Class count error: the sum over lines, directions and classes of |counted - true| over the"
-  echo "true crossings (the simulator's van and truck are van/truck)."
+  echo "true crossings (the simulator's van and truck are van/truck). Junction: entries into and exits from the"
+  echo "14 m square where the roads cross (\`--count-zone\` in this script), counted / true (each road user's"
+  echo "centre moving in or out from one true state to the next)."
   echo
-  echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks | speed RMSE | position RMSE | confirmed in 0.3 s | class count error | crossings | per line |"
-  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+  echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks | speed RMSE | position RMSE | confirmed in 0.3 s | class count error | crossings | per line | junction |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 } > "$doc"
 for sensor in VLP-32C VLP-16; do
   for sc in light rush; do
@@ -127,8 +132,8 @@ done
   echo "The same with \`--track-set confirm_still_spread=0\` (a still object confirms after 1.5 s of hits only;"
   echo "docs/tracking.md):"
   echo
-  echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks | speed RMSE | position RMSE | confirmed in 0.3 s | class count error | crossings | per line |"
-  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+  echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks | speed RMSE | position RMSE | confirmed in 0.3 s | class count error | crossings | per line | junction |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 } >> "$doc"
 extra="--track-set confirm_still_spread=0" sfx=-slow-confirm
 for t in "${tags[@]}"; do

@@ -546,7 +546,8 @@ END_TEST
 /* The simulator's true crossings of counting lines (--truth-crossings) are the crossings of its own
  * true states (--truth-states) under the counter's rule (once per road user and line, the step from
  * one turn's position to the next meeting the line): the same file roadscan-eval scores counts with.
- * A line across no road is crossed by nobody; lines given without the file are refused. */
+ * A line across no road is crossed by nobody; lines given without the file are refused. roadscan-eval
+ * also scores zones: the true entries and exits are those of the states worked out here. */
 START_TEST(t_truth_crossings) {
   const char *pcap = tu_tmp("xing.pcap"), *labels = tu_tmp("xing.csv"), *states = tu_tmp("xing-states.csv"),
              *xing = tu_tmp("xing-cross.csv");
@@ -569,6 +570,14 @@ START_TEST(t_truth_crossings) {
   static bool seen[MAXID];
   static uint8_t counted[MAXID];
   static int expect[MAXID][5]; /* 0 none, 1 forward, -1 backward */
+  /* and the entries into and exits from a zone over the junction, each road user's centre moving in or
+   * out from one state to the next (the first state inside is no entry: nobody enters the zone
+   * "everywhere", 2 km wide, nor leaves it) */
+  static const char *zone = "junction 2 2 21 2 21 21 2 21";
+  rs_count_zone_t zn;
+  ck_assert_int_eq(rs_count_parse_zone(zone, &zn, err, sizeof err), RS_OK);
+  static bool inside[MAXID];
+  int z_entered = 0, z_exited = 0;
   memset(seen, 0, sizeof seen);
   memset(counted, 0, sizeof counted);
   memset(expect, 0, sizeof expect);
@@ -591,6 +600,12 @@ START_TEST(t_truth_crossings) {
       expect[id][k] = d;
       n_expect++;
     }
+    const bool in = rs_count_inside(&zn, x, y);
+    if (seen[id] && in != inside[id]) {
+      z_entered += in;
+      z_exited += !in;
+    }
+    inside[id] = in;
     px[id] = x;
     py[id] = y;
     seen[id] = true;
@@ -624,8 +639,10 @@ START_TEST(t_truth_crossings) {
   /* roadscan-eval scores counts with the file or with the states: the same true counts */
   const char *pred = tu_tmp("xing-pred.csv"), *tracks = tu_tmp("xing-tracks.csv"), *counts = tu_tmp("xing-counts.csv");
   char lineargs[600];
-  snprintf(lineargs, sizeof lineargs, "--count-line '%s' --count-line '%s' --count-line '%s' --count-line '%s'", lines[0],
-           lines[1], lines[2], lines[3]);
+  snprintf(lineargs, sizeof lineargs,
+           "--count-line '%s' --count-line '%s' --count-line '%s' --count-line '%s' --count-zone '%s' "
+           "--count-zone 'everywhere -1000 -1000 1000 -1000 1000 1000 -1000 1000'",
+           lines[0], lines[1], lines[2], lines[3], zone);
   snprintf(cmd, sizeof cmd,
            "./roadscand --pcap %s --fast --no-publish --quiet --learn-seconds 5 --relearn --learn-out %s.bg "
            "--labels-out %s --tracks-out %s --counts-out %s %s",
@@ -637,6 +654,26 @@ START_TEST(t_truth_crossings) {
   ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
   snprintf(a, sizeof a, "%s", out);
   ck_assert_msg(strstr(a, "\"count_east_forward\": {\"counted\": ") != NULL, "%s", a);
+  /* the zone: the true entries and exits those of the states, the counted ones roadscand's */
+  ck_assert_int_ge(z_entered, 3);
+  unsigned zc = 0, zt = 0;
+  const char *ze = strstr(a, "\"zone_junction_entered\": {");
+  ck_assert_msg(ze != NULL, "%s", a);
+  ck_assert_int_eq(sscanf(ze, "\"zone_junction_entered\": {\"counted\": %u, \"true\": %u", &zc, &zt), 2);
+  ck_assert_uint_eq(zt, (unsigned)z_entered);
+  ck_assert_uint_ge(zc, 1);
+  const char *zx = strstr(a, "\"zone_junction_exited\": {");
+  ck_assert_msg(zx != NULL, "%s", a);
+  ck_assert_int_eq(sscanf(zx, "\"zone_junction_exited\": {\"counted\": %u, \"true\": %u", &zc, &zt), 2);
+  ck_assert_uint_eq(zt, (unsigned)z_exited);
+  ck_assert_msg(strstr(a, "\"zone_everywhere_entered\": {\"counted\": 0, \"true\": 0,") != NULL, "%s", a);
+  ck_assert_msg(strstr(a, "\"zone_everywhere_exited\": {\"counted\": 0, \"true\": 0,") != NULL, "%s", a);
+  /* a zone without the counts to score is bad usage */
+  char bad[2048];
+  snprintf(bad, sizeof bad, "./roadscan-eval %s %s %s --tracking --truth-states %s --tracks %s --count-zone '%s'", pcap,
+           labels, pred, states, tracks, zone);
+  ck_assert_int_eq(tu_exec(bad, &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "--counts and --count-line (or --count-zone) go together"));
   char cmd2[4200];
   snprintf(cmd2, sizeof cmd2, "%s --truth-crossings %s", cmd, xing);
   ck_assert_msg(tu_exec(cmd2, &out) == 0, "%s", out);

@@ -306,6 +306,7 @@ typedef struct {
   bool json, diagnose, tracking;
   const char *objects_path, *model_path, *leaks_path, *dump_path, *states_path, *tracks_path, *counts_path, *crossings_path;
   rs_count_lines_t lines; /* --count-line */
+  rs_count_zones_t zones; /* --count-zone */
 } settings_t;
 static settings_t st;
 
@@ -313,6 +314,9 @@ static settings_t st;
 static uint64_t pred_count[RS_COUNT_LINES][2], true_count[RS_COUNT_LINES][2];
 /* the same by class (the tracker's classes; the truth's mapped by truth_class) */
 static uint64_t pred_cls[RS_COUNT_LINES][2][RS_CLASS_COUNT], true_cls[RS_COUNT_LINES][2][RS_CLASS_COUNT];
+/* per zone: entries [0] and exits [1] counted and true, and by class */
+static uint64_t pred_zone[RS_COUNT_ZONES][2], true_zone[RS_COUNT_ZONES][2];
+static uint64_t pred_zone_cls[RS_COUNT_ZONES][2][RS_CLASS_COUNT], true_zone_cls[RS_COUNT_ZONES][2][RS_CLASS_COUNT];
 
 static int class_index(const char *name) {
   for (int k = 0; k < RS_CLASS_COUNT; k++)
@@ -349,12 +353,21 @@ static int load_counts(const char *path) {
       fclose(f);
       return -1;
     }
-    for (int l = 0; l < st.lines.n; l++) {
+    const bool zone_row = strcmp(dir, "entered") == 0 || strcmp(dir, "exited") == 0;
+    for (int l = 0; l < st.lines.n && !zone_row; l++) {
       if (strcmp(st.lines.line[l].name, name) != 0) continue;
       if (k < 0)
         pred_count[l][d] += n;
       else
         pred_cls[l][d][k] += n;
+    }
+    for (int z = 0; z < st.zones.n && zone_row; z++) {
+      if (strcmp(st.zones.zone[z].name, name) != 0) continue;
+      const int e = strcmp(dir, "entered") == 0 ? 0 : 1;
+      if (k < 0)
+        pred_zone[z][e] += n;
+      else
+        pred_zone_cls[z][e][k] += n;
     }
   }
   fclose(f);
@@ -416,10 +429,55 @@ static void true_crossings(void) {
   }
 }
 
+/* every road user's entries into and exits from each zone, its centre moving from outside to inside
+ * or back from one state to the next (as the counter counts tracks: one first seen inside entered
+ * nothing, one that ends inside exited nothing) */
+static void true_zone_events(void) {
+  for (uint32_t id = 0; id <= sp.max_id; id++) {
+    const st_row_t *r = by_id + spans[id].first;
+    for (int z = 0; z < st.zones.n && spans[id].count > 0; z++) {
+      bool in = rs_count_inside(&st.zones.zone[z], r[0].x, r[0].y);
+      for (uint32_t k = 1; k < spans[id].count; k++) {
+        const bool now = rs_count_inside(&st.zones.zone[z], r[k].x, r[k].y);
+        if (now != in) {
+          true_zone[z][now ? 0 : 1]++;
+          true_zone_cls[z][now ? 0 : 1][r[0].cls]++;
+        }
+        in = now;
+      }
+    }
+  }
+}
+
 static json_t *jnum(double v) { return isnan(v) || isinf(v) ? json_null() : json_real(v); }
+
+/* zone entries and exits against the truth: printed, or (json) added to the report */
+static void print_zones(FILE *out, json_t *json) {
+  for (int z = 0; z < st.zones.n; z++)
+    for (int e = 0; e < 2; e++) {
+      const char *what = e == 0 ? "entered" : "exited";
+      const double err = true_zone[z][e] ? fabs((double)pred_zone[z][e] - (double)true_zone[z][e]) / (double)true_zone[z][e]
+                                         : (pred_zone[z][e] ? INFINITY : 0.0);
+      if (json) {
+        char key[1100];
+        snprintf(key, sizeof key, "zone_%s_%s", st.zones.zone[z].name, what);
+        json_t *by = json_object();
+        for (int k = 0; k < RS_CLASS_COUNT; k++)
+          if (pred_zone_cls[z][e][k] || true_zone_cls[z][e][k])
+            json_object_set_new(by, rs_class_name((rs_class_t)k),
+                                json_pack("[I, I]", (json_int_t)pred_zone_cls[z][e][k], (json_int_t)true_zone_cls[z][e][k]));
+        json_object_set_new(json, key, json_pack("{s:I, s:I, s:o, s:o}", "counted", (json_int_t)pred_zone[z][e], "true",
+                                                 (json_int_t)true_zone[z][e], "error", jnum(err), "by_class", by));
+      } else {
+        fprintf(out, "  zone %s %s: counted %llu, true %llu (error %.1f %%)\n", st.zones.zone[z].name, what,
+                (unsigned long long)pred_zone[z][e], (unsigned long long)true_zone[z][e], 100.0 * err);
+      }
+    }
+}
 
 /* counts against the truth: printed, or (json) added to the report */
 static void print_counts(FILE *out, json_t *json) {
+  if (st.lines.n == 0) return; /* zones only */
   /* by class: the share of true crossings not matched by one of their class on their line and direction */
   uint64_t miss = 0, all = 0;
   for (int l = 0; l < st.lines.n; l++)
@@ -776,6 +834,10 @@ static const rs_opt_t table[] = {
                 "of the states once per line) and the relative error"),
     {.type = RS_OPT_FUNC, .name = "count-line", .arg = "\"NAME X1 Y1 X2 Y2\"", .off = offsetof(T, lines),
      .fn = rs_count_opt_line, .flags = RS_OPT_REPEAT, .help = "a counting line, as roadscand's"},
+    {.type = RS_OPT_FUNC, .name = "count-zone", .arg = "\"NAME X1 Y1 X2 Y2 X3 Y3 ...\"", .off = offsetof(T, zones),
+     .fn = rs_count_opt_zone, .flags = RS_OPT_REPEAT,
+     .help = "a counting zone, as roadscand's (sensor frame): with --counts, its entries and exits counted against "
+             "the true ones (each road user's centre moving in or out, from one state to the next)"},
     RS_OPT_STR_("truth-crossings", "X", T, crossings_path,
                 "with --counts: the true crossings roadscan-sim wrote (--truth-crossings, the same lines) instead "
                 "of those derived here from --truth-states (the same rule: the two agree)"),
@@ -810,7 +872,7 @@ int main(int argc, char **argv) {
       .summary = "score a pipeline's point labels (and tracks, and counts) against the ground truth",
       .synopsis = "CAPTURE TRUTH PRED [--json] [--objects FILE] [--diagnose [--model BG]]\n"
                   "--tracking CAPTURE TRUTH PRED [--json] [--mot-dump FILE]\n"
-                  "--tracking CAPTURE TRUTH PRED --truth-states S --tracks T [--counts C --count-line L ...]",
+                  "--tracking CAPTURE TRUTH PRED --truth-states S --tracks T [--counts C --count-line L ... --count-zone Z ...]",
       .about = about,
       .epilog = "Exit status: 0 scored, 1 a file could not be read or does not fit the capture, 2 bad usage.",
       .min_args = 3,
@@ -824,8 +886,8 @@ int main(int argc, char **argv) {
   const bool json = st.json, diagnose = st.diagnose, tracking = st.tracking;
   const char *objects_path = st.objects_path, *model_path = st.model_path, *dump_path = st.dump_path,
              *states_path = st.states_path, *tracks_path = st.tracks_path, *counts_path = st.counts_path;
-  if ((counts_path || st.lines.n) && !(counts_path && st.lines.n && states_path)) {
-    fprintf(stderr, "roadscan-eval: --counts and --count-line go together, with --truth-states\n");
+  if ((counts_path || st.lines.n || st.zones.n) && !(counts_path && (st.lines.n || st.zones.n) && states_path)) {
+    fprintf(stderr, "roadscan-eval: --counts and --count-line (or --count-zone) go together, with --truth-states\n");
     return 2;
   }
   if (st.crossings_path && !counts_path) {
@@ -925,6 +987,7 @@ int main(int argc, char **argv) {
         } else {
           true_crossings();
         }
+        true_zone_events();
       }
     }
   }
@@ -965,6 +1028,7 @@ int main(int argc, char **argv) {
       json_t *j = rs_mot_json(&mr);
       if (states_path) print_speeds(stdout, j);
       if (counts_path) print_counts(stdout, j);
+      if (counts_path) print_zones(stdout, j);
       char *t = j ? json_dumps(j, RS_EVAL_JSON_FLAGS) : NULL;
       json_decref(j);
       if (t == NULL) {
@@ -980,6 +1044,7 @@ int main(int argc, char **argv) {
       rs_mot_print(&mr, stdout);
       if (states_path) print_speeds(stdout, NULL);
       if (counts_path) print_counts(stdout, NULL);
+      if (counts_path) print_zones(stdout, NULL);
     }
     rs_mot_free(mot);
     if (dump && fclose(dump) != 0) {
