@@ -311,7 +311,17 @@ END_TEST
  * hidden_car: from x0 at vx, seen in frames 0 .. seen_until and from
  * again_from on (then from again_x at vx; -1: never), listed until
  * listed_until; unseen, its prediction is listed (coasting for 1 s, then
- * lost). Then one empty frame: the track has left the list. */
+ * lost). Then one empty frame: the track has left the list. The vehicle's
+ * new track counting the crossing first: the prediction's is not counted. */
+/* a car's track at (x, 1) moving vx along x, appended to the list */
+static void car_row(uint32_t id, uint32_t hits, rs_track_state_t st, double x, double vx, double t_update) {
+  one(id, st, RS_CLASS_CAR, x, 1.0);
+  rs_track_t *k = &tl.track[tl.count - 1];
+  k->hits = hits;
+  k->x[2] = vx;
+  k->t_update = t_update;
+}
+
 static void hidden_car(uint32_t id, uint32_t hits, double x0, double vx, int seen_until, int listed_until,
                        int again_from, double again_x) {
   int f = 0;
@@ -319,16 +329,8 @@ static void hidden_car(uint32_t id, uint32_t hits, double x0, double vx, int see
     const double t = 100.0 + 0.1 * f;
     const bool again = again_from >= 0 && f >= again_from, seen = f <= seen_until || again;
     tl.count = 0;
-    rs_track_t *k = &tl.track[tl.count++];
-    memset(k, 0, sizeof *k);
-    k->id = id;
-    k->cls = RS_CLASS_CAR;
-    k->hits = hits;
-    k->state = seen ? RS_TRACK_CONFIRMED : (f - seen_until <= 10 ? RS_TRACK_COASTING : RS_TRACK_LOST);
-    k->t_update = seen ? t : 100.0 + 0.1 * seen_until;
-    k->x[0] = again ? again_x + vx * 0.1 * (f - again_from) : x0 + vx * 0.1 * f;
-    k->x[1] = 1.0;
-    k->x[2] = vx;
+    car_row(id, hits, seen ? RS_TRACK_CONFIRMED : (f - seen_until <= 10 ? RS_TRACK_COASTING : RS_TRACK_LOST),
+            again ? again_x + vx * 0.1 * (f - again_from) : x0 + vx * 0.1 * f, vx, seen ? t : 100.0 + 0.1 * seen_until);
     rs_count_frame(&cnt, &tl, t);
   }
   tl.count = 0;
@@ -348,12 +350,7 @@ START_TEST(t_unseen_crossings) {
   setup(l, 1, NULL, 60);
   for (int f = 0; f <= 20; f++) {
     tl.count = 0;
-    rs_track_t *k = &tl.track[tl.count++];
-    memset(k, 0, sizeof *k);
-    k->id = 7, k->cls = RS_CLASS_CAR, k->hits = 20, k->x[1] = 1.0, k->x[2] = -8.0;
-    k->x[0] = 8.0 - 0.8 * f;
-    k->state = f <= 7 ? RS_TRACK_CONFIRMED : RS_TRACK_COASTING;
-    k->t_update = 100.0 + 0.1 * (f <= 7 ? f : 7);
+    car_row(7, 20, f <= 7 ? RS_TRACK_CONFIRMED : RS_TRACK_COASTING, 8.0 - 0.8 * f, -8.0, 100.0 + 0.1 * (f <= 7 ? f : 7));
     rs_count_frame(&cnt, &tl, 100.0 + 0.1 * f);
   }
   ck_assert_uint_eq(cnt.crossings, 0);
@@ -368,16 +365,11 @@ START_TEST(t_unseen_crossings) {
   setup(l, 1, NULL, 60);
   for (int f = 0; f <= 30; f++) {
     const bool seen = f <= 7 || f >= 14;
+    /* seen, coming; its prediction, over the line; seen again, waiting before it; then driving across, seen */
+    const double x = f <= 7 ? 8.0 - 0.8 * f : f < 14 ? 2.4 - 0.8 * (f - 7) : f < 20 ? 2.0 : 2.0 - 0.8 * (f - 19);
     tl.count = 0;
-    rs_track_t *k = &tl.track[tl.count++];
-    memset(k, 0, sizeof *k);
-    k->id = 3, k->cls = RS_CLASS_CAR, k->hits = 20, k->x[1] = 1.0;
-    k->state = seen ? RS_TRACK_CONFIRMED : RS_TRACK_COASTING;
-    k->t_update = 100.0 + 0.1 * (seen ? f : 7);
-    if (f <= 7) k->x[0] = 8.0 - 0.8 * f, k->x[2] = -8.0;           /* seen, coming */
-    else if (f < 14) k->x[0] = 2.4 - 0.8 * (f - 7), k->x[2] = -8.0; /* its prediction, over the line */
-    else if (f < 20) k->x[0] = 2.0, k->x[2] = 0.0;                  /* seen again, waiting before it */
-    else k->x[0] = 2.0 - 0.8 * (f - 19), k->x[2] = -8.0;            /* ... then driving across, seen */
+    car_row(3, 20, seen ? RS_TRACK_CONFIRMED : RS_TRACK_COASTING, x, f >= 14 && f < 20 ? 0.0 : -8.0,
+            100.0 + 0.1 * (seen ? f : 7));
     rs_count_frame(&cnt, &tl, 100.0 + 0.1 * f);
     if (f == 19) {
       ck_assert_uint_eq(cnt.unseen_undone, 1);
@@ -409,6 +401,18 @@ START_TEST(t_unseen_crossings) {
   hidden_car(7, 20, 8.0, -8.0, 7, 24, -1, 0);
   ck_assert_uint_eq(cnt.crossings, 0);
   ck_assert_uint_eq(cnt.unseen, 0);
+  /* the vehicle's new track (8) seen crossing at t = 100.9, 0.1 s before its old track's (9)
+   * prediction does, in the same place: the prediction's crossing is the same vehicle's */
+  setup(l, 1, NULL, 60);
+  for (int f = 0; f <= 15; f++) {
+    tl.count = 0;
+    car_row(9, 20, f <= 5 ? RS_TRACK_CONFIRMED : RS_TRACK_COASTING, 8.0 - 0.8 * f, -8.0, 100.0 + 0.1 * (f <= 5 ? f : 5));
+    if (f >= 6) car_row(8, 20, RS_TRACK_CONFIRMED, 7.2 - 0.8 * f, -8.0, 100.0 + 0.1 * f);
+    rs_count_frame(&cnt, &tl, 100.0 + 0.1 * f);
+  }
+  ck_assert_uint_eq(cnt.crossings, 1);
+  ck_assert_uint_eq(cnt.unseen_dup, 1);
+  ck_assert_uint_eq(cnt.unseen + cnt.pending, 0);
 }
 END_TEST
 

@@ -674,6 +674,24 @@ START_TEST(t_truth_crossings) {
            labels, pred, states, tracks, zone);
   ck_assert_int_eq(tu_exec(bad, &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "--counts and --count-line (or --count-zone) go together"));
+  /* a counts file that is not roadscand's, or has a row of an unknown direction or class: refused, by line */
+  static const char *const bad_counts[][2] = {
+      {"frame,x\n", "not a roadscand --counts-out file"},
+      {"t_start,t_end,line,direction,class,count\n1,2,east,sideways,car,1\n", ":2: unknown direction 'sideways'"},
+      {"t_start,t_end,line,direction,class,count\n1,2,east,forward,car,1\n1,2,east,forward,tank,1\n",
+       ":3: unknown class 'tank'"}};
+  char bc[512]; /* (tu_tmp's paths live in a ring of eight: the earlier ones stay valid) */
+  snprintf(bc, sizeof bc, "%s", tu_tmp("xing-bad-counts.csv"));
+  for (size_t i = 0; i < sizeof bad_counts / sizeof bad_counts[0]; i++) {
+    FILE *bf = fopen(bc, "w");
+    ck_assert_ptr_nonnull(bf);
+    fputs(bad_counts[i][0], bf);
+    fclose(bf);
+    snprintf(bad, sizeof bad, "./roadscan-eval %s %s %s --tracking --truth-states %s --tracks %s --counts %s %s", pcap,
+             labels, pred, states, tracks, bc, lineargs);
+    ck_assert_int_eq(tu_exec(bad, &out), 1);
+    ck_assert_msg(strstr(out, bad_counts[i][1]) != NULL, "%s", out);
+  }
   char cmd2[4200];
   snprintf(cmd2, sizeof cmd2, "%s --truth-crossings %s", cmd, xing);
   ck_assert_msg(tu_exec(cmd2, &out) == 0, "%s", out);

@@ -354,6 +354,12 @@ static int load_counts(const char *path) {
       return -1;
     }
     const bool zone_row = strcmp(dir, "entered") == 0 || strcmp(dir, "exited") == 0;
+    if (!zone_row && strcmp(dir, "forward") != 0 && strcmp(dir, "backward") != 0 && strcmp(dir, "occupancy_max") != 0) {
+      snprintf(sp.err, sizeof sp.err, "--counts %s:%ld: unknown direction '%s' (forward, backward, entered, exited or "
+                                      "occupancy_max)", path, ln, dir);
+      fclose(f);
+      return -1;
+    }
     for (int l = 0; l < st.lines.n && !zone_row; l++) {
       if (strcmp(st.lines.line[l].name, name) != 0) continue;
       if (k < 0)
@@ -451,28 +457,32 @@ static void true_zone_events(void) {
 
 static json_t *jnum(double v) { return isnan(v) || isinf(v) ? json_null() : json_real(v); }
 
-/* zone entries and exits against the truth: printed, or (json) added to the report */
+/* one count against the truth: a text line "  KIND NAME WHAT: counted ..." or (json) the key
+ * PREFIX_NAME_WHAT: counted, true, relative error, and by class [counted, true] */
+static void print_one(FILE *out, json_t *json, const char *kind, const char *prefix, const char *name, const char *what,
+                      uint64_t pred, uint64_t truth, const uint64_t *pred_by, const uint64_t *true_by) {
+  const double err = truth ? fabs((double)pred - (double)truth) / (double)truth : (pred ? INFINITY : 0.0);
+  if (!json) {
+    fprintf(out, "  %s %s %s: counted %llu, true %llu (error %.1f %%)\n", kind, name, what, (unsigned long long)pred,
+            (unsigned long long)truth, 100.0 * err);
+    return;
+  }
+  char key[1100];
+  snprintf(key, sizeof key, "%s_%s_%s", prefix, name, what);
+  json_t *by = json_object();
+  for (int k = 0; k < RS_CLASS_COUNT; k++)
+    if (pred_by[k] || true_by[k])
+      json_object_set_new(by, rs_class_name((rs_class_t)k), json_pack("[I, I]", (json_int_t)pred_by[k], (json_int_t)true_by[k]));
+  json_object_set_new(json, key, json_pack("{s:I, s:I, s:o, s:o}", "counted", (json_int_t)pred, "true", (json_int_t)truth,
+                                           "error", jnum(err), "by_class", by));
+}
+
+/* zone entries and exits against the truth */
 static void print_zones(FILE *out, json_t *json) {
   for (int z = 0; z < st.zones.n; z++)
-    for (int e = 0; e < 2; e++) {
-      const char *what = e == 0 ? "entered" : "exited";
-      const double err = true_zone[z][e] ? fabs((double)pred_zone[z][e] - (double)true_zone[z][e]) / (double)true_zone[z][e]
-                                         : (pred_zone[z][e] ? INFINITY : 0.0);
-      if (json) {
-        char key[1100];
-        snprintf(key, sizeof key, "zone_%s_%s", st.zones.zone[z].name, what);
-        json_t *by = json_object();
-        for (int k = 0; k < RS_CLASS_COUNT; k++)
-          if (pred_zone_cls[z][e][k] || true_zone_cls[z][e][k])
-            json_object_set_new(by, rs_class_name((rs_class_t)k),
-                                json_pack("[I, I]", (json_int_t)pred_zone_cls[z][e][k], (json_int_t)true_zone_cls[z][e][k]));
-        json_object_set_new(json, key, json_pack("{s:I, s:I, s:o, s:o}", "counted", (json_int_t)pred_zone[z][e], "true",
-                                                 (json_int_t)true_zone[z][e], "error", jnum(err), "by_class", by));
-      } else {
-        fprintf(out, "  zone %s %s: counted %llu, true %llu (error %.1f %%)\n", st.zones.zone[z].name, what,
-                (unsigned long long)pred_zone[z][e], (unsigned long long)true_zone[z][e], 100.0 * err);
-      }
-    }
+    for (int e = 0; e < 2; e++)
+      print_one(out, json, "zone", "zone", st.zones.zone[z].name, e == 0 ? "entered" : "exited", pred_zone[z][e],
+                true_zone[z][e], pred_zone_cls[z][e], true_zone_cls[z][e]);
 }
 
 /* counts against the truth: printed, or (json) added to the report */
@@ -494,25 +504,9 @@ static void print_counts(FILE *out, json_t *json) {
     fprintf(out, "  counts by class: sum over lines, directions and classes of |counted - true| = %.1f %% of %llu true "
                  "crossings\n", 100.0 * cls_err, (unsigned long long)all);
   for (int l = 0; l < st.lines.n; l++)
-    for (int d = 0; d < 2; d++) {
-      const double err = true_count[l][d] ? fabs((double)pred_count[l][d] - (double)true_count[l][d]) / (double)true_count[l][d]
-                                          : (pred_count[l][d] ? INFINITY : 0.0);
-      if (json) {
-        char key[1100];
-        snprintf(key, sizeof key, "count_%s_%s", st.lines.line[l].name, d == 0 ? "forward" : "backward");
-        json_t *by = json_object();
-        for (int k = 0; k < RS_CLASS_COUNT; k++)
-          if (pred_cls[l][d][k] || true_cls[l][d][k])
-            json_object_set_new(by, rs_class_name((rs_class_t)k), json_pack("[I, I]", (json_int_t)pred_cls[l][d][k],
-                                                                            (json_int_t)true_cls[l][d][k]));
-        json_object_set_new(json, key, json_pack("{s:I, s:I, s:o, s:o}", "counted", (json_int_t)pred_count[l][d], "true",
-                                                 (json_int_t)true_count[l][d], "error", jnum(err), "by_class", by));
-      } else {
-        fprintf(out, "  line %s %s: counted %llu, true %llu (error %.1f %%)\n", st.lines.line[l].name,
-                d == 0 ? "forward" : "backward", (unsigned long long)pred_count[l][d],
-                (unsigned long long)true_count[l][d], 100.0 * err);
-      }
-    }
+    for (int d = 0; d < 2; d++)
+      print_one(out, json, "line", "count", st.lines.line[l].name, d == 0 ? "forward" : "backward", pred_count[l][d],
+                true_count[l][d], pred_cls[l][d], true_cls[l][d]);
 }
 
 /* speeds and confirmation delays against the truth: printed, or (json) added to the report */

@@ -336,7 +336,7 @@ static void unseen_crossings(rs_counter_t *c, uint32_t i, const rs_track_t *tr, 
     meet(&c->lines[l], c->slot[i].x, c->slot[i].y, x, y, &u, &s);
     c->slot[i].counted |= bit;
     if (counted_near(c, l, t, s, dir)) { /* the vehicle's new track counted it already */
-      c->hidden_dup++;
+      c->unseen_dup++;
       continue;
     }
     remember(c, l, t, s, dir, tr->id);

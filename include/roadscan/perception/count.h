@@ -133,6 +133,7 @@ typedef struct {
                                             prediction (s; 0 = off); RS_COUNT_UNSEEN_S */
   uint64_t unseen;                       /* of the crossings: on a prediction, the track unseen */
   uint64_t unseen_undone;                /* crossings on a prediction taken back: the track seen again before the line */
+  uint64_t unseen_dup;                   /* crossings on a prediction not counted: the vehicle's new track was */
   uint64_t pending;                      /* crossings found and not yet tallied (their class is settling) */
   double t_first;                        /* the run's first frame (s) */
   struct {
