@@ -274,6 +274,76 @@ START_TEST(t_traffic_queues) {
 }
 END_TEST
 
+/* walker_space's walkers over 60 s of the rush preset, sampled every 0.1 s: how many
+ * pairs come within 0.45 m (bodies are 0.5 m wide), the longest any pair stays within 0.6 m (s),
+ * and the largest mean gap between a walker's reported velocity and its moves (m/s) */
+static void walkers_run(double space, int *pairs, double *longest, double *vel_err) {
+  static rs_sensor_t s;
+  rs_sensor_init(&s, RS_MODEL_VLP16);
+  rs_scene_cfg_t c;
+  ck_assert(rs_scene_preset("rush", &c));
+  c.walker_space = space;
+  rs_scene_t *sc = rs_scene_create(&c, &s, 10.0, 7);
+  ck_assert_ptr_nonnull(sc);
+  enum { MAXW = 256 };
+  static rs_agent_state_t st[MAXW], prev[MAXW];
+  static uint16_t near_a[4096], near_b[4096];
+  static int near_n[4096];
+  int np = 0, nprev = 0, close = 0, run_max = 0;
+  double err_sum = 0;
+  long err_n = 0;
+  for (int k = 0; k < 600; k++) {
+    const double t = 0.1 * k;
+    rs_scene_prepare(sc, t, 0, 359.99);
+    int n = 0, all = rs_scene_states(sc, t, st, MAXW);
+    ck_assert_int_lt(all, MAXW);
+    for (int i = 0; i < all; i++) /* the walkers */
+      if (strcmp(st[i].cls, "pedestrian") == 0) st[n++] = st[i];
+    for (int i = 0; i < n; i++) {
+      for (int j = 0; j < nprev; j++) /* the move since the last sample against the velocity reported */
+        if (prev[j].id == st[i].id) {
+          err_sum += hypot((st[i].x - prev[j].x) / 0.1 - 0.5 * (st[i].vx + prev[j].vx),
+                           (st[i].y - prev[j].y) / 0.1 - 0.5 * (st[i].vy + prev[j].vy));
+          err_n++;
+        }
+      for (int j = i + 1; j < n; j++) {
+        const double d = hypot(st[i].x - st[j].x, st[i].y - st[j].y);
+        if (d >= 0.6) continue;
+        const uint16_t a = st[i].id < st[j].id ? st[i].id : st[j].id, b = st[i].id ^ st[j].id ^ a;
+        int q = 0;
+        while (q < np && !(near_a[q] == a && near_b[q] == b)) q++;
+        if (q == np && np < 4096) near_a[np] = a, near_b[np] = b, near_n[np] = 0, np++;
+        if (q < np) {
+          if (d < 0.45 && near_n[q] >= 0) close++, near_n[q] = -1000000; /* counted once */
+          near_n[q]++;
+          if (near_n[q] > run_max) run_max = near_n[q];
+        }
+      }
+    }
+    memcpy(prev, st, sizeof st[0] * (size_t)n);
+    nprev = n;
+  }
+  rs_scene_destroy(sc);
+  *pairs = close;
+  *longest = 0.1 * run_max;
+  *vel_err = err_n ? err_sum / (double)err_n : 0.0;
+}
+
+START_TEST(t_walkers_keep_apart) {
+  int pairs;
+  double longest, vel_err;
+  walkers_run(0.0, &pairs, &longest, &vel_err); /* as before: they walk through each other */
+  ck_assert_int_ge(pairs, 10);
+  walkers_run(0.8, &pairs, &longest, &vel_err); /* the default */
+  ck_assert_int_le(pairs, 2);
+  ck_assert_double_lt(longest, 5.0); /* no two stuck against each other */
+  ck_assert_double_lt(vel_err, 0.1);  /* the states' velocity is the step aside's too */
+  rs_scene_cfg_t c;
+  ck_assert(rs_scene_preset("light", &c));
+  ck_assert_double_eq(c.walker_space, 0.8);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("scene");
   TCase *tc = tcase_create("core");
@@ -283,6 +353,7 @@ int main(void) {
   tcase_add_test(tc, t_beam);
   tcase_add_test(tc, t_knobs);
   tcase_add_test(tc, t_traffic_queues);
+  tcase_add_test(tc, t_walkers_keep_apart);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

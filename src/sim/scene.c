@@ -80,6 +80,7 @@ static void defaults(rs_scene_cfg_t *c) {
   c->cyclist_share = 0.05;
   c->green_s = 25.0;
   c->warmup_s = 60.0;
+  c->walker_space = 0.8;
   c->range_noise = 0.012;
   c->noise_tail = 0.005;
   c->dropout = 0.012;
@@ -140,7 +141,7 @@ static const rs_opt_t knobs[] = {
     KNOB(foliage_hit, 0.0, 1.0),          KNOB(vehicles_per_min, 0.0, 120.0),
     KNOB(pedestrians_per_min, 0.0, 60.0), KNOB(cyclist_share, 0.0, 1.0),
     KNOB(green_s, 5.0, 120.0),            KNOB(objects_min_range, 0.0, 400.0),
-    KNOB(objects_max_range, 0.0, 400.0),  KNOB(warmup_s, 0.0, 600.0),
+    KNOB(objects_max_range, 0.0, 400.0),  KNOB(warmup_s, 0.0, 600.0),       KNOB(walker_space, 0.0, 2.0),
     KNOB(range_noise, 0.0, 1.0),          KNOB(noise_tail, 0.0, 0.5),     KNOB(dropout, 0.0, 1.0),
     KNOB(spurious, 0.0, 0.5),             KNOB(attenuation, 0.0, 100.0),  KNOB(packet_loss, 0.0, 0.9),
     KNOB(max_range, 0.0, 400.0),          KNOB(beam_div_h, 0.0, 20.0),    KNOB(beam_div_v, 0.0, 20.0),
@@ -192,6 +193,9 @@ typedef struct {
   double s, v, v0, l, w, h;
   double clear;        /* body above the road (ground clearance) */
   double span0, spanw; /* azimuth span over the current traffic step, widened */
+  double lat, vlat;    /* a walker's step aside from its path (m, to its left) and its rate (m/s) */
+  double vlat_next;
+  bool yield;          /* a walker slowing down for another it would bump into */
 } agent_t;
 
 typedef struct {
@@ -852,8 +856,101 @@ static void spawn(rs_scene_t *sc, int ri) {
   rt->agents[rt->n++] = slot;
 }
 
+/* Walkers keep out of each other's way (walker_space > 0). Each step, every
+ * walker tries three ways on: on along its path (stepping back to it when
+ * off it), stepping aside to its right, and to its left (at WALK_SIDE_V, up
+ * to WALK_LAT_M off its path), and for each works out how near it would
+ * come, over the next WALK_LOOK_S, to every other walker within WALK_NEAR_M
+ * moving as it moves now. It keeps on when that leaves walker_space between
+ * centres, else takes the side that leaves the most (the right on a tie).
+ * When keeping on, and the side it takes, would both bring it nearer than
+ * WALK_BODY_M within WALK_YIELD_S to one ahead of it, it also slows down,
+ * unless the other one waits for it (of two walking, the younger waits). Standing walkers (a queue at the kerb) make
+ * room the same way. The rates are worked out for all walkers from the same
+ * positions, then applied: the order of the agents does not matter. Walkers
+ * on the same path do not step aside for each other: they queue and follow
+ * by the path's rule (step()), and do not overtake. */
+#define WALK_LOOK_S 2.0
+#define WALK_NEAR_M 5.0
+#define WALK_SIDE_V 0.7
+#define WALK_BACK_V 0.3
+#define WALK_LAT_M 1.25
+#define WALK_YIELD_S 1.0
+#define WALK_BODY_M 0.6
+static void walker_move(const rs_scene_t *sc, const agent_t *a, double *px, double *py, double *vx, double *vy) {
+  const route_t *rt = &sc->routes[a->route];
+  const double s = a->s - a->l / 2;
+  *px = rt->x0 + rt->dx * s - rt->dy * a->lat;
+  *py = rt->y0 + rt->dy * s + rt->dx * a->lat;
+  *vx = rt->dx * a->v - rt->dy * a->vlat;
+  *vy = rt->dy * a->v + rt->dx * a->vlat;
+}
+
+/* how near walker a, stepping aside at vlat, comes to the others over WALK_LOOK_S (m; INFINITY: none
+ * near); *yield: nearer than WALK_BODY_M within WALK_YIELD_S to one ahead that does not wait for it */
+static double walker_clear(const rs_scene_t *sc, const agent_t *a, double vlat, bool *yield) {
+  const route_t *rt = &sc->routes[a->route];
+  const double s = a->s - a->l / 2;
+  const double ax = rt->x0 + rt->dx * s - rt->dy * a->lat, ay = rt->y0 + rt->dy * s + rt->dx * a->lat;
+  /* (over the look ahead, as far as there is room) */
+  vlat = fmax((-WALK_LAT_M - a->lat) / WALK_LOOK_S, fmin((WALK_LAT_M - a->lat) / WALK_LOOK_S, vlat));
+  const double avx = rt->dx * a->v - rt->dy * vlat, avy = rt->dy * a->v + rt->dx * vlat;
+  double nearest = INFINITY;
+  *yield = false;
+  for (int j = 0; j < sc->agent_hwm; j++) {
+    const agent_t *b = &sc->agents[j];
+    if (b == a || !b->active || b->type != T_PED || b->route < 0 || b->route == a->route) continue;
+    double bx, by, bvx, bvy;
+    walker_move(sc, b, &bx, &by, &bvx, &bvy);
+    const double dx = bx - ax, dy = by - ay;
+    if (dx * dx + dy * dy > WALK_NEAR_M * WALK_NEAR_M) continue;
+    const double wx = bvx - avx, wy = bvy - avy, w2 = wx * wx + wy * wy;
+    double tc = w2 > 1e-9 ? -(dx * wx + dy * wy) / w2 : 0.0;
+    tc = tc < 0 ? 0 : tc > WALK_LOOK_S ? WALK_LOOK_S : tc;
+    const double d = hypot(dx + wx * tc, dy + wy * tc);
+    if (d < nearest) nearest = d;
+    if (tc < WALK_YIELD_S && d < WALK_BODY_M && dx * rt->dx + dy * rt->dy > 0 &&
+        (b->v < 0.1 || a->id > b->id || bvx * dx + bvy * dy > 0))
+      *yield = true;
+  }
+  return nearest;
+}
+
+static void walkers_avoid(rs_scene_t *sc, double dt) {
+  const double space = sc->cfg.walker_space;
+  if (!(space > 0)) return;
+  for (int i = 0; i < sc->agent_hwm; i++) {
+    agent_t *a = &sc->agents[i];
+    if (!a->active || a->type != T_PED || a->route < 0) continue;
+    /* on: back towards its path */
+    double v = -copysign(fmin(WALK_BACK_V, fabs(a->lat) / dt), a->lat);
+    bool yield;
+    double best = walker_clear(sc, a, v, &yield);
+    if (best < space) {
+      const double sides[2] = {-WALK_SIDE_V, WALK_SIDE_V}; /* right, then left */
+      double vbest = v;
+      for (int k = 0; k < 2; k++) {
+        if ((sides[k] > 0 ? a->lat : -a->lat) >= WALK_LAT_M - 1e-6) continue; /* no room that side */
+        bool y;
+        const double d = walker_clear(sc, a, sides[k], &y);
+        if (d > best + 1e-9) best = d, vbest = sides[k], yield = y;
+      }
+      v = vbest;
+    }
+    if (a->lat + v * dt > WALK_LAT_M) v = (WALK_LAT_M - a->lat) / dt;
+    if (a->lat + v * dt < -WALK_LAT_M) v = (-WALK_LAT_M - a->lat) / dt;
+    a->vlat_next = v;
+    a->yield = yield;
+  }
+  for (int i = 0; i < sc->agent_hwm; i++) {
+    agent_t *a = &sc->agents[i];
+    if (a->active && a->type == T_PED && a->route >= 0) a->vlat = a->vlat_next;
+  }
+}
+
 static void step(rs_scene_t *sc, double dt) {
   const double amax = 1.5, bcomf = 2.5, s0 = 2.0, T = 1.2;
+  walkers_avoid(sc, dt);
   for (int ri = 0; ri < sc->nroutes; ri++) {
     route_t *rt = &sc->routes[ri];
     double rate = (rt->pedestrian ? sc->cfg.pedestrians_per_min : sc->cfg.vehicles_per_min / 2.0) / 60.0;
@@ -881,7 +978,7 @@ static void step(rs_scene_t *sc, double dt) {
       }
       double acc;
       if (rt->pedestrian) {
-        acc = gap < 1.0 ? -a->v / dt : (a->v0 - a->v) / 0.5;
+        acc = gap < 1.0 ? -a->v / dt : a->yield ? -a->v / 0.5 : (a->v0 - a->v) / 0.5;
       } else {
         double sstar = s0 + fmax(0.0, a->v * T + a->v * (a->v - vlead) / (2 * sqrt(amax * bcomf)));
         double free = 1.0 - pow(a->v / a->v0, 4);
@@ -890,6 +987,7 @@ static void step(rs_scene_t *sc, double dt) {
       }
       a->v = fmax(0.0, a->v + acc * dt);
       a->s += a->v * dt;
+      a->lat += a->vlat * dt;
     }
     /* despawn at the end of the route (front first) */
     while (rt->n > 0 && sc->agents[rt->agents[0]].s - sc->agents[rt->agents[0]].l > rt->length) {
@@ -930,9 +1028,9 @@ static void pose(const rs_scene_t *sc, const agent_t *a, double t, double *cx, d
     return;
   }
   const route_t *rt = &sc->routes[a->route];
-  double s = a->s + a->v * (t - sc->t) - a->l / 2;
-  *cx = rt->x0 + rt->dx * s;
-  *cy = rt->y0 + rt->dy * s;
+  double s = a->s + a->v * (t - sc->t) - a->l / 2, lat = a->lat + a->vlat * (t - sc->t);
+  *cx = rt->x0 + rt->dx * s - rt->dy * lat;
+  *cy = rt->y0 + rt->dy * s + rt->dx * lat;
   *hd = atan2(rt->dy, rt->dx);
 }
 
@@ -949,9 +1047,9 @@ int rs_scene_states(const rs_scene_t *sc, double t, rs_agent_state_t *out, int m
     o->cls = a->type < 6 ? names[a->type] : "?";
     o->x = cx - sc->ox;
     o->y = cy - sc->oy;
-    const double v = a->route < 0 ? 0.0 : a->v;
-    o->vx = v * cos(hd);
-    o->vy = v * sin(hd);
+    const double v = a->route < 0 ? 0.0 : a->v, vl = a->route < 0 ? 0.0 : a->vlat;
+    o->vx = v * cos(hd) - vl * sin(hd);
+    o->vy = v * sin(hd) + vl * cos(hd);
     o->heading = hd;
     o->length = a->l;
     o->width = a->w;

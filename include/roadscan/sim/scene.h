@@ -43,6 +43,8 @@ typedef struct {
   double objects_min_range;  /* far preset: objects only between these distances */
   double objects_max_range;  /* from the centre (0 = anywhere) */
   double warmup_s;           /* traffic simulated before the capture starts, default 60 */
+  double walker_space;       /* m: walkers step aside to keep their centres this far apart (0 = they
+                                walk through each other, as before; docs/simulator.md) */
   /* sensor effects (physics: see docs/simulator.md, measured against real captures) */
   double range_noise;        /* m, sd at 20 m on a surface of intensity 20: default 0.012;
                                 sd = range_noise x (0.5 + r / 40 m) x (0.85 + 2 / max(intensity, 5)) */
