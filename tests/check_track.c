@@ -728,6 +728,54 @@ START_TEST(t_pedestrian_not_vehicle) {
 }
 END_TEST
 
+/* A walker walks 2 s along x at 1.4 m/s (its track confirmed, walked), then
+ * is seen for 0.5 s as a 1.4 m part (beside a pole: its box grows, its shape
+ * is no longer a pedestrian's), then is hidden while a car drives through
+ * where it is predicted, at 8 m/s, for 1 s. Returns how many of the car's
+ * frames updated the walker's track; *speed: the walker's track's speed at
+ * the end (m/s). */
+static int walked_then_car(int walked_hits, double *speed) {
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  c.walked_hits = walked_hits;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  uint32_t walker = 0, hits = 0;
+  int took = 0;
+  for (int f = 0; f < 35; f++) {
+    const double t = 0.1 * f, x = 5.0 + 1.4 * t;
+    clear();
+    if (f < 20) put(t, x, 12.0, 0.5, 0.4, 0.0, 1.7, 30);
+    else if (f < 25) put(t, x + 0.45, 12.0, 1.4, 0.4, 0.0, 1.7, 40);
+    else put(t, 5.0 + 1.4 * 2.5 + 0.5 + 8.0 * (t - 2.5), 12.2, 4.5, 1.8, 0.0, 1.5, 120);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 19) {
+      walker = tr.list.object_track[0];
+      ck_assert_uint_ne(walker, 0);
+      ck_assert_int_eq(find_id(walker)->shape_cls, RS_CLASS_PEDESTRIAN);
+      ck_assert_uint_ge(find_id(walker)->walked, (unsigned)walked_hits);
+    }
+    const rs_track_t *w = find_id(walker);
+    if (f == 24) ck_assert_int_ne(w->shape_cls, RS_CLASS_PEDESTRIAN); /* its box grew */
+    if (f >= 25 && w != NULL && w->hits > hits) took++;
+    if (w != NULL) hits = w->hits, *speed = w->speed;
+  }
+  return took;
+}
+
+START_TEST(t_walked_not_vehicle) {
+  double speed = -1;
+  ck_assert_int_eq(walked_then_car(10, &speed), 0); /* the car never updates the walker's track */
+  ck_assert_double_lt(speed, 3.0);
+  ck_assert_int_ge(walked_then_car(0, &speed), 5); /* off: it takes the car, and its speed */
+  ck_assert_double_gt(speed, 4.0);
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  ck_assert_int_eq(c.walked_hits, 10);
+  char err[160];
+  ck_assert_int_eq(rs_track_cfg_set(&c, "walked_hits", "-1", err, sizeof err), RS_E_INVAL);
+}
+END_TEST
+
 /* Two walkers pass each other in opposite directions, 0.4-0.9 m apart
  * across; their clusters merge while they are within 1-3 m of each other
  * along (up to 2.3 s), one cluster of both, then come apart: each keeps
@@ -1290,6 +1338,7 @@ int main(void) {
   tcase_add_test(tc, t_hidden_end);
   tcase_add_test(tc, t_next_lane_not_taken);
   tcase_add_test(tc, t_pedestrian_not_vehicle);
+  tcase_add_test(tc, t_walked_not_vehicle);
   tcase_add_test(tc, t_walkers_pass);
   tcase_add_test(tc, t_foliage_never_confirms);
   tcase_add_test(tc, t_walker_confirms_fast);

@@ -58,6 +58,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->split_full_size = 1;
   c->lost_walker_s = 4.0;
   c->below_beam = 1;
+  c->walked_hits = 10;
   c->blind_s = 8.0;
   c->speed_imm = 1;
   c->q_jerk = 1.0;
@@ -76,7 +77,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20) ||
       !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
       !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 ||
-      !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->speed_imm < 0 || cfg->speed_imm > 1 ||
+      !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 || cfg->speed_imm < 0 || cfg->speed_imm > 1 ||
       !(cfg->q_jerk > 0 && cfg->q_jerk <= 100))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
@@ -106,6 +107,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
     KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB(q_jerk, 0.01, 100.0),
+    KNOB_INT(walked_hits, 0, 1000),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -774,6 +776,28 @@ static void assign(rs_tracker_t *tr, uint32_t nobj) {
   }
 }
 
+/* Walked. A walker's track whose walker is hidden (behind a queue, a bus)
+ * is kept for lost_walker_s and takes what comes where it is predicted: a
+ * walker's part of 1.4 m beside a pole grows its box, its shape is no longer
+ * a pedestrian's, and the next frame it takes a passing car's cluster and
+ * gives the car its id (VLP-16 rush at site 5: a walker's track left at the
+ * kerb takes a car passing at 9 m/s, still called a pedestrian). A track that in
+ * walked_hits updates looked like a walker (its shape a pedestrian's, a box
+ * at most WALKED_LEN_M long and WALKED_WID_M wide or more: a person from any
+ * side, not the edge of a car coming into view, which is as thin as 0.04 m)
+ * and moved like one (WALKED_V0 to WALKED_V1) takes no object of a
+ * vehicle's size from then on, and no young track of a vehicle's size is
+ * stitched to it. */
+#define WALKED_LEN_M 1.0f
+#define WALKED_WID_M 0.1f
+#define WALKED_V0 0.5f
+#define WALKED_V1 3.0f
+static bool walks(const rs_track_t *t) {
+  return t->shape_cls == RS_CLASS_PEDESTRIAN && t->speed >= WALKED_V0 && t->speed <= WALKED_V1 &&
+         t->length <= WALKED_LEN_M && t->width >= WALKED_WID_M;
+}
+static bool walked(const rs_track_cfg_t *cf, const rs_track_t *t) { return cf->walked_hits > 0 && t->walked >= (uint16_t)cf->walked_hits; }
+
 /* gated pairs of the tracks selected by `want` and the free objects */
 static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_round) {
   tr->edges = 0;
@@ -810,8 +834,10 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
           if (!(det > 0)) continue;
           const double m2 = (dx * dx * s11 - 2 * dx * dy * s01 + dy * dy * s00) / det;
           if (m2 > cf->gate_chi2) continue;
-          /* a pedestrian does not turn into a vehicle (one passing where it walked, or was last seen) */
-          if (t->shape_cls == RS_CLASS_PEDESTRIAN && vehicle_sized(o->sensor.obb_length, o->sensor.obb_width)) continue;
+          /* a pedestrian does not turn into a vehicle (one passing where it walked, or was last seen), nor
+           * does a track that walked like one, once its box has grown on a part of something else */
+          if ((t->shape_cls == RS_CLASS_PEDESTRIAN || walked(cf, t)) && vehicle_sized(o->sensor.obb_length, o->sensor.obb_width))
+            continue;
           /* and how unlike the track's last object it is: a track keeps its object, not a fragment beside it */
           /* (beyond what counting noise explains: 3 sd of the smaller count) */
           const double lo = o->points < t->points ? o->points : t->points, hi = o->points < t->points ? t->points : o->points;
@@ -1132,7 +1158,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       const uint32_t j = tr->near[q];
       const rs_track_t *o = &L->track[j];
       if (j == i || o->id == 0 || o->object >= 0) continue; /* (stitched this frame) */
-      if (o->shape_cls == RS_CLASS_PEDESTRIAN && vehicle_sized(y->length, y->width)) continue; /* a walker is not a vehicle */
+      if ((o->shape_cls == RS_CLASS_PEDESTRIAN || walked(cf, o)) && vehicle_sized(y->length, y->width)) continue; /* a walker is not a vehicle */
       /* far from its position at the frame's time: out of every gate below (at most 2 gate_m from its
        * prediction at y's time, which is within 0.15 s x max_speed of it) */
       const double gx = y->x[0] - tr->tpos[j][0], gy = y->x[1] - tr->tpos[j][1], gr = 2.0 * cf->gate_m + 0.15 * cf->max_speed;
@@ -1276,6 +1302,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       t->speed_n++;
     }
     t->shape_cls = classify(t);
+    if (updated && cf->walked_hits > 0 && t->walked < (uint16_t)cf->walked_hits && walks(t)) t->walked++;
     t->cls = voted_class(t, updated);
     if (w != i) L->track[w] = *t; /* taken_by[] keeps old indices: only its sign is read below */
     w++;

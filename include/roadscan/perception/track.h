@@ -173,6 +173,11 @@ typedef struct {
                                   circle's other side, in its lane, heading away from it, takes its id: a
                                   vehicle pulling away from the line beside the sensor, unseen while it
                                   passes it (default 8.0; 0 = off; docs/tracking.md) */
+  int walked_hits;             /* a track that looked and moved like a walker in this many updates (its shape a
+                                  pedestrian's, at most 1 m long and 0.1 m wide or more, at 0.5-3 m/s) takes
+                                  no object of a vehicle's size from then on, whatever its box becomes, and
+                                  no young vehicle-sized track is stitched to it (default 10; 0 = only while
+                                  its shape is a pedestrian's; docs/tracking.md) */
   int speed_imm;               /* 1: the speed and velocity a vehicle's track reports are the speed estimator's
                                   (constant velocity and constant acceleration mixed; rs_track_imm_t), not
                                   the constant-velocity filter's, which lags a vehicle speeding up or
@@ -217,6 +222,8 @@ typedef struct {
                                          top and the row above them, from the top_n objects whose row above
                                          passed within RS_TRACK_TOP_GAP */
   uint32_t top_n;
+  uint16_t walked;                    /* updates in which it looked and moved like a walker, up to
+                                         walked_hits (rs_track_cfg_t) */
   float across;                       /* smoothed: the box's extent across the heading while moving (0 unknown) */
   float full_length, full_width;      /* the largest smoothed box, falling 0.05 (0.02) m an update */
   float heading;             /* radians from +X, counter-clockwise, (-pi, pi] */
