@@ -337,6 +337,16 @@ static void hidden_car(uint32_t id, uint32_t hits, double x0, double vx, int see
   rs_count_frame(&cnt, &tl, 100.0 + 0.1 * f);
 }
 
+/* hidden_car (never seen again) on a fresh counter of line l with unseen_s (< 0: the default):
+ * the crossings tallied */
+static uint32_t hidden_crossings(double unseen_s, uint32_t hits, double x0, double vx, int seen_until, int listed_until) {
+  static const char *const l[] = {"gate 0 -5 0 5"};
+  setup(l, 1, NULL, 60);
+  if (unseen_s >= 0) cnt.unseen_s = unseen_s;
+  hidden_car(1, hits, x0, vx, seen_until, listed_until, -1, 0);
+  return cnt.crossings;
+}
+
 START_TEST(t_unseen_crossings) {
   static const char *const l[] = {"gate 0 -5 0 5"}; /* forward: towards -x */
   /* hidden from x = 2.4 on, never seen again: held while listed, tallied when it leaves the list */
@@ -382,24 +392,12 @@ START_TEST(t_unseen_crossings) {
   ck_assert_uint_eq(cnt.unseen, 0);
   /* the prediction crosses 3 s after the last update (at 2 m/s, unseen from x = 6): not followed;
    * with unseen_s 4 it is */
-  setup(l, 1, NULL, 60);
-  hidden_car(4, 20, 8.0, -2.0, 10, 45, -1, 0);
-  ck_assert_uint_eq(cnt.crossings, 0);
-  setup(l, 1, NULL, 60);
-  cnt.unseen_s = 4.0;
-  hidden_car(4, 20, 8.0, -2.0, 10, 45, -1, 0);
-  ck_assert_uint_eq(cnt.crossings, 1);
+  ck_assert_uint_eq(hidden_crossings(-1, 20, 8.0, -2.0, 10, 45), 0);
+  ck_assert_uint_eq(hidden_crossings(4.0, 20, 8.0, -2.0, 10, 45), 1);
   /* 3 hits; slower than 1 m/s (0.8 m/s from x = 1, crossing 0.75 s after it was last seen); off */
-  setup(l, 1, NULL, 60);
-  hidden_car(5, 3, 8.0, -8.0, 7, 24, -1, 0);
-  ck_assert_uint_eq(cnt.crossings, 0);
-  setup(l, 1, NULL, 60);
-  hidden_car(6, 20, 1.0, -0.8, 5, 20, -1, 0);
-  ck_assert_uint_eq(cnt.crossings, 0);
-  setup(l, 1, NULL, 60);
-  cnt.unseen_s = 0;
-  hidden_car(7, 20, 8.0, -8.0, 7, 24, -1, 0);
-  ck_assert_uint_eq(cnt.crossings, 0);
+  ck_assert_uint_eq(hidden_crossings(-1, 3, 8.0, -8.0, 7, 24), 0);
+  ck_assert_uint_eq(hidden_crossings(-1, 20, 1.0, -0.8, 5, 20), 0);
+  ck_assert_uint_eq(hidden_crossings(0, 20, 8.0, -8.0, 7, 24), 0);
   ck_assert_uint_eq(cnt.unseen, 0);
   /* the vehicle's new track (8) seen crossing at t = 100.9, 0.1 s before its old track's (9)
    * prediction does, in the same place: the prediction's crossing is the same vehicle's */

@@ -6,6 +6,7 @@
 #include "testutil.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 static rs_tracker_t tr;
@@ -38,6 +39,17 @@ static void car(double t, double x, double y, double head) { put(t, x, y, 4.5, 1
 static void init_default(void) {
   rs_track_cfg_t c;
   rs_track_cfg_default(&c);
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+}
+
+/* the defaults but one parameter, set by name as roadscand --track-set does (so the name and the
+ * value's range are checked too) */
+static void init_knob(const char *name, double value) {
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  char text[32], err[256];
+  snprintf(text, sizeof text, "%.17g", value);
+  ck_assert_msg(rs_track_cfg_set(&c, name, text, err, sizeof err) == RS_OK, "%s", err);
   ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
 }
 
@@ -198,10 +210,7 @@ END_TEST
  * 3.6 s (behind a bus passing, then the queue behind it), seen again where
  * its prediction is: does it keep its id? */
 static bool kept_after_hiding(double lost_walker_s, bool vehicle) {
-  rs_track_cfg_t c;
-  rs_track_cfg_default(&c);
-  c.lost_walker_s = lost_walker_s;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  init_knob("lost_walker_s", lost_walker_s);
   const double v = vehicle ? 8.0 : 1.2;
   uint32_t id = 0;
   bool kept = true;
@@ -321,10 +330,7 @@ static void put_seen_part(double t, double x, double y0, double rb, float z0, fl
  * speed stays within 1 m/s of 8 while the car is in view from 10 m before to
  * 10 m after; without, the box's sliding centre pulls it further off. */
 static double below_beam_error(int below) {
-  rs_track_cfg_t c;
-  rs_track_cfg_default(&c);
-  c.below_beam = below;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  init_knob("below_beam", below);
   const double rb = (5.5 - 1.5) / tan(25.0 * M_PI / 180.0), y0 = 7.0;
   double worst = 0;
   for (int f = 0; f < 90; f++) {
@@ -391,10 +397,7 @@ END_TEST
  * blind_s the track that comes out is the waiting car's (one id from start
  * to end); with 0 it is a new one. */
 static uint32_t blind_ids(double blind_s) {
-  rs_track_cfg_t c;
-  rs_track_cfg_default(&c);
-  c.blind_s = blind_s;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  init_knob("blind_s", blind_s);
   const double rb = 3.0 / tan(15.0 * M_PI / 180.0), y0 = 6.0;
   uint32_t first = 0, last = 0;
   for (int f = 0; f < 100; f++) {
@@ -480,10 +483,7 @@ END_TEST
  * it; the noise of meas_sd alone (meas_sd_fit 0) is off by twice that at
  * least (1.19 here). */
 static double accel_lag(double fit) {
-  rs_track_cfg_t c;
-  rs_track_cfg_default(&c);
-  c.meas_sd_fit = fit;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  init_knob("meas_sd_fit", fit);
   double x = -60, v = 4, worst = 0;
   for (int f = 0; f < 100; f++) {
     const double t = 0.1 * f;
@@ -512,10 +512,7 @@ static double accel_lag(double fit) {
  * towards the van, by the track's length. Returns the largest speed error
  * while at least 1 m of the car shows: 0.01 m/s anchored, 0.64 without. */
 static double hiding_error(int anchor) {
-  rs_track_cfg_t c;
-  rs_track_cfg_default(&c);
-  c.hidden_anchor = anchor;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  init_knob("hidden_anchor", anchor);
   const double v = 8.0, edge = -10.0;
   double worst = 0;
   for (int f = 0; f < 45; f++) {
@@ -548,10 +545,7 @@ END_TEST
  * first one's id goes on with it when it shows again. Returns the id the
  * first car has at the end, and the second car's through *other. */
 static uint32_t next_lane(double across, uint32_t *other) {
-  rs_track_cfg_t c;
-  rs_track_cfg_default(&c);
-  c.reacq_across_m = across;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  init_knob("reacq_across_m", across);
   uint32_t id_a = 0, id_b = 0;
   for (int f = 0; f < 60; f++) {
     const double t = 0.1 * f, x = -30.0 + 8.0 * t;
@@ -594,10 +588,7 @@ END_TEST
  * after (*steady: the rest at 9 m/s). The constant-velocity filter lags:
  * 0.30 m/s; the mixed CV / CA estimator 0.16 (steady 0.13 and 0.10). */
 static double manoeuvre_rmse(int imm, double *steady) {
-  rs_track_cfg_t c;
-  rs_track_cfg_default(&c);
-  c.speed_imm = imm;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  init_knob("speed_imm", imm);
   double x = -30, v = 0, se = 0, ses = 0;
   int n = 0, ns = 0;
   uint32_t seed = 12345;
@@ -735,10 +726,7 @@ END_TEST
  * frames updated the walker's track; *speed: the walker's track's speed at
  * the end (m/s). */
 static int walked_then_car(int walked_hits, double *speed) {
-  rs_track_cfg_t c;
-  rs_track_cfg_default(&c);
-  c.walked_hits = walked_hits;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  init_knob("walked_hits", walked_hits);
   uint32_t walker = 0, hits = 0;
   int took = 0;
   for (int f = 0; f < 35; f++) {
@@ -948,10 +936,7 @@ END_TEST
  * number of tracks confirmed in the run; *part_id: the id the side part's
  * returns carry in the last frame of the split (0 none), *id the car's. */
 static uint64_t shrinking_split(int full, uint32_t *id, uint32_t *part_id) {
-  rs_track_cfg_t c;
-  rs_track_cfg_default(&c);
-  c.split_full_size = full;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  init_knob("split_full_size", full);
   *id = *part_id = 0;
   for (int f = 0; f < 50; f++) {
     const double t = 0.1 * f, front = 12.0 + 6.0 * t, rear = front - 4.5;
@@ -1002,10 +987,8 @@ static void note_confirmed(int at[2], int f) {
  * hit either; with confirm_still_spread 0, the car too waits 1.5 s. */
 START_TEST(t_still_vehicle_confirms_fast) {
   for (int variant = 0; variant < 4; variant++) {
-    rs_track_cfg_t c;
-    rs_track_cfg_default(&c);
-    if (variant == 3) c.confirm_still_spread = 0;
-    ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+    if (variant == 3) init_knob("confirm_still_spread", 0);
+    else init_default();
     int confirmed_at[2] = {-1, -1};
     for (int f = 0; f < 20; f++) {
       const double t = 50.0 + 0.1 * f, j = 0.03 * ((f % 3) - 1);
@@ -1031,10 +1014,7 @@ END_TEST
  * a still cluster of 15 returns 15 m away (a part of a near car split off by
  * the beams) waits 1.5 s; with confirm_still_range 0 the far car waits too. */
 static int far_still_confirmed(double range_m, uint32_t returns, uint32_t *near_at) {
-  rs_track_cfg_t c;
-  rs_track_cfg_default(&c);
-  c.confirm_still_range = range_m;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  init_knob("confirm_still_range", range_m);
   int at[2] = {-1, -1};
   for (int f = 0; f < 20; f++) {
     const double t = 50.0 + 0.1 * f, j = 0.03 * ((f % 3) - 1);
@@ -1067,10 +1047,7 @@ END_TEST
  * returns, the walker waits 1.5 s too. The returns at 0, 1, 2: the walker's
  * frame, the car part's. */
 static void walker_still_confirmed(int walker_points, uint32_t returns, int at[2]) {
-  rs_track_cfg_t c;
-  rs_track_cfg_default(&c);
-  c.confirm_walker_points = walker_points;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  init_knob("confirm_walker_points", walker_points);
   at[0] = at[1] = -1;
   for (int f = 0; f < 20; f++) {
     const double t = 30.0 + 0.1 * f, j = 0.03 * ((f % 3) - 1);
@@ -1123,10 +1100,7 @@ END_TEST
  * 0.3 m, there in half the frames, 40 s) still never confirms (it did with
  * three hits and the path half as straight as long). */
 static int walker_confirmed_frame(double walk_m) {
-  rs_track_cfg_t c;
-  rs_track_cfg_default(&c);
-  c.confirm_walk_m = walk_m;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  init_knob("confirm_walk_m", walk_m);
   for (int f = 0; f < 20; f++) {
     const double t = 0.1 * f;
     clear();

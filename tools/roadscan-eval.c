@@ -1021,8 +1021,10 @@ int main(int argc, char **argv) {
     if (json && (states_path || counts_path)) { /* one object: the tracking figures, the speeds', the counts' */
       json_t *j = rs_mot_json(&mr);
       if (states_path) print_speeds(stdout, j);
-      if (counts_path) print_counts(stdout, j);
-      if (counts_path) print_zones(stdout, j);
+      if (counts_path) {
+        print_counts(stdout, j);
+        print_zones(stdout, j);
+      }
       char *t = j ? json_dumps(j, RS_EVAL_JSON_FLAGS) : NULL;
       json_decref(j);
       if (t == NULL) {
@@ -1037,8 +1039,10 @@ int main(int argc, char **argv) {
       rs_eval_print(&c.ev.r, stdout);
       rs_mot_print(&mr, stdout);
       if (states_path) print_speeds(stdout, NULL);
-      if (counts_path) print_counts(stdout, NULL);
-      if (counts_path) print_zones(stdout, NULL);
+      if (counts_path) {
+        print_counts(stdout, NULL);
+        print_zones(stdout, NULL);
+      }
     }
     rs_mot_free(mot);
     if (dump && fclose(dump) != 0) {

@@ -77,7 +77,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20) ||
       !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
       !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 ||
-      !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 || cfg->speed_imm < 0 || cfg->speed_imm > 1 ||
+      !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 ||
+      cfg->speed_imm < 0 || cfg->speed_imm > 1 ||
       !(cfg->q_jerk > 0 && cfg->q_jerk <= 100))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
@@ -796,7 +797,10 @@ static bool walks(const rs_track_t *t) {
   return t->shape_cls == RS_CLASS_PEDESTRIAN && t->speed >= WALKED_V0 && t->speed <= WALKED_V1 &&
          t->length <= WALKED_LEN_M && t->width >= WALKED_WID_M;
 }
-static bool walked(const rs_track_cfg_t *cf, const rs_track_t *t) { return cf->walked_hits > 0 && t->walked >= (uint16_t)cf->walked_hits; }
+/* track t is a pedestrian by its shape, or has walked like one */
+static bool walker_like(const rs_track_cfg_t *cf, const rs_track_t *t) {
+  return t->shape_cls == RS_CLASS_PEDESTRIAN || (cf->walked_hits > 0 && t->walked >= (uint16_t)cf->walked_hits);
+}
 
 /* gated pairs of the tracks selected by `want` and the free objects */
 static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_round) {
@@ -836,8 +840,7 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
           if (m2 > cf->gate_chi2) continue;
           /* a pedestrian does not turn into a vehicle (one passing where it walked, or was last seen), nor
            * does a track that walked like one, once its box has grown on a part of something else */
-          if ((t->shape_cls == RS_CLASS_PEDESTRIAN || walked(cf, t)) && vehicle_sized(o->sensor.obb_length, o->sensor.obb_width))
-            continue;
+          if (walker_like(cf, t) && vehicle_sized(o->sensor.obb_length, o->sensor.obb_width)) continue;
           /* and how unlike the track's last object it is: a track keeps its object, not a fragment beside it */
           /* (beyond what counting noise explains: 3 sd of the smaller count) */
           const double lo = o->points < t->points ? o->points : t->points, hi = o->points < t->points ? t->points : o->points;
@@ -1158,7 +1161,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       const uint32_t j = tr->near[q];
       const rs_track_t *o = &L->track[j];
       if (j == i || o->id == 0 || o->object >= 0) continue; /* (stitched this frame) */
-      if ((o->shape_cls == RS_CLASS_PEDESTRIAN || walked(cf, o)) && vehicle_sized(y->length, y->width)) continue; /* a walker is not a vehicle */
+      if (walker_like(cf, o) && vehicle_sized(y->length, y->width)) continue; /* a walker is not a vehicle */
       /* far from its position at the frame's time: out of every gate below (at most 2 gate_m from its
        * prediction at y's time, which is within 0.15 s x max_speed of it) */
       const double gx = y->x[0] - tr->tpos[j][0], gy = y->x[1] - tr->tpos[j][1], gr = 2.0 * cf->gate_m + 0.15 * cf->max_speed;
@@ -1302,7 +1305,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       t->speed_n++;
     }
     t->shape_cls = classify(t);
-    if (updated && cf->walked_hits > 0 && t->walked < (uint16_t)cf->walked_hits && walks(t)) t->walked++;
+    if (updated && t->walked < (uint16_t)cf->walked_hits && walks(t)) t->walked++;
     t->cls = voted_class(t, updated);
     if (w != i) L->track[w] = *t; /* taken_by[] keeps old indices: only its sign is read below */
     w++;
