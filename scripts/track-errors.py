@@ -18,6 +18,10 @@
         within 1.5 s after (or 0.5 s before) their centre passed within 0.45 m of another
         walker's or cyclist's: the simulator's walkers are 0.5 m wide and walk through
         each other, which real ones do not.
+    scripts/track-errors.py close STATES...
+        Per true-states file: how many pairs of walkers came within 0.45 m of each other (centres;
+        bodies are 0.5 m wide), the states within 0.6 m, and the nearest two ever came (m): how
+        well the simulator's walkers keep apart (walker_space, docs/simulator.md).
 
 The files are those scripts/tracking.sh leaves in out/tracking/ and out/results/.
 Off the real-time path: plain Python, no third-party module.
@@ -176,10 +180,30 @@ def ids(mot_path, states_path):
               f"or cyclist (centres within 0.45 m)")
 
 
+def close(*paths):
+    for path in paths:
+        frames = defaultdict(list)
+        with open(path, newline="") as f:
+            for r in csv.DictReader(f):
+                if r["class"] == "pedestrian":
+                    frames[r["t"]].append((int(r["id"]), float(r["x"]), float(r["y"])))
+        pairs, near, nearest = set(), 0, math.inf
+        for walkers in frames.values():
+            for i, a in enumerate(walkers):
+                for b in walkers[i + 1:]:
+                    d = math.hypot(a[1] - b[1], a[2] - b[2])
+                    nearest = min(nearest, d)
+                    near += d < 0.6
+                    if d < 0.45:
+                        pairs.add((min(a[0], b[0]), max(a[0], b[0])))
+        print(f"{path}: {len(pairs)} pairs of walkers within 0.45 m, {near} states within 0.6 m, "
+              f"nearest {nearest:.2f} m")
+
+
 def main(argv):
-    if len(argv) != 3 or argv[0] not in ("speed", "ids"):
+    if len(argv) < 2 or argv[0] not in ("speed", "ids", "close") or (argv[0] != "close" and len(argv) != 3):
         sys.exit(__doc__.strip())
-    (speed if argv[0] == "speed" else ids)(argv[1], argv[2])
+    {"speed": speed, "ids": ids, "close": close}[argv[0]](*argv[1:])
 
 
 if __name__ == "__main__":
