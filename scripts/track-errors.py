@@ -6,9 +6,11 @@
         true road user (roadscan-sim --truth-states of the same run) nearest to it within
         2.5 m at the row's time; rows of vehicles within 80 m are kept. Prints the speed
         RMSE and, per kind of row, its share of the rows and of the squared error:
-        vehicles speeding up or braking harder than 0.5 m/s^2 (over +-0.3 s), tracks
+        vehicles turning (their velocity's direction changing faster than 5 deg/s over
+        +-0.3 s), speeding up or braking harder than 0.5 m/s^2 (over +-0.3 s), tracks
         younger than 1 s, rows of one vehicle followed by two tracks at once, and the
-        steady rest.
+        steady rest; and the heading RMSE (the track's heading against the true velocity's
+        direction, rows of vehicles moving faster than 1 m/s) of each.
     scripts/track-errors.py ids MOTDUMP STATES
         From roadscan-eval --tracking ... --mot-dump MOTDUMP: per true class, the frames of
         each true object not matched (IoU > 0.5) by its most frequent track, and each
@@ -60,6 +62,16 @@ def at(rows, t):
     return tuple(a[j] + w * (b[j] - a[j]) for j in range(1, 5))
 
 
+def wrap(deg):
+    return (deg + 180.0) % 360.0 - 180.0
+
+
+def heading_rmse(samples):
+    """the heading RMSE of the rows of a moving vehicle (deg), as text"""
+    h = [s[7] for s in samples if s[7] is not None]
+    return f"  heading RMSE {math.sqrt(sum(e * e for e in h) / len(h)):.1f} deg" if h else ""
+
+
 def speed(tracks_path, states_path):
     states, cls = load_states(states_path)
     samples = []  # (track, truth, t, error, accel, age)
@@ -80,20 +92,27 @@ def speed(tracks_path, states_path):
                 continue
             s0, s1 = at(states[best], t - 0.3), at(states[best], t + 0.3)
             accel = 0.0 if s0 is None or s1 is None else (math.hypot(s1[2], s1[3]) - math.hypot(s0[2], s0[3])) / 0.6
+            turn = 0.0  # deg/s, from the true velocity's direction over +-0.3 s
+            if s0 is not None and s1 is not None and min(math.hypot(s0[2], s0[3]), math.hypot(s1[2], s1[3])) > 1.0:
+                turn = abs(wrap(math.degrees(math.atan2(s1[3], s1[2]) - math.atan2(s0[3], s0[2])))) / 0.6
+            herr = None  # the track's heading against the true velocity's direction (deg), when moving
+            if math.hypot(s[2], s[3]) > 1.0 and r.get("heading", "") not in ("", "nan"):
+                herr = wrap(math.degrees(float(r["heading"]) - math.atan2(s[3], s[2])))
             samples.append((int(r["track"]), best, round(t, 2), float(r["speed"]) - math.hypot(s[2], s[3]), accel,
-                            float(r["age"])))
+                            float(r["age"]), turn, herr))
     if not samples:
         print(f"{tracks_path}: no confirmed vehicle rows within 80 m")
         return
-    per_truth_time = Counter((k, t) for _, k, t, _, _, _ in samples)
-    total = sum(e * e for _, _, _, e, _, _ in samples)
+    per_truth_time = Counter((k, t) for _, k, t, _, _, _, _, _ in samples)
+    total = sum(s[3] ** 2 for s in samples)
     kinds = {
+        "turning (> 5 deg/s)": lambda s: s[6] > 5.0,
         "speeding up or braking (> 0.5 m/s^2)": lambda s: abs(s[4]) > 0.5,
         "tracks younger than 1 s": lambda s: s[5] < 1.0,
         "one vehicle, two tracks": lambda s: per_truth_time[(s[1], s[2])] > 1,
     }
     n = len(samples)
-    print(f"{tracks_path}: {n} rows, speed RMSE {math.sqrt(total / n):.3f} m/s")
+    print(f"{tracks_path}: {n} rows, speed RMSE {math.sqrt(total / n):.3f} m/s" + heading_rmse(samples))
     steady = [True] * n
     for name, test in kinds.items():
         sel = [i for i, s in enumerate(samples) if test(s)]
@@ -102,7 +121,7 @@ def speed(tracks_path, states_path):
         sq = sum(samples[i][3] ** 2 for i in sel)
         rmse = math.sqrt(sq / len(sel)) if sel else 0.0
         print(f"  {name:38s} rows {100.0 * len(sel) / n:5.1f} %  squared error {100.0 * sq / total:5.1f} %  "
-              f"RMSE {rmse:.3f}")
+              f"RMSE {rmse:.3f}" + heading_rmse([samples[i] for i in sel]))
     rest = [samples[i][3] for i in range(n) if steady[i]]
     if rest:
         print(f"  {'the rest (steady, older, one track)':38s} rows {100.0 * len(rest) / n:5.1f} %  "

@@ -12,6 +12,13 @@
 # scripts/site-captures.sh in out/site<SITE>, as scripts/heldout.sh does) and
 # prints its rows (the table's columns) without touching the doc; extra="..."
 # passes roadscand options as for the doc (docs/tracking.md: sites 13, 17, 21, 25).
+#
+#   scripts/tracking.sh --turns
+# instead scores the turns preset (a quarter of the vehicles turn) at sites 1, 5
+# and 9 (seeds 11/12, 21/22, 41/42), and the same seeds with turn_share=0 (the
+# same demand, every vehicle going straight), captures in out/turns; prints the
+# rows and, per capture, scripts/track-errors.py speed's lines of the turning
+# vehicles (docs/tracking.md, turning vehicles).
 set -euo pipefail
 # roadscand refuses to run as root unless told (it needs no privilege to replay a file): these
 # scripts are often run as root (containers, CI), so they say so
@@ -71,6 +78,31 @@ print(f"| {label} | {pct(j['mota'])} | {pct(j['idf1'])} | {pct(j['motp_iou'])} |
       + f"{j['zone_junction_exited']['counted']}/{j['zone_junction_exited']['true']} out |")
 PY
 }
+if [ "${1:-}" = "--turns" ]; then
+  out=out/turns
+  mkdir -p "$out"
+  echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks | speed RMSE | position RMSE | confirmed in 0.3 s | class count error | crossings | per line | junction |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+  for site in "1 11 12" "5 21 22" "9 41 42"; do
+    set -- $site
+    for sensor in VLP-32C VLP-16; do
+      for share in 0.25 0; do
+        tag=$sensor-turns$share-site$1
+        capture "$tag" "$sensor" turns $2 $3 --set site_seed=$1 --set turn_share=$share
+        row "$tag" "$sensor turns, turn_share $share, site $1, seed $3"
+      done
+    done
+  done
+  for site in 1 5 9; do
+    for sensor in VLP-32C VLP-16; do
+      for share in 0.25 0; do
+        tag=$sensor-turns$share-site$site
+        python3 scripts/track-errors.py speed out/tracking/$tag${sfx:-}-tracks.csv "$out/$tag-states.csv"
+      done
+    done
+  done
+  exit 0
+fi
 if [ "${1:-}" = "--site" ]; then
   echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks | speed RMSE | position RMSE | confirmed in 0.3 s | class count error | crossings | per line | junction |"
   echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"

@@ -7,6 +7,7 @@
 #include "testutil.h"
 
 #include <math.h>
+#include <stdbool.h>
 #include <string.h>
 
 #define D2R (3.14159265358979323846 / 180.0)
@@ -344,6 +345,135 @@ START_TEST(t_walkers_keep_apart) {
 }
 END_TEST
 
+/* do two road users' boxes overlap, each shrunk by 0.05 m (separating axes) */
+static bool boxes_overlap(const rs_agent_state_t *a, const rs_agent_state_t *b) {
+  const rs_agent_state_t *ab[2] = {a, b};
+  double cx[2][4], cy[2][4];
+  for (int i = 0; i < 2; i++) {
+    const double c = cos(ab[i]->heading), s = sin(ab[i]->heading);
+    const double hl = ab[i]->length / 2 - 0.05, hw = ab[i]->width / 2 - 0.05;
+    for (int k = 0; k < 4; k++) {
+      const double lx = (k == 0 || k == 3) ? hl : -hl, ly = k < 2 ? hw : -hw;
+      cx[i][k] = ab[i]->x + lx * c - ly * s;
+      cy[i][k] = ab[i]->y + lx * s + ly * c;
+    }
+  }
+  for (int i = 0; i < 2; i++)
+    for (int k = 0; k < 2; k++) { /* the two axes of each box */
+      const double nx = cx[i][k + 1] - cx[i][k], ny = cy[i][k + 1] - cy[i][k];
+      double lo[2] = {INFINITY, INFINITY}, hi[2] = {-INFINITY, -INFINITY};
+      for (int j = 0; j < 2; j++)
+        for (int q = 0; q < 4; q++) {
+          const double p = cx[j][q] * nx + cy[j][q] * ny;
+          lo[j] = fmin(lo[j], p);
+          hi[j] = fmax(hi[j], p);
+        }
+      if (hi[0] < lo[1] || hi[1] < lo[0]) return false;
+    }
+  return true;
+}
+
+/* turn_share: 90 s of a preset's traffic sampled every 0.1 s. Vehicles whose heading turns by a
+ * quarter, right and left; the fastest any takes its arc (m/s); how many leave on the wrong lane
+ * (right-turners on the outer lane's line, 5.25 m right of the road's centre line, left-turners on
+ * the inner one's, 1.75 m), trucks or buses that turn, pairs of boxes that overlap (vehicles with
+ * vehicles or walkers), and the largest mean gap between a turner's reported velocity and its move */
+typedef struct {
+  int right, left, wrong_lane, long_turned, overlaps;
+  double fastest_right, fastest_left, vel_err;
+} turns_t;
+static turns_t turns_run(const char *preset, double share) {
+  static rs_sensor_t s;
+  rs_sensor_init(&s, RS_MODEL_VLP16);
+  rs_scene_cfg_t c;
+  ck_assert(rs_scene_preset(preset, &c));
+  if (share >= 0) c.turn_share = share;
+  rs_scene_t *sc = rs_scene_create(&c, &s, 10.0, 9);
+  ck_assert_ptr_nonnull(sc);
+  double ox, oy, oz;
+  rs_scene_origin(sc, &ox, &oy, &oz);
+  enum { MAXA = 512, MAXID = 65536 };
+  static rs_agent_state_t st[MAXA], prev[MAXA];
+  static float first_heading[MAXID];
+  static uint8_t seen[MAXID], done[MAXID];
+  memset(seen, 0, sizeof seen);
+  memset(done, 0, sizeof done);
+  turns_t r = {0};
+  int nprev = 0;
+  double err_sum = 0;
+  long err_n = 0;
+  for (int k = 0; k < 900; k++) {
+    const double t = 0.1 * k;
+    rs_scene_prepare(sc, t, 0, 359.99);
+    const int n = rs_scene_states(sc, t, st, MAXA);
+    ck_assert_int_lt(n, MAXA);
+    for (int i = 0; i < n; i++) {
+      const rs_agent_state_t *a = &st[i];
+      const bool ped = strcmp(a->cls, "pedestrian") == 0;
+      for (int j = i + 1; j < n; j++) {
+        const bool ped2 = strcmp(st[j].cls, "pedestrian") == 0;
+        if ((ped && ped2) || hypot(a->x - st[j].x, a->y - st[j].y) > 15.0) continue;
+        r.overlaps += boxes_overlap(a, &st[j]);
+      }
+      if (ped) continue;
+      if (!seen[a->id]) seen[a->id] = 1, first_heading[a->id] = (float)a->heading;
+      const double turned = remainder(a->heading - first_heading[a->id], 2 * M_PI);
+      for (int j = 0; j < nprev; j++) /* a turner's move since the last sample against its velocity */
+        if (prev[j].id == a->id && fabs(remainder(a->heading - prev[j].heading, 2 * M_PI)) > 1e-6) {
+          err_sum += hypot((a->x - prev[j].x) / 0.1 - 0.5 * (a->vx + prev[j].vx),
+                           (a->y - prev[j].y) / 0.1 - 0.5 * (a->vy + prev[j].vy));
+          err_n++;
+          const double v = hypot(a->vx, a->vy);
+          if (turned < 0) r.fastest_right = fmax(r.fastest_right, v);
+          else r.fastest_left = fmax(r.fastest_left, v);
+        }
+      if (fabs(fabs(turned) - M_PI / 2) < 1e-3 && !done[a->id]) {
+        done[a->id] = 1;
+        if (turned < 0) r.right++;
+        else r.left++;
+        if (strcmp(a->cls, "truck") == 0 || strcmp(a->cls, "bus") == 0) r.long_turned++;
+        /* its offset right of the centre line of the road it is on now */
+        const double wx = a->x + ox, wy = a->y + oy, off = wx * sin(a->heading) - wy * cos(a->heading);
+        if (fabs(off - (turned < 0 ? 5.25 : 1.75)) > 0.01) r.wrong_lane++;
+      }
+    }
+    memcpy(prev, st, sizeof st[0] * (size_t)n);
+    nprev = n;
+  }
+  rs_scene_destroy(sc);
+  r.vel_err = err_n ? err_sum / (double)err_n : 0.0;
+  return r;
+}
+
+START_TEST(t_vehicles_turn) {
+  turns_t r = turns_run("turns", -1);
+  ck_assert_int_ge(r.right, 3);
+  ck_assert_int_ge(r.left, 2);
+  ck_assert_int_eq(r.wrong_lane, 0);
+  ck_assert_int_eq(r.long_turned, 0);
+  ck_assert_int_eq(r.overlaps, 0); /* they yield to each other and to walkers */
+  ck_assert_double_gt(r.fastest_right, 2.0); /* the arcs at a driver's lateral acceleration */
+  ck_assert_double_le(r.fastest_right, sqrt(3.5 * 6.0) + 0.01);
+  ck_assert_double_gt(r.fastest_left, 2.0);
+  ck_assert_double_le(r.fastest_left, sqrt(3.5 * 10.5) + 0.01);
+  ck_assert_double_lt(r.vel_err, 0.1); /* the states' velocity follows the arc */
+  /* every vehicle turns: still nothing overlapping, nobody on a wrong lane */
+  r = turns_run("turns", 1.0);
+  ck_assert_int_ge(r.right + r.left, 10);
+  ck_assert_int_eq(r.wrong_lane, 0);
+  ck_assert_int_eq(r.long_turned, 0);
+  ck_assert_int_eq(r.overlaps, 0);
+  /* the other presets: nobody turns */
+  r = turns_run("light", -1);
+  ck_assert_int_eq(r.right + r.left, 0);
+  rs_scene_cfg_t c;
+  ck_assert(rs_scene_preset("rush", &c));
+  ck_assert_double_eq(c.turn_share, 0.0);
+  ck_assert(rs_scene_preset("turns", &c));
+  ck_assert_double_eq(c.turn_share, 0.25);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("scene");
   TCase *tc = tcase_create("core");
@@ -354,6 +484,7 @@ int main(void) {
   tcase_add_test(tc, t_knobs);
   tcase_add_test(tc, t_traffic_queues);
   tcase_add_test(tc, t_walkers_keep_apart);
+  tcase_add_test(tc, t_vehicles_turn);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

@@ -50,7 +50,7 @@ static int check_scenario(void *t, const char *key, const char *v, char *err, si
   (void)t;
   rs_scene_cfg_t c;
   if (rs_scene_preset(v, &c)) return RS_OK;
-  snprintf(err, n, "%s: unknown scenario '%s' (light, rush, far, storm)", key, v);
+  snprintf(err, n, "%s: unknown scenario '%s' (light, rush, turns, far, storm)", key, v);
   return RS_E_INVAL;
 }
 
@@ -79,7 +79,7 @@ static const rs_opt_t table[] = {
     {.type = RS_OPT_MODEL, .name = "model", .arg = "NAME", .off = offsetof(T, model), .flags = RS_OPT_NODEF,
      .help = "the same as --sensor"},
     {.type = RS_OPT_STR, .name = "scenario", .arg = "NAME", .off = offsetof(T, scenario), .fn = check_scenario,
-     .help = "light, rush, far or storm (docs/simulator.md)"},
+     .help = "light, rush, turns, far or storm (docs/simulator.md)"},
     RS_OPT_STR_("scenario-file", "FILE", T, sfile, "KEY = VALUE lines (the --set keys) overriding the preset"),
     {.type = RS_OPT_FUNC, .name = "set", .arg = "KEY=VALUE", .off = offsetof(T, sets), .fn = add_set,
      .flags = RS_OPT_REPEAT, .help = "one scene knob, after the scenario file (the keys are listed above)"},

@@ -112,6 +112,10 @@ bool rs_scene_preset(const char *name, rs_scene_cfg_t *c) {
     c->green_s = 30.0;
     c->warmup_s = 180.0;
     c->pole_height = 3.0;
+  } else if (strcmp(name, "turns") == 0) {
+    /* ordinary traffic of which a quarter turns (right from the outer lanes, left from the
+     * inner ones, across the oncoming traffic) */
+    c->turn_share = 0.25;
   } else if (strcmp(name, "far") == 0) {
     c->vehicles_per_min = 14.0;
     c->pedestrians_per_min = 0.0;
@@ -142,6 +146,7 @@ static const rs_opt_t knobs[] = {
     KNOB(pedestrians_per_min, 0.0, 60.0), KNOB(cyclist_share, 0.0, 1.0),
     KNOB(green_s, 5.0, 120.0),            KNOB(objects_min_range, 0.0, 400.0),
     KNOB(objects_max_range, 0.0, 400.0),  KNOB(warmup_s, 0.0, 600.0),       KNOB(walker_space, 0.0, 2.0),
+    KNOB(turn_share, 0.0, 1.0),
     KNOB(range_noise, 0.0, 1.0),          KNOB(noise_tail, 0.0, 0.5),     KNOB(dropout, 0.0, 1.0),
     KNOB(spurious, 0.0, 0.5),             KNOB(attenuation, 0.0, 100.0),  KNOB(packet_loss, 0.0, 0.9),
     KNOB(max_range, 0.0, 400.0),          KNOB(beam_div_h, 0.0, 20.0),    KNOB(beam_div_v, 0.0, 20.0),
@@ -196,7 +201,14 @@ typedef struct {
   double lat, vlat;    /* a walker's step aside from its path (m, to its left) and its rate (m/s) */
   double vlat_next;
   bool yield;          /* a walker slowing down for another it would bump into */
+  /* a turning vehicle (turn_share): its path leaves the route's line at path length p1 (m from
+   * the route's start) on a quarter circle of radius R from t1 (the point at p1), and goes on
+   * along e; vturn is the speed it takes the arc at */
+  uint8_t turn;        /* TURN_NONE, TURN_RIGHT, TURN_LEFT */
+  double p1, R, t1x, t1y, ex, ey, vturn;
 } agent_t;
+
+enum { TURN_NONE, TURN_RIGHT, TURN_LEFT };
 
 typedef struct {
   uint16_t id;
@@ -805,6 +817,64 @@ static bool green(const rs_scene_t *sc, int phase, double t, bool amber_counts) 
   return in >= 0 && (in < g || (amber_counts && in < g + AMBER_S));
 }
 
+/* Turning vehicles (turn_share). A road's outer lane turns right into the outer lane of the
+ * road to its right, on a quarter circle of TURN_R_RIGHT; its inner lane turns left into the
+ * inner lane of the road to its left, on TURN_R_LEFT, across the oncoming lanes. Each arc is
+ * tangent to both lanes' lines. A driver takes the arc at the speed of its lateral acceleration
+ * (2.5-3.5 m/s^2): right turns at 3.9-4.6 m/s, left turns at 5.1-6.1 m/s. The kerb corners are
+ * square (7 m from the centre lines), so a right-turner's body crosses up to 0.9 m over the
+ * corner of the sidewalk, where a real kerb is rounded. Trucks and buses go straight (their
+ * long bodies would sweep over the corners). A left-turner waits where its arc starts, its front
+ * just past the stop line, for a gap of TURN_GAP_S in the oncoming traffic; one still waiting
+ * when its green ends goes in the amber and all-red if the oncoming have stopped, else waits
+ * for its next green. Vehicles yield to turners and walkers in their path (path_obstacle()). */
+#define TURN_R_RIGHT 6.0
+#define TURN_R_LEFT 10.5
+#define TURN_GAP_S 4.5 /* a left-turner goes when no oncoming vehicle reaches its path within this */
+static void turn_setup(const route_t *rt, agent_t *a, double lat_acc) {
+  const double o = rt->x0 * rt->dy - rt->y0 * rt->dx; /* the lane's offset right of the centre line */
+  const double lc = -(rt->x0 * rt->dx + rt->y0 * rt->dy); /* path length to the centre */
+  if (o > ROAD_HALF / 2) {
+    a->turn = TURN_RIGHT;
+    a->R = TURN_R_RIGHT;
+    a->ex = rt->dy, a->ey = -rt->dx;
+    a->p1 = lc - o - a->R;
+  } else {
+    a->turn = TURN_LEFT;
+    a->R = TURN_R_LEFT;
+    a->ex = -rt->dy, a->ey = rt->dx;
+    a->p1 = lc + o - a->R;
+  }
+  a->t1x = rt->x0 + rt->dx * a->p1;
+  a->t1y = rt->y0 + rt->dy * a->p1;
+  a->vturn = sqrt(lat_acc * a->R);
+}
+
+/* the point of a vehicle's path p metres from its route's start, and the unit heading there */
+static void path_at(const rs_scene_t *sc, const agent_t *a, double p, double *x, double *y, double *hx,
+                    double *hy) {
+  const route_t *rt = &sc->routes[a->route];
+  const double arc = 0.5 * PI * a->R;
+  if (a->turn == TURN_NONE || p <= a->p1) {
+    *x = rt->x0 + rt->dx * p;
+    *y = rt->y0 + rt->dy * p;
+    *hx = rt->dx;
+    *hy = rt->dy;
+  } else if (p < a->p1 + arc) {
+    const double f = (p - a->p1) / a->R, c = cos(f), sn = sin(f);
+    *x = a->t1x + a->R * (a->ex * (1.0 - c) + rt->dx * sn);
+    *y = a->t1y + a->R * (a->ey * (1.0 - c) + rt->dy * sn);
+    *hx = rt->dx * c + a->ex * sn;
+    *hy = rt->dy * c + a->ey * sn;
+  } else {
+    const double q = p - a->p1 - arc + a->R;
+    *x = a->t1x + a->R * rt->dx + q * a->ex;
+    *y = a->t1y + a->R * rt->dy + q * a->ey;
+    *hx = a->ex;
+    *hy = a->ey;
+  }
+}
+
 static void spawn(rs_scene_t *sc, int ri) {
   route_t *rt = &sc->routes[ri];
   if (rt->n >= (int)(sizeof rt->agents / sizeof rt->agents[0])) return;
@@ -848,6 +918,9 @@ static void spawn(rs_scene_t *sc, int ri) {
     a->clear = dims[t][4];
     a->intensity = (uint8_t)(20 + 100 * rs_rng_uniform(r));
   }
+  if (!rt->pedestrian && sc->cfg.turn_share > 0 && rs_rng_uniform(r) < sc->cfg.turn_share &&
+      a->type != T_TRUCK && a->type != T_BUS) /* (their bodies would sweep over the corners) */
+    turn_setup(rt, a, 2.5 + rs_rng_uniform(r));
   a->v = a->v0 * 0.9;
   if (rt->n > 0) {
     const agent_t *last = &sc->agents[rt->agents[rt->n - 1]];
@@ -948,9 +1021,123 @@ static void walkers_avoid(rs_scene_t *sc, double dt) {
   }
 }
 
+static void pose(const rs_scene_t *sc, const agent_t *a, double t, double *cx, double *cy, double *hd);
+
+/* the leader of a vehicle on its route has left its line (a turner gone into another road), or the
+ * vehicle has: they no longer follow each other */
+static bool diverged(const agent_t *lead, const agent_t *a) {
+  if (lead->turn == a->turn) return false;
+  return (lead->turn != TURN_NONE && lead->s - lead->l > lead->p1) || (a->turn != TURN_NONE && a->s > a->p1);
+}
+
+/* What stands in a vehicle's path ahead, off its own line of followers: for a turner, any road
+ * user; for a vehicle going straight, a walker, or a turner from another route (or one that has
+ * left its own). The path ahead of its front is sampled every 0.5 m up to 6 m + 3 s of its speed; the
+ * first sample that comes within half its width + 0.3 m of another's box (of a walker: the
+ * ground it covers in the next WALK_AHEAD_S) gives the gap and the other's speed along the path
+ * there (0 when crossing it). */
+#define PATH_LOOK_MAX 40.0
+#define WALK_AHEAD_S 3.0
+static void path_obstacle(const rs_scene_t *sc, const agent_t *a, double *gap, double *vlead) {
+  const double look = fmin(PATH_LOOK_MAX, 6.0 + 3.0 * a->v), reach = a->w / 2 + 0.3;
+  double fx, fy, hx, hy;
+  path_at(sc, a, a->s, &fx, &fy, &hx, &hy);
+  for (int j = 0; j < sc->agent_hwm; j++) {
+    const agent_t *b = &sc->agents[j];
+    if (b == a || !b->active || b->route < 0) continue;
+    if (a->turn == TURN_NONE && b->type != T_PED &&
+        (b->turn == TURN_NONE || (b->route == a->route && b->s - b->l <= b->p1)))
+      continue;
+    double bx, by, bvx, bvy, bh, bl = b->l;
+    if (b->type == T_PED) { /* where it is and where it walks in the next WALK_AHEAD_S */
+      walker_move(sc, b, &bx, &by, &bvx, &bvy);
+      bh = atan2(bvy, bvx);
+      const double ahead = hypot(bvx, bvy) * WALK_AHEAD_S;
+      bl += ahead;
+      bx += 0.5 * ahead * cos(bh);
+      by += 0.5 * ahead * sin(bh);
+    } else {
+      pose(sc, b, sc->t, &bx, &by, &bh);
+      bvx = b->v * cos(bh);
+      bvy = b->v * sin(bh);
+    }
+    if (hypot(bx - fx, by - fy) > look + hypot(bl, b->w) / 2 + reach) continue;
+    const double c = cos(bh), sn = sin(bh);
+    for (int k = 1; k <= (int)(2 * PATH_LOOK_MAX) && 0.5 * k <= look; k++) {
+      if (0.5 * k - 0.5 >= *gap) break;
+      double px, py, tx, ty;
+      path_at(sc, a, a->s + 0.5 * k, &px, &py, &tx, &ty);
+      const double lx = (px - bx) * c + (py - by) * sn, ly = -(px - bx) * sn + (py - by) * c;
+      const double ox = fmax(fabs(lx) - bl / 2, 0.0), oy = fmax(fabs(ly) - b->w / 2, 0.0);
+      if (ox * ox + oy * oy < reach * reach) {
+        /* a turner on its arc has the right of way over vehicles crossing its path: they stop for it */
+        if (a->turn != TURN_NONE && a->s > a->p1 && b->type != T_PED && c * tx + sn * ty < 0.5) break;
+        *gap = fmax(0.5 * k - 0.5, 0.01);
+        *vlead = fmax(0.0, bvx * tx + bvy * ty);
+        break;
+      }
+    }
+  }
+}
+
+/* an oncoming vehicle going straight reaches a left-turner's path within TURN_GAP_S (at 1.5
+ * m/s^2 from its speed now), or is on it; not one stopped on red, nor one held up behind an
+ * oncoming turner waiting (two left-turners facing each other both go; a right-turner leaves
+ * the oncoming lane before the left-turner's path) */
+static bool oncoming(const rs_scene_t *sc, const route_t *rt) {
+  for (int ri = 0; ri < sc->nroutes; ri++) {
+    const route_t *ro = &sc->routes[ri];
+    if (ro->pedestrian || ro->dx != -rt->dx || ro->dy != -rt->dy) continue;
+    const double lc = -(ro->x0 * ro->dx + ro->y0 * ro->dy);
+    for (int k = 0; k < ro->n; k++) {
+      const agent_t *b = &sc->agents[ro->agents[k]];
+      if (b->turn != TURN_NONE) { /* (a right-turner leaves before the left-turner's path) */
+        if (b->v < 0.5 && b->s < b->p1 + 0.5 * PI * b->R) break; /* one waiting to turn: those behind it wait too */
+        continue;
+      }
+      if (b->s < ro->stop_s + 0.5 && !green(sc, ro->phase, sc->t, true)) continue; /* stops on red */
+      const double u = b->s - lc; /* its front, from the centre along its way */
+      if (u - b->l > 3.0) continue; /* past */
+      if (u > -5.0) return true;
+      const double d = -5.0 - u, t = (-b->v + sqrt(b->v * b->v + 3.0 * d)) / 1.5;
+      if (t < TURN_GAP_S) return true;
+    }
+  }
+  return false;
+}
+
+/* a walker would walk into a vehicle's body within WALK_BLOCK_M: it waits (a turning truck
+ * standing across the crosswalk). A vehicle whose front is within 1.5 m of the walker stands
+ * for the walker (path_obstacle()): the walker goes on. */
+#define WALK_BLOCK_M 1.0
+static bool walker_blocked(const rs_scene_t *sc, const agent_t *a) {
+  double px, py, vx, vy;
+  walker_move(sc, a, &px, &py, &vx, &vy);
+  const double sp = hypot(vx, vy);
+  if (sp < 0.05) return false;
+  for (int j = 0; j < sc->agent_hwm; j++) {
+    const agent_t *b = &sc->agents[j];
+    if (!b->active || b->type == T_PED || b->route < 0) continue;
+    double bx, by, bh;
+    pose(sc, b, sc->t, &bx, &by, &bh);
+    if (hypot(bx - px, by - py) > hypot(b->l, b->w) / 2 + WALK_BLOCK_M + 0.5) continue;
+    const double c = cos(bh), sn = sin(bh);
+    const double fx = bx + c * b->l / 2, fy = by + sn * b->l / 2;
+    if (hypot(fx - px, fy - py) < 1.5) continue;
+    for (int k = 1; k <= 4; k++) {
+      const double qx = px + vx / sp * 0.25 * k * WALK_BLOCK_M, qy = py + vy / sp * 0.25 * k * WALK_BLOCK_M;
+      const double lx = (qx - bx) * c + (qy - by) * sn, ly = -(qx - bx) * sn + (qy - by) * c;
+      if (fabs(lx) < b->l / 2 + a->w / 2 && fabs(ly) < b->w / 2 + a->w / 2) return true;
+    }
+  }
+  return false;
+}
+
 static void step(rs_scene_t *sc, double dt) {
   const double amax = 1.5, bcomf = 2.5, s0 = 2.0, T = 1.2;
   walkers_avoid(sc, dt);
+  bool any_turn = false; /* (none when turn_share is 0: the traffic of before, to the bit) */
+  for (int i = 0; i < sc->agent_hwm && !any_turn; i++) any_turn = sc->agents[i].active && sc->agents[i].turn;
   for (int ri = 0; ri < sc->nroutes; ri++) {
     route_t *rt = &sc->routes[ri];
     double rate = (rt->pedestrian ? sc->cfg.pedestrians_per_min : sc->cfg.vehicles_per_min / 2.0) / 60.0;
@@ -962,10 +1149,21 @@ static void step(rs_scene_t *sc, double dt) {
     for (int k = 0; k < rt->n; k++) {
       agent_t *a = &sc->agents[rt->agents[k]];
       double gap = INFINITY, vlead = 0;
-      if (k > 0) {
-        const agent_t *lead = &sc->agents[rt->agents[k - 1]];
+      for (int j = k - 1; j >= 0; j--) {
+        const agent_t *lead = &sc->agents[rt->agents[j]];
+        if (!rt->pedestrian && diverged(lead, a)) continue;
         gap = lead->s - lead->l - a->s;
         vlead = lead->v;
+        break;
+      }
+      if (!rt->pedestrian && any_turn) {
+        double g = INFINITY, vl = 0;
+        path_obstacle(sc, a, &g, &vl);
+        if (g < gap) gap = g, vlead = vl;
+        if (a->turn == TURN_LEFT && a->p1 - a->s > 0.3 && a->p1 - a->s < 30.0 && a->p1 - a->s < gap &&
+            (oncoming(sc, rt) || /* after the all-red, it waits for its next green */
+             !(green(sc, rt->phase, sc->t, true) || green(sc, rt->phase, sc->t - ALLRED_S, true))))
+          gap = fmax(a->p1 - a->s - 0.6, 0.01), vlead = 0; /* waits for a gap, its front past the line */
       }
       double to_stop = rt->stop_s - a->s;
       if (to_stop > -0.5 && !green(sc, rt->phase, sc->t, !rt->pedestrian)) {
@@ -978,22 +1176,37 @@ static void step(rs_scene_t *sc, double dt) {
       }
       double acc;
       if (rt->pedestrian) {
+        if (any_turn && walker_blocked(sc, a)) gap = 0.0;
         acc = gap < 1.0 ? -a->v / dt : a->yield ? -a->v / 0.5 : (a->v0 - a->v) / 0.5;
       } else {
+        double v0 = a->v0;
+        if (a->turn != TURN_NONE && a->s > a->p1 && a->s - a->l < a->p1 + 0.5 * PI * a->R)
+          v0 = fmin(v0, a->vturn); /* on the arc */
         double sstar = s0 + fmax(0.0, a->v * T + a->v * (a->v - vlead) / (2 * sqrt(amax * bcomf)));
-        double free = 1.0 - pow(a->v / a->v0, 4);
+        double free = 1.0 - pow(a->v / v0, 4);
         acc = amax * (free - (isfinite(gap) ? (sstar / fmax(gap, 0.01)) * (sstar / fmax(gap, 0.01)) : 0.0));
+        if (a->turn != TURN_NONE && a->s < a->p1 && a->v > a->vturn) {
+          /* slowing down for the arc: at the rate that reaches its speed where it starts, once that
+           * is 1.5 m/s^2 */
+          const double need = (a->v * a->v - a->vturn * a->vturn) / (2.0 * fmax(a->p1 - a->s, 0.5));
+          if (need > 1.5 && -need < acc) acc = -need;
+        }
         if (acc < -9.0) acc = -9.0;
       }
       a->v = fmax(0.0, a->v + acc * dt);
       a->s += a->v * dt;
       a->lat += a->vlat * dt;
     }
-    /* despawn at the end of the route (front first) */
-    while (rt->n > 0 && sc->agents[rt->agents[0]].s - sc->agents[rt->agents[0]].l > rt->length) {
-      sc->agents[rt->agents[0]].active = false;
-      memmove(rt->agents, rt->agents + 1, sizeof rt->agents[0] * (size_t)(rt->n - 1));
-      rt->n--;
+    /* despawn at the end of the route (a turner in front may be behind one that went straight) */
+    for (int k = 0; k < rt->n;) {
+      agent_t *a = &sc->agents[rt->agents[k]];
+      if (a->s - a->l > rt->length) {
+        a->active = false;
+        memmove(rt->agents + k, rt->agents + k + 1, sizeof rt->agents[0] * (size_t)(rt->n - 1 - k));
+        rt->n--;
+      } else {
+        k++;
+      }
     }
   }
   sc->t += dt;
@@ -1029,6 +1242,12 @@ static void pose(const rs_scene_t *sc, const agent_t *a, double t, double *cx, d
   }
   const route_t *rt = &sc->routes[a->route];
   double s = a->s + a->v * (t - sc->t) - a->l / 2, lat = a->lat + a->vlat * (t - sc->t);
+  if (a->turn != TURN_NONE) {
+    double hx, hy;
+    path_at(sc, a, s, cx, cy, &hx, &hy);
+    *hd = atan2(hy, hx);
+    return;
+  }
   *cx = rt->x0 + rt->dx * s - rt->dy * lat;
   *cy = rt->y0 + rt->dy * s + rt->dx * lat;
   *hd = atan2(rt->dy, rt->dx);

@@ -45,6 +45,8 @@ typedef struct {
   double warmup_s;           /* traffic simulated before the capture starts, default 60 */
   double walker_space;       /* m: walkers step aside to keep their centres this far apart (0 = they
                                 walk through each other, as before; docs/simulator.md) */
+  double turn_share;         /* of the vehicles in a road's outer lane, the share that turn right; of
+                                the inner lane's, the share that turn left (default 0: all go straight) */
   /* sensor effects (physics: see docs/simulator.md, measured against real captures) */
   double range_noise;        /* m, sd at 20 m on a surface of intensity 20: default 0.012;
                                 sd = range_noise x (0.5 + r / 40 m) x (0.85 + 2 / max(intensity, 5)) */
@@ -71,7 +73,7 @@ typedef struct {
 /* the sensor's yaw against its mount (degrees) t seconds into the capture */
 double rs_scene_yaw(const rs_scene_cfg_t *cfg, double t);
 
-/* light, rush, far, storm; false for an unknown name */
+/* light, rush, turns, far, storm; false for an unknown name */
 bool rs_scene_preset(const char *name, rs_scene_cfg_t *cfg);
 /* key = value (same names as the fields); RS_OK or RS_E_INVAL with err */
 int rs_scene_set(rs_scene_cfg_t *cfg, const char *key, const char *value, char *err, size_t n);
