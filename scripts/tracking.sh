@@ -16,7 +16,8 @@
 #   scripts/tracking.sh --turns
 # instead scores the turns preset (a quarter of the vehicles turn) at sites 1, 5
 # and 9 (seeds 11/12, 21/22, 41/42), and the same seeds with turn_share=0 (the
-# same demand, every vehicle going straight), captures in out/turns; prints the
+# same demand, every vehicle going straight), then held out, at sites 13, 17 and
+# 21 (seeds 61/62, 71/72, 81/82) with turns, captures in out/turns; prints the
 # rows and, per capture, scripts/track-errors.py speed's lines of the turning
 # vehicles (docs/tracking.md, turning vehicles).
 set -euo pipefail
@@ -83,10 +84,11 @@ if [ "${1:-}" = "--turns" ]; then
   mkdir -p "$out"
   echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks | speed RMSE | position RMSE | confirmed in 0.3 s | class count error | crossings | per line | junction |"
   echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-  for site in "1 11 12" "5 21 22" "9 41 42"; do
+  for site in "1 11 12" "5 21 22" "9 41 42" "13 61 62" "17 71 72" "21 81 82"; do
     set -- $site
     for sensor in VLP-32C VLP-16; do
       for share in 0.25 0; do
+        [ "$1" -gt 9 ] && [ $share = 0 ] && continue # the held-out sites: with turns only
         tag=$sensor-turns$share-site$1
         capture "$tag" "$sensor" turns $2 $3 --set site_seed=$1 --set turn_share=$share
         row "$tag" "$sensor turns, turn_share $share, site $1, seed $3"

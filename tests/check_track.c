@@ -657,6 +657,84 @@ START_TEST(t_speed_imm) {
 }
 END_TEST
 
+/* A car at 6 m/s: 3 s straight on, a quarter circle of 8 m (0.75 rad/s clockwise, 2.1 s), then
+ * straight on again, seen in every frame but for 0.4 s in the middle of the turn (box centres with
+ * noise of sd 0.05 m). Over the turn and the 1 s after it, from 0.5 s into the turn: the RMSE of
+ * the track's heading against the car's (deg) and of its position (m, the filter's state); the
+ * largest turn rate measured on the first straight (rad/s), the mean over the second half of the
+ * turn; the tracks born. */
+typedef struct {
+  double heading, pos, omega_straight, omega_turn;
+  uint32_t born;
+} turn_run_t;
+static turn_run_t turn_run(double turn_rate) {
+  init_knob("turn_rate", turn_rate);
+  const double v = 6.0, R = 8.0, w = v / R, t_arc = 0.5 * M_PI / w;
+  uint32_t seed = 777;
+  turn_run_t r = {0};
+  double se_h = 0, se_p = 0, om = 0;
+  int n = 0, nom = 0;
+  for (int f = 0; f < 80; f++) {
+    const double t = 0.1 * f;
+    double x, y, h; /* eastbound at y = 30, turning right (south) round (20, 22) */
+    if (t < 3.0) {
+      x = 20.0 - v * (3.0 - t), y = 30.0, h = 0.0;
+    } else if (t < 3.0 + t_arc) {
+      const double a = w * (t - 3.0);
+      x = 20.0 + R * sin(a), y = 22.0 + R * cos(a), h = -a;
+    } else {
+      x = 28.0, y = 22.0 - v * (t - 3.0 - t_arc), h = -0.5 * M_PI;
+    }
+    double noise[2];
+    for (int k = 0; k < 2; k++) {
+      double u = 0;
+      for (int q = 0; q < 4; q++) {
+        seed = seed * 1664525u + 1013904223u;
+        u += (double)(seed >> 8) / 16777216.0 - 0.5;
+      }
+      noise[k] = 0.0866 * u;
+    }
+    clear();
+    const bool hidden = t >= 3.8 && t < 4.2;
+    if (!hidden) car(t, x + noise[0], y + noise[1], h);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (tr.list.count == 0) continue;
+    const rs_track_t *k = &tr.list.track[0];
+    if (t >= 1.0 && t < 3.0) r.omega_straight = fmax(r.omega_straight, fabs(k->omega));
+    if (t >= 3.0 + 0.5 * t_arc && t < 3.0 + t_arc && !hidden) om += k->omega, nom++;
+    if (t >= 3.5 && t < 4.0 + t_arc && !hidden) {
+      const double dh = remainder((double)k->heading - h, 2 * M_PI) * 180.0 / M_PI;
+      se_h += dh * dh;
+      se_p += (k->x[0] - x) * (k->x[0] - x) + (k->x[1] - y) * (k->x[1] - y);
+      n++;
+    }
+  }
+  r.heading = sqrt(se_h / n);
+  r.pos = sqrt(se_p / n);
+  r.omega_turn = om / nom;
+  r.born = tr.n.born;
+  return r;
+}
+
+START_TEST(t_turn_rate) {
+  const turn_run_t on = turn_run(0.1), off = turn_run(0.0);
+  ck_assert_uint_eq(on.born, 1); /* one track through the turn and the 0.4 s unseen in it */
+  ck_assert_uint_eq(off.born, 1);
+  ck_assert_msg(on.omega_straight < 0.1, "straight on: %.3f rad/s", on.omega_straight);
+  /* the rate measured lags the turn's (0.75 rad/s, clockwise) but has its sign */
+  ck_assert_msg(on.omega_turn < -0.2 && on.omega_turn > -1.0, "turning at -0.75: %.3f rad/s", on.omega_turn);
+  ck_assert_msg(on.heading < 0.85 * off.heading, "heading %.1f deg off turning, %.1f straight on", on.heading, off.heading);
+  ck_assert_msg(on.pos < 0.9 * off.pos, "position %.2f m off turning, %.2f straight on", on.pos, off.pos);
+  /* off by default, and out of range refused */
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  ck_assert_double_eq(c.turn_rate, 0.0);
+  char err[256];
+  ck_assert_int_eq(rs_track_cfg_set(&c, "turn_rate", "3", err, sizeof err), RS_E_INVAL);
+  ck_assert_ptr_nonnull(strstr(err, "turn_rate"));
+}
+END_TEST
+
 /* A far car seen as its roof only (4.5 x 1.2 m, the track's width learns
  * 1.2 m), then for 1 s also its near side as a thin cluster of its own
  * 1.25 m nearer the sensor: outside the track's box grown by the margin,
@@ -1309,6 +1387,7 @@ int main(void) {
   tcase_add_test(tc, t_split_side);
   tcase_add_test(tc, t_speed_follows);
   tcase_add_test(tc, t_speed_imm);
+  tcase_add_test(tc, t_turn_rate);
   tcase_add_test(tc, t_hidden_end);
   tcase_add_test(tc, t_next_lane_not_taken);
   tcase_add_test(tc, t_pedestrian_not_vehicle);
