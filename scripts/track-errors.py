@@ -19,7 +19,17 @@
         within 3 m or farther); and how many of the walkers' and cyclists' switches came
         within 1.5 s after (or 0.5 s before) their centre passed within 0.45 m of another
         walker's or cyclist's: the simulator's walkers are 0.5 m wide and walk through
-        each other, which real ones do not.
+        each other, which real ones do not. Then the same frames for the vehicles and
+        cyclists whose velocity's direction turned by over 60 deg (turn_share) and for the rest.
+    scripts/track-errors.py traffic STATES...
+        Per true-states file, how the simulator's traffic moved (turn_share, docs/simulator.md):
+        vehicles, those whose heading turned by over 60 deg (left, right; trucks and buses
+        among them), those that passed within 8 m of the intersection's centre (the default
+        pole: 11.5 m east and north of the sensor), pairs of boxes that overlapped (vehicle with
+        vehicle or walker, in how many states), and the longest any vehicle stood (s).
+    scripts/track-errors.py unmatched MOTDUMP TRACKS
+        The confirmed rows of a track file that no true instance matches (IoU > 0.5), and
+        how many of them have fewer than 10 returns (never a true instance's).
     scripts/track-errors.py close STATES...
         Per true-states file: how many pairs of walkers came within 0.45 m of each other (centres;
         bodies are 0.5 m wide), the states within 0.6 m, and the nearest two ever came (m): how
@@ -74,7 +84,7 @@ def heading_rmse(samples):
 
 def speed(tracks_path, states_path):
     states, cls = load_states(states_path)
-    samples = []  # (track, truth, t, error, accel, age)
+    samples = []  # (track, truth, t, speed error, accel, age, turn rate deg/s, heading error deg or None)
     with open(tracks_path, newline="") as f:
         for r in csv.DictReader(f):
             if r["state"] != "confirmed":
@@ -197,6 +207,98 @@ def ids(mot_path, states_path):
     for c in sorted(through):
         print(f"  {c}: {through[c]} of {switches[c]} switches within 1.5 s of passing through another walker "
               f"or cyclist (centres within 0.45 m)")
+    way = Counter()  # vehicles that turned (docs/simulator.md, turn_share) and those that went straight
+    for t, fs in frames.items():
+        if cls.get(t) not in VEHICLES | {"cyclist"}:
+            continue
+        moving = [r for r in states.get(t, []) if math.hypot(r[3], r[4]) > 1.0]
+        turned = bool(moving) and abs(wrap(math.degrees(
+            math.atan2(moving[-1][4], moving[-1][3]) - math.atan2(moving[0][4], moving[0][3])))) > 60.0
+        m = match[t]
+        key = "turned" if turned else "straight"
+        way[key, "objects"] += 1
+        way[key, "frames"] += len(fs)
+        way[key, "lost"] += len(fs) - (Counter(m.values()).most_common(1)[0][1] if m else 0)
+    for key in ("turned", "straight"):
+        if way[key, "objects"]:
+            print(f"  vehicles and cyclists that {'turned (over 60 deg)' if key == 'turned' else 'went straight'}: "
+                  f"objects {way[key, 'objects']} frames {way[key, 'frames']} not with their track "
+                  f"{way[key, 'lost']} ({100.0 * way[key, 'lost'] / way[key, 'frames']:.1f} %)")
+
+
+def boxes_overlap(a, b):
+    """do two boxes (x, y, heading, length, width) overlap (separating axes)"""
+    def corners(x, y, h, ln, wd):
+        c, s = math.cos(h), math.sin(h)
+        return [(x + u * ln / 2 * c - v * wd / 2 * s, y + u * ln / 2 * s + v * wd / 2 * c)
+                for u, v in ((1, 1), (1, -1), (-1, -1), (-1, 1))]
+    pa, pb = corners(*a), corners(*b)
+    for p in (pa, pb):
+        for k in range(2):
+            nx, ny = p[k + 1][1] - p[k][1], p[k][0] - p[k + 1][0]
+            ia = [q[0] * nx + q[1] * ny for q in pa]
+            ib = [q[0] * nx + q[1] * ny for q in pb]
+            if max(ia) < min(ib) or max(ib) < min(ia):
+                return False
+    return True
+
+
+def traffic(*paths):
+    for path in paths:
+        rows, by_t = defaultdict(list), defaultdict(list)
+        with open(path, newline="") as f:
+            for r in csv.DictReader(f):
+                d = (int(r["id"]), r["class"], float(r["t"]), float(r["x"]), float(r["y"]), float(r["vx"]),
+                     float(r["vy"]), float(r["heading"]), float(r["length"]), float(r["width"]))
+                rows[d[0]].append(d)
+                by_t[d[2]].append(d)
+        turns, through, longest = Counter(), 0, 0.0
+        for k, tr in rows.items():
+            if tr[0][1] == "pedestrian":
+                continue
+            turns["vehicles"] += 1
+            turned = wrap(math.degrees(tr[-1][7] - tr[0][7]))
+            if abs(turned) > 60.0:
+                turns["left" if turned > 0 else "right"] += 1
+                turns["trucks and buses"] += tr[0][1] in ("truck", "bus")
+            through += any(math.hypot(d[3] - 11.5, d[4] - 11.5) < 8.0 for d in tr)
+            run = t_start = None
+            for d in tr:
+                if math.hypot(d[5], d[6]) < 0.1:
+                    t_start = d[2] if t_start is None else t_start
+                    run = d[2] - t_start
+                    longest = max(longest, run)
+                else:
+                    t_start = None
+        pairs, states = set(), 0
+        for ds in by_t.values():
+            for i, a in enumerate(ds):
+                for b in ds[i + 1:]:
+                    if (a[1] == "pedestrian" and b[1] == "pedestrian") or math.hypot(a[3] - b[3], a[4] - b[4]) > 15.0:
+                        continue
+                    if boxes_overlap((a[3], a[4], a[7], a[8], a[9]), (b[3], b[4], b[7], b[8], b[9])):
+                        pairs.add((min(a[0], b[0]), max(a[0], b[0])))
+                        states += 1
+        print(f"{path}: {turns['vehicles']} vehicles, turned {turns['left'] + turns['right']} ({turns['left']} left, "
+              f"{turns['right']} right; {turns['trucks and buses']} trucks or buses), {through} through the centre, "
+              f"{len(pairs)} pairs of boxes overlapping in {states} states, longest stand {longest:.1f} s")
+
+
+def unmatched(mot_path, tracks_path):
+    """confirmed track rows no true instance matches (IoU > 0.5), and how many have fewer than 10 returns"""
+    matched = set()
+    with open(mot_path, newline="") as f:
+        for r in csv.DictReader(f):
+            if int(r["pred"]) and float(r["iou"]) > 0.5:
+                matched.add((int(r["frame"]), int(r["pred"]) - 2))  # a track's label is 2 + its id
+    rows = few = 0
+    with open(tracks_path, newline="") as f:
+        for r in csv.DictReader(f):
+            if r["state"] == "confirmed" and (int(r["frame"]), int(r["track"])) not in matched:
+                rows += 1
+                few += int(r["points"]) < 10
+    print(f"{tracks_path}: {rows} confirmed rows unmatched, {few} ({100.0 * few / max(rows, 1):.0f} %) "
+          f"with fewer than 10 returns")
 
 
 def close(*paths):
@@ -220,9 +322,10 @@ def close(*paths):
 
 
 def main(argv):
-    if len(argv) < 2 or argv[0] not in ("speed", "ids", "close") or (argv[0] != "close" and len(argv) != 3):
+    modes = {"speed": speed, "ids": ids, "close": close, "traffic": traffic, "unmatched": unmatched}
+    if len(argv) < 2 or argv[0] not in modes or (argv[0] not in ("close", "traffic") and len(argv) != 3):
         sys.exit(__doc__.strip())
-    {"speed": speed, "ids": ids, "close": close}[argv[0]](*argv[1:])
+    modes[argv[0]](*argv[1:])
 
 
 if __name__ == "__main__":

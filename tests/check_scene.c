@@ -471,6 +471,9 @@ START_TEST(t_vehicles_turn) {
   ck_assert_double_eq(c.turn_share, 0.0);
   ck_assert(rs_scene_preset("turns", &c));
   ck_assert_double_eq(c.turn_share, 0.25);
+  char err[256];
+  ck_assert_int_eq(rs_scene_set(&c, "turn_share", "1.5", err, sizeof err), RS_E_INVAL);
+  ck_assert_ptr_nonnull(strstr(err, "turn_share"));
 }
 END_TEST
 

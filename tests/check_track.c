@@ -700,8 +700,8 @@ static turn_run_t turn_run(double turn_rate) {
     rs_track_frame(&tr, &objs, t + 0.05);
     if (tr.list.count == 0) continue;
     const rs_track_t *k = &tr.list.track[0];
-    if (t >= 1.0 && t < 3.0) r.omega_straight = fmax(r.omega_straight, fabs(k->omega));
-    if (t >= 3.0 + 0.5 * t_arc && t < 3.0 + t_arc && !hidden) om += k->omega, nom++;
+    if (t >= 1.0 && t < 3.0) r.omega_straight = fmax(r.omega_straight, fabs(rs_track_turn_rate(k)));
+    if (t >= 3.0 + 0.5 * t_arc && t < 3.0 + t_arc && !hidden) om += rs_track_turn_rate(k), nom++;
     if (t >= 3.5 && t < 4.0 + t_arc && !hidden) {
       const double dh = remainder((double)k->heading - h, 2 * M_PI) * 180.0 / M_PI;
       se_h += dh * dh;

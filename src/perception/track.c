@@ -399,19 +399,34 @@ static void accel_density(const rs_tracker_t *tr, const rs_track_t *t, double q[
   q[2] = ql * cy + qc * cx;
 }
 
-/* The turn rate (turn_rate): a vehicle's velocity turning at omega is predicted
+/* The turn rate (turn_rate): a vehicle's velocity turning at rate w is predicted
  * along a circle (a coordinated turn of known rate): the transition is linear in
- * the state for a given omega, so the filter stays a Kalman filter. omega comes
- * from the speed estimator (measure_turn()); below turn_rate, for walkers (who
- * turn at will) and for a track unseen over OMEGA_UNSEEN_S, the
- * constant-velocity transition. */
+ * the state for a given w, so the filter stays a Kalman filter. w is
+ * rs_track_turn_rate(); below turn_rate and for a track unseen over
+ * OMEGA_UNSEEN_S, the constant-velocity transition. */
 #define OMEGA_MAX 1.5     /* rad/s: a car on a 6 m circle at 9 m/s */
 #define OMEGA_SPEED 2.0   /* m/s: slower, the direction says little */
 #define OMEGA_UNSEEN_S 1.0 /* s: a track unseen longer is predicted straight on (its turn may have ended) */
+/* The rate: the speed estimator's constant-acceleration model's acceleration
+ * across its velocity over its speed ((v x a) / |v|^2); 0 for walkers (who turn
+ * at will), below OMEGA_SPEED and before 3 hits. The estimator's models do not
+ * turn, so the rate does not feed on the turn predicted (the Kalman filter's
+ * velocity, mostly its own prediction, would: a turn once predicted would go on;
+ * a filter of the velocity's direction and its rate was no better). It lags: on a
+ * 0.75 rad/s turn it reaches about 0.3 rad/s within a second (check_track
+ * t_turn_rate); on the straight before it, it stays under 0.1 rad/s. */
+double rs_track_turn_rate(const rs_track_t *t) {
+  const rs_track_imm_t *m = &t->imm;
+  const double vx = m->x[1][0][1], vy = m->x[1][1][1], ax = m->x[1][0][2], ay = m->x[1][1][2];
+  const double v2 = vx * vx + vy * vy;
+  if (t->hits < 3 || walker_sized(t) || v2 < OMEGA_SPEED * OMEGA_SPEED) return 0.0;
+  return fmax(-OMEGA_MAX, fmin(OMEGA_MAX, (vx * ay - vy * ax) / v2));
+}
+
 static double turn_of(const rs_tracker_t *tr, const rs_track_t *t) {
-  if (!(tr->cfg.turn_rate > 0) || fabs(t->omega) < tr->cfg.turn_rate || t->t_state - t->t_update > OMEGA_UNSEEN_S)
-    return 0.0;
-  return t->omega;
+  if (!(tr->cfg.turn_rate > 0) || t->t_state - t->t_update > OMEGA_UNSEEN_S) return 0.0;
+  const double w = rs_track_turn_rate(t);
+  return fabs(w) < tr->cfg.turn_rate ? 0.0 : w;
 }
 
 /* the transition over dt at turn rate w (0: constant velocity) */
@@ -487,23 +502,6 @@ static void predict(const rs_tracker_t *tr, rs_track_t *t, double tk) {
   t->t_state = tk;
 }
 
-/* after an update and the speed estimator's step: the turn rate, from the speed
- * estimator's constant-acceleration model: its acceleration across its velocity
- * over its speed ((v x a) / |v|^2). The estimator's models do not turn, so the
- * rate does not feed on the turn predicted (the Kalman filter's velocity, mostly
- * its own prediction, would: a turn once predicted would go on; a filter of the
- * velocity's direction and its rate, measured every update, was no better). It
- * lags: on a 0.75 rad/s turn it reaches about 0.3 rad/s within a second
- * (check_track t_turn_rate); on straight traffic it stays within 0.1 rad/s in
- * 99 % of the updates (docs/tracking.md). */
-static void measure_turn(rs_track_t *t) {
-  const rs_track_imm_t *m = &t->imm;
-  const double vx = m->x[1][0][1], vy = m->x[1][1][1], ax = m->x[1][0][2], ay = m->x[1][1][2];
-  const double v2 = vx * vx + vy * vy;
-  t->omega = t->hits < 3 || walker_sized(t) || v2 < OMEGA_SPEED * OMEGA_SPEED
-                 ? 0.0
-                 : fmax(-OMEGA_MAX, fmin(OMEGA_MAX, (vx * ay - vy * ax) / v2));
-}
 
 /* Kalman update with a position measurement z of noise sd */
 static void update(rs_track_t *t, const double z[2], double sd) {
@@ -987,7 +985,6 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
     accel_density(tr, t, q);
     imm_step(t, z, sdu * sdu, tk, (const double[2]){q[0], q[2]}, tr->cfg.q_jerk);
   }
-  measure_turn(t);
   t->length = smooth(t->length, o->sensor.obb_length, first);
   t->width = smooth(t->width, o->sensor.obb_width, first);
   t->height = smooth(t->height, o->sensor.box_max[2] - o->sensor.box_min[2], first);
@@ -1060,7 +1057,6 @@ static void stitch(rs_tracker_t *tr, const rs_object_list_t *objs, uint32_t nobj
     o->distance += hypot(y->x[0] - o->prev[0], y->x[1] - o->prev[1]);
     memcpy(o->x, y->x, sizeof o->x);
     o->imm = y->imm;
-    o->omega = y->omega;
     for (int a = 0; a < 4; a++)
       for (int b = 0; b < 4; b++) o->P[a][b] = y->P[a][b];
     o->t_state = y->t_state;

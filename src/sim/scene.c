@@ -202,10 +202,10 @@ typedef struct {
   double vlat_next;
   bool yield;          /* a walker slowing down for another it would bump into */
   /* a turning vehicle (turn_share): its path leaves the route's line at path length p1 (m from
-   * the route's start) on a quarter circle of radius R from t1 (the point at p1), and goes on
-   * along e; vturn is the speed it takes the arc at */
+   * the route's start) on a quarter circle of radius R, and goes on along the road it turned
+   * into (turn_dir()); vturn is the speed it takes the arc at */
   uint8_t turn;        /* TURN_NONE, TURN_RIGHT, TURN_LEFT */
-  double p1, R, t1x, t1y, ex, ey, vturn;
+  double p1, R, vturn;
 } agent_t;
 
 enum { TURN_NONE, TURN_RIGHT, TURN_LEFT };
@@ -834,20 +834,17 @@ static bool green(const rs_scene_t *sc, int phase, double t, bool amber_counts) 
 static void turn_setup(const route_t *rt, agent_t *a, double lat_acc) {
   const double o = rt->x0 * rt->dy - rt->y0 * rt->dx; /* the lane's offset right of the centre line */
   const double lc = -(rt->x0 * rt->dx + rt->y0 * rt->dy); /* path length to the centre */
-  if (o > ROAD_HALF / 2) {
-    a->turn = TURN_RIGHT;
-    a->R = TURN_R_RIGHT;
-    a->ex = rt->dy, a->ey = -rt->dx;
-    a->p1 = lc - o - a->R;
-  } else {
-    a->turn = TURN_LEFT;
-    a->R = TURN_R_LEFT;
-    a->ex = -rt->dy, a->ey = rt->dx;
-    a->p1 = lc + o - a->R;
-  }
-  a->t1x = rt->x0 + rt->dx * a->p1;
-  a->t1y = rt->y0 + rt->dy * a->p1;
+  const bool right = o > ROAD_HALF / 2;
+  a->turn = right ? TURN_RIGHT : TURN_LEFT;
+  a->R = right ? TURN_R_RIGHT : TURN_R_LEFT;
+  a->p1 = right ? lc - o - a->R : lc + o - a->R;
   a->vturn = sqrt(lat_acc * a->R);
+}
+
+/* the direction of the road a turner turns into */
+static void turn_dir(const route_t *rt, const agent_t *a, double *ex, double *ey) {
+  *ex = a->turn == TURN_RIGHT ? rt->dy : -rt->dy;
+  *ey = a->turn == TURN_RIGHT ? -rt->dx : rt->dx;
 }
 
 /* the point of a vehicle's path p metres from its route's start, and the unit heading there */
@@ -860,18 +857,23 @@ static void path_at(const rs_scene_t *sc, const agent_t *a, double p, double *x,
     *y = rt->y0 + rt->dy * p;
     *hx = rt->dx;
     *hy = rt->dy;
-  } else if (p < a->p1 + arc) {
+    return;
+  }
+  double ex, ey;
+  turn_dir(rt, a, &ex, &ey);
+  const double t1x = rt->x0 + rt->dx * a->p1, t1y = rt->y0 + rt->dy * a->p1; /* where the arc starts */
+  if (p < a->p1 + arc) {
     const double f = (p - a->p1) / a->R, c = cos(f), sn = sin(f);
-    *x = a->t1x + a->R * (a->ex * (1.0 - c) + rt->dx * sn);
-    *y = a->t1y + a->R * (a->ey * (1.0 - c) + rt->dy * sn);
-    *hx = rt->dx * c + a->ex * sn;
-    *hy = rt->dy * c + a->ey * sn;
+    *x = t1x + a->R * (ex * (1.0 - c) + rt->dx * sn);
+    *y = t1y + a->R * (ey * (1.0 - c) + rt->dy * sn);
+    *hx = rt->dx * c + ex * sn;
+    *hy = rt->dy * c + ey * sn;
   } else {
     const double q = p - a->p1 - arc + a->R;
-    *x = a->t1x + a->R * rt->dx + q * a->ex;
-    *y = a->t1y + a->R * rt->dy + q * a->ey;
-    *hx = a->ex;
-    *hy = a->ey;
+    *x = t1x + a->R * rt->dx + q * ex;
+    *y = t1y + a->R * rt->dy + q * ey;
+    *hx = ex;
+    *hy = ey;
   }
 }
 
@@ -963,8 +965,8 @@ static void walker_move(const rs_scene_t *sc, const agent_t *a, double *px, doub
  * near); *yield: nearer than WALK_BODY_M within WALK_YIELD_S to one ahead that does not wait for it */
 static double walker_clear(const rs_scene_t *sc, const agent_t *a, double vlat, bool *yield) {
   const route_t *rt = &sc->routes[a->route];
-  const double s = a->s - a->l / 2;
-  const double ax = rt->x0 + rt->dx * s - rt->dy * a->lat, ay = rt->y0 + rt->dy * s + rt->dx * a->lat;
+  double ax, ay, unused_x, unused_y;
+  walker_move(sc, a, &ax, &ay, &unused_x, &unused_y);
   /* (over the look ahead, as far as there is room) */
   vlat = fmax((-WALK_LAT_M - a->lat) / WALK_LOOK_S, fmin((WALK_LAT_M - a->lat) / WALK_LOOK_S, vlat));
   const double avx = rt->dx * a->v - rt->dy * vlat, avy = rt->dy * a->v + rt->dx * vlat;
@@ -1023,6 +1025,12 @@ static void walkers_avoid(rs_scene_t *sc, double dt) {
 
 static void pose(const rs_scene_t *sc, const agent_t *a, double t, double *cx, double *cy, double *hd);
 
+/* point (px, py) in the frame of a box centred at (bx, by) whose axis has cosine c and sine sn */
+static void box_local(double bx, double by, double c, double sn, double px, double py, double *lx, double *ly) {
+  *lx = (px - bx) * c + (py - by) * sn;
+  *ly = -(px - bx) * sn + (py - by) * c;
+}
+
 /* the leader of a vehicle on its route has left its line (a turner gone into another road), or the
  * vehicle has: they no longer follow each other */
 static bool diverged(const agent_t *lead, const agent_t *a) {
@@ -1067,7 +1075,8 @@ static void path_obstacle(const rs_scene_t *sc, const agent_t *a, double *gap, d
       if (0.5 * k - 0.5 >= *gap) break;
       double px, py, tx, ty;
       path_at(sc, a, a->s + 0.5 * k, &px, &py, &tx, &ty);
-      const double lx = (px - bx) * c + (py - by) * sn, ly = -(px - bx) * sn + (py - by) * c;
+      double lx, ly;
+      box_local(bx, by, c, sn, px, py, &lx, &ly);
       const double ox = fmax(fabs(lx) - bl / 2, 0.0), oy = fmax(fabs(ly) - b->w / 2, 0.0);
       if (ox * ox + oy * oy < reach * reach) {
         /* a turner on its arc has the right of way over vehicles crossing its path: they stop for it */
@@ -1106,6 +1115,14 @@ static bool oncoming(const rs_scene_t *sc, const route_t *rt) {
   return false;
 }
 
+/* a left-turner not yet on its arc, within 30 m of it, waits where it starts (nothing nearer in its
+ * way): for a gap in the oncoming traffic, and, after its phase's all-red, for its next green */
+static bool left_waits(const rs_scene_t *sc, const route_t *rt, const agent_t *a, double gap) {
+  const double to_arc = a->p1 - a->s;
+  if (a->turn != TURN_LEFT || to_arc <= 0.3 || to_arc >= 30.0 || to_arc >= gap) return false;
+  return oncoming(sc, rt) || !(green(sc, rt->phase, sc->t, true) || green(sc, rt->phase, sc->t - ALLRED_S, true));
+}
+
 /* a walker would walk into a vehicle's body within WALK_BLOCK_M: it waits (a turning truck
  * standing across the crosswalk). A vehicle whose front is within 1.5 m of the walker stands
  * for the walker (path_obstacle()): the walker goes on. */
@@ -1125,8 +1142,8 @@ static bool walker_blocked(const rs_scene_t *sc, const agent_t *a) {
     const double fx = bx + c * b->l / 2, fy = by + sn * b->l / 2;
     if (hypot(fx - px, fy - py) < 1.5) continue;
     for (int k = 1; k <= 4; k++) {
-      const double qx = px + vx / sp * 0.25 * k * WALK_BLOCK_M, qy = py + vy / sp * 0.25 * k * WALK_BLOCK_M;
-      const double lx = (qx - bx) * c + (qy - by) * sn, ly = -(qx - bx) * sn + (qy - by) * c;
+      double lx, ly;
+      box_local(bx, by, c, sn, px + vx / sp * 0.25 * k * WALK_BLOCK_M, py + vy / sp * 0.25 * k * WALK_BLOCK_M, &lx, &ly);
       if (fabs(lx) < b->l / 2 + a->w / 2 && fabs(ly) < b->w / 2 + a->w / 2) return true;
     }
   }
@@ -1160,10 +1177,7 @@ static void step(rs_scene_t *sc, double dt) {
         double g = INFINITY, vl = 0;
         path_obstacle(sc, a, &g, &vl);
         if (g < gap) gap = g, vlead = vl;
-        if (a->turn == TURN_LEFT && a->p1 - a->s > 0.3 && a->p1 - a->s < 30.0 && a->p1 - a->s < gap &&
-            (oncoming(sc, rt) || /* after the all-red, it waits for its next green */
-             !(green(sc, rt->phase, sc->t, true) || green(sc, rt->phase, sc->t - ALLRED_S, true))))
-          gap = fmax(a->p1 - a->s - 0.6, 0.01), vlead = 0; /* waits for a gap, its front past the line */
+        if (left_waits(sc, rt, a, gap)) gap = fmax(a->p1 - a->s - 0.6, 0.01), vlead = 0; /* its front past the line */
       }
       double to_stop = rt->stop_s - a->s;
       if (to_stop > -0.5 && !green(sc, rt->phase, sc->t, !rt->pedestrian)) {

@@ -183,7 +183,7 @@ typedef struct {
                                   the constant-velocity filter's, which lags a vehicle speeding up or
                                   braking (default 1; docs/tracking.md) */
   double q_jerk;               /* m^2/s^5, the constant-acceleration model's jerk density (default 1) */
-  double turn_rate;            /* rad/s: a vehicle's track whose velocity turns faster than this (rs_track_t.omega)
+  double turn_rate;            /* rad/s: a vehicle's track whose velocity turns faster than this (rs_track_turn_rate())
                                   is predicted along a circle at that rate, not a straight line (a coordinated
                                   turn of known rate); 0 = always straight (the default: measured no better
                                   overall, docs/tracking.md, Turning vehicles) */
@@ -248,9 +248,11 @@ typedef struct {
   rs_track_imm_t imm;        /* the speed estimator (speed_imm) */
   double vel[2];             /* reported velocity, m/s: the speed estimator's for a track not of a walker's size
                                 (speed_imm), the Kalman filter's otherwise */
-  double omega;              /* turn rate, rad/s counter-clockwise (turn_rate): the speed estimator's acceleration
-                                across its velocity over its speed; 0 for walkers and below 2 m/s */
 } rs_track_t;
+
+/* the turn rate of track t, rad/s counter-clockwise, as turn_rate uses it (docs/tracking.md): its speed
+ * estimator's acceleration across its velocity over its speed; 0 for walkers and below 2 m/s */
+double rs_track_turn_rate(const rs_track_t *t);
 
 /* whether track t shares a cluster with another track this frame (track.h's "held") */
 static inline bool rs_track_held(const rs_track_t *t) { return t->held_object >= 0; }
