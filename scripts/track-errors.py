@@ -212,16 +212,17 @@ def ids(mot_path, states_path):
         if cls.get(t) not in VEHICLES | {"cyclist"}:
             continue
         moving = [r for r in states.get(t, []) if math.hypot(r[3], r[4]) > 1.0]
-        turned = bool(moving) and abs(wrap(math.degrees(
-            math.atan2(moving[-1][4], moving[-1][3]) - math.atan2(moving[0][4], moving[0][3])))) > 60.0
+        turn = wrap(math.degrees(math.atan2(moving[-1][4], moving[-1][3]) - math.atan2(moving[0][4], moving[0][3]))) \
+            if moving else 0.0
         m = match[t]
-        key = "turned" if turned else "straight"
+        key = "left" if turn > 60.0 else "right" if turn < -60.0 else "straight"  # counter-clockwise is left
         way[key, "objects"] += 1
         way[key, "frames"] += len(fs)
         way[key, "lost"] += len(fs) - (Counter(m.values()).most_common(1)[0][1] if m else 0)
-    for key in ("turned", "straight"):
+    for key in ("left", "right", "straight"):
         if way[key, "objects"]:
-            print(f"  vehicles and cyclists that {'turned (over 60 deg)' if key == 'turned' else 'went straight'}: "
+            what = "went straight" if key == "straight" else f"turned {key} (over 60 deg)"
+            print(f"  vehicles and cyclists that {what}: "
                   f"objects {way[key, 'objects']} frames {way[key, 'frames']} not with their track "
                   f"{way[key, 'lost']} ({100.0 * way[key, 'lost'] / way[key, 'frames']:.1f} %)")
 

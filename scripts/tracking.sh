@@ -121,11 +121,12 @@ if [ "${1:-}" = "--turns" ]; then
         python3 scripts/track-errors.py unmatched out/tracking/$tag${sfx:-}-mot.csv out/tracking/$tag${sfx:-}-tracks.csv
       done
     done | awk -v name="turn_share $share, sites $*" '
-      / that turned/ { to += $(NF-9); tf += $(NF-7); tl += $(NF-2) }
+      / that turned left/ { lo += $(NF-9); lf += $(NF-7); ll += $(NF-2) }
+      / that turned right/ { ro += $(NF-9); rf += $(NF-7); rl += $(NF-2) }
       / that went straight/ { so += $(NF-9); sf += $(NF-7); sl += $(NF-2) }
       / unmatched/ { print "  " $0 }
-      END { printf "%s: turned %d objects, %d of %d frames not with their track; straight %d objects, %d of %d\n",
-            name, to, tl, tf, so, sl, sf }'
+      END { printf "%s: turned %d objects, %d of %d frames not with their track (left %d objects, %d of %d; right %d, %d of %d); straight %d objects, %d of %d\n",
+            name, lo + ro, ll + rl, lf + rf, lo, ll, lf, ro, rl, rf, so, sl, sf }'
   done
   exit 0
 fi

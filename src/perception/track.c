@@ -56,6 +56,8 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->reacq_across_m = 1.0;
   c->confirm_walk_m = 0.3;
   c->split_full_size = 1;
+  c->blind_turn = 1;
+  c->split_object_axis = 1;
   c->lost_walker_s = 4.0;
   c->below_beam = 1;
   c->walked_hits = 10;
@@ -77,6 +79,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->confirm_still_range >= 0 && cfg->confirm_still_range <= 1000) ||
       cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20) ||
       !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
+      cfg->blind_turn < 0 || cfg->blind_turn > 1 || cfg->split_object_axis < 0 || cfg->split_object_axis > 1 ||
       !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 ||
       !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 ||
       cfg->speed_imm < 0 || cfg->speed_imm > 1 ||
@@ -109,7 +112,8 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
     KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB(q_jerk, 0.01, 100.0),
-    KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),
+    KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),       KNOB_INT(blind_turn, 0, 1),
+    KNOB_INT(split_object_axis, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -181,14 +185,15 @@ static bool size_known(const rs_track_t *t) { return t->state != RS_TRACK_TENTAT
 
 /* object o's oriented box on track t's axes (u along its heading, v across):
  * min u, max u, min v, max v */
-static void box_on_axes(const rs_track_t *t, const rs_object_t *o, double e[4]) {
-  const double c = t->hcos, s = t->hsin, dh = (double)o->sensor.obb_heading - t->heading;
+static void box_on(const rs_object_t *o, double h, double c, double s, double e[4]) {
+  const double dh = (double)o->sensor.obb_heading - h;
   const double a = 0.5 * o->sensor.obb_length, b = 0.5 * o->sensor.obb_width;
   const double du = a * fabs(cos(dh)) + b * fabs(sin(dh)), dv = a * fabs(sin(dh)) + b * fabs(cos(dh));
   const double cu = o->sensor.obb_center[0] * c + o->sensor.obb_center[1] * s;
   const double cv = -o->sensor.obb_center[0] * s + o->sensor.obb_center[1] * c;
   e[0] = cu - du, e[1] = cu + du, e[2] = cv - dv, e[3] = cv + dv;
 }
+static void box_on_axes(const rs_track_t *t, const rs_object_t *o, double e[4]) { box_on(o, t->heading, t->hcos, t->hsin, e); }
 
 /* Which end of object o's box along track t's axis lies beside something
  * nearer that may hide the rest of it (rs_object_t.occluded): +1 the end
@@ -239,6 +244,14 @@ static double beam_reach(const rs_tracker_t *tr, const rs_track_t *t) { return t
 #define BLIND_BIRTH_M 3.0 /* m: the young track born this near it (its first box's centre) */
 #define BLIND_WAY_M 2.0   /* m: the way between them passes this near it, or inside */
 #define BLIND_COS 0.766   /* cos 40 degrees: the young track's velocity (and a moving old one's) off the way */
+#define BLIND_TURN_SIN 0.7071 /* sin 45 degrees: the least turn of a turn way (and 135 the most) */
+/* how near the sensor the segment a -> b passes */
+static double seg_near(double ax, double ay, double bx, double by) {
+  const double dx = bx - ax, dy = by - ay, d2 = dx * dx + dy * dy;
+  double u = d2 > 0 ? -(ax * dx + ay * dy) / d2 : 0.0;
+  u = u < 0 ? 0 : u > 1 ? 1 : u;
+  return hypot(ax + u * dx, ay + u * dy);
+}
 static double blind_reach(const rs_tracker_t *tr, const rs_track_t *t) { return reach_at(tr, (double)t->z_min + (double)t->height); }
 
 static bool at_blind_edge(const rs_tracker_t *tr, const rs_track_t *t) {
@@ -256,7 +269,13 @@ static bool at_blind_edge(const rs_tracker_t *tr, const rs_track_t *t) {
  * is a growing box's, it comes right within a second, y is tried each
  * frame until 1.5 s old), and so was o when it moved (over 2 m/s; a waiting
  * car's box axis says nothing). Returns 1 - the cosine of y's angle off the
- * way (the least wins), or -1. */
+ * way (the least wins), or -1. With blind_turn, when that straight way
+ * fails, y may have come out along a turn off o's way (a car turning at the
+ * sensor's own corner): o moving, y's velocity 45-135 degrees off o's, o's
+ * line ahead and y's behind meeting at p ahead of both, the way a -> p -> b
+ * passing near the circle; then it returns 1 + how far the time unseen is
+ * from that way's length at o's speed (after every straight way; of two
+ * cars turning one behind the other, the first in is the first out). */
 static double blind_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_track_t *y) {
   const rs_track_cfg_t *cf = &tr->cfg;
   const double dt = y->t_birth - o->t_update;
@@ -268,12 +287,19 @@ static double blind_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_t
   const double vx = y->x[2], vy = y->x[3], v = hypot(vx, vy);
   if (v < 1.0) return -1.0;
   const double cosv = (vx * dx + vy * dy) / (v * d);
-  if (cosv < BLIND_COS) return -1.0;
   const double vo = hypot(o->x[2], o->x[3]);
-  if (vo > 2.0 && o->x[2] * dx + o->x[3] * dy < BLIND_COS * vo * d) return -1.0;
-  double u = -(ax * dx + ay * dy) / (d * d); /* the way's point nearest the sensor */
-  u = u < 0 ? 0 : u > 1 ? 1 : u;
-  return hypot(ax + u * dx, ay + u * dy) < rb + BLIND_WAY_M ? 1.0 - cosv : -1.0;
+  if (cosv >= BLIND_COS && !(vo > 2.0 && o->x[2] * dx + o->x[3] * dy < BLIND_COS * vo * d))
+    return seg_near(ax, ay, y->px0, y->py0) < rb + BLIND_WAY_M ? 1.0 - cosv : -1.0;
+  /* the turn: s along o's line and r back along y's to p */
+  if (!cf->blind_turn || !(vo > 2.0)) return -1.0;
+  const double hox = o->x[2] / vo, hoy = o->x[3] / vo, hyx = vx / v, hyy = vy / v;
+  const double cr = hox * hyy - hoy * hyx;
+  if (fabs(cr) < BLIND_TURN_SIN || hox * hyx + hoy * hyy < -BLIND_TURN_SIN) return -1.0;
+  const double sa = (dx * hyy - dy * hyx) / cr, ra = (hox * dy - hoy * dx) / cr;
+  if (sa < 0.0 || ra < 0.0 || sa + ra > 0.5 * cf->max_speed * dt + 5.0) return -1.0;
+  const double qx = ax + sa * hox, qy = ay + sa * hoy;
+  if (fmin(seg_near(ax, ay, qx, qy), seg_near(qx, qy, y->px0, y->py0)) >= rb + BLIND_WAY_M) return -1.0;
+  return 1.0 + fabs((sa + ra) / vo - dt);
 }
 
 /* Below the lowest beam. A point of height z (sensor frame, below the
@@ -670,16 +696,29 @@ static bool move_alike(const rs_track_t *a, const rs_track_t *b) {
 }
 
 /* objects a (taken by track t this frame) and b fit together in t's known
- * size (split_size, grown by RS_TRACK_SPLIT_MARGIN both ways): parts of one
- * vehicle (a far car's near side and its roof, apart by a row's gap) */
-static bool fits_with(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *a, const rs_object_t *b) {
-  if (!size_known(t)) return false;
+ * size (split_size, grown by RS_TRACK_SPLIT_MARGIN both ways) on the axes
+ * (c, s): parts of one vehicle */
+static bool fits_on(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *a, const rs_object_t *b, double h,
+                    double c, double s) {
   double ea[4], eb[4], len, wid;
-  box_on_axes(t, a, ea);
-  box_on_axes(t, b, eb);
+  box_on(a, h, c, s, ea);
+  box_on(b, h, c, s, eb);
   split_size(tr, t, &len, &wid);
   return fmax(ea[1], eb[1]) - fmin(ea[0], eb[0]) <= len + RS_TRACK_SPLIT_MARGIN &&
          fmax(ea[3], eb[3]) - fmin(ea[2], eb[2]) <= wid + RS_TRACK_SPLIT_MARGIN;
+}
+
+/* on t's axes (a far car's near side and its roof, apart by a row's gap), or
+ * on a's own when a is a vehicle's length and twice as long as wide
+ * (split_object_axis: a turning car seen as two parts, its track's heading,
+ * the velocity's, behind the turn) */
+static bool fits_with(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *a, const rs_object_t *b) {
+  if (!size_known(t)) return false;
+  if (fits_on(tr, t, a, b, t->heading, t->hcos, t->hsin)) return true;
+  if (!tr->cfg.split_object_axis || !(a->sensor.obb_length >= 2.0f && a->sensor.obb_length >= 1.8f * a->sensor.obb_width))
+    return false;
+  const double h = a->sensor.obb_heading;
+  return fits_on(tr, t, a, b, h, cos(h), sin(h));
 }
 
 /* ---- object lookup grid (hash of 4 m cells) ----------------------------- */

@@ -173,6 +173,14 @@ typedef struct {
                                   circle's other side, in its lane, heading away from it, takes its id: a
                                   vehicle pulling away from the line beside the sensor, unseen while it
                                   passes it (default 8.0; 0 = off; docs/tracking.md) */
+  int split_object_axis;       /* 1: a free object is also a split part of a track when it fits with the track's
+                                  object in the track's size on that object's own axes, when the object is at
+                                  least 2 m long and 1.8 times as long as wide (a turning car seen as two parts,
+                                  the track's heading behind the turn; default 1; docs/tracking.md) */
+  int blind_turn;              /* 1: the blind-circle link also takes a young track that came out along a way
+                                  turning off the old one's: the old track's line and the young one's meeting
+                                  ahead of both, at 45-135 degrees (a car turning at the sensor's corner;
+                                  default 1; docs/tracking.md) */
   int walked_hits;             /* a track that looked and moved like a walker in this many updates (its shape a
                                   pedestrian's, at most 1 m long and 0.1 m wide or more, at 0.5-3 m/s) takes
                                   no object of a vehicle's size from then on, whatever its box becomes, and
