@@ -817,31 +817,43 @@ START_TEST(t_split_side) {
 }
 END_TEST
 
-/* A car turning, seen as two parts while its track's heading (the
- * velocity's) is still behind the turn: 3 s east at 8 m/s seen whole, then
- * for 0.4 s driving at 45 degrees, its rear 3.4 m and its front 0.9 m seen as
- * two clusters 0.2 m apart (a post between). The front part lies outside the
- * track's box grown by the margin, and the two do not fit the track's size on
- * its axes (the rear part's box spans 3.5 m across them), but they do on the
- * rear part's own axis: no track is born for the front, its returns carry
- * the car's id. With split_object_axis 0 it becomes a track of its own. */
-static uint32_t turned_parts_born(int on) {
-  init_knob("split_object_axis", on);
+/* A car driving east, seen whole for `whole` frames, then for 0.4 s
+ * driving turn_deg off east and seen as two parts of it, its rear (from its
+ * back end, rear_len long) and its front (front_len long, at its front end):
+ * with the parameter `knob` at `on`, are both parts given the car's id?
+ * Returns the tracks born. With `beam`, the objects are those of a sensor
+ * 4.5 m up (lowest beam 15 degrees down; the reach at a car's top 10.4 m). */
+typedef struct {
+  const char *knob;
+  double x, y, step, turn_deg, rear_len, front_len;
+  int whole;
+  bool beam;
+} parts_seq_t;
+static uint32_t parts_born(const parts_seq_t *q, int on) { /* on -1: the defaults */
+  if (on < 0) init_default();
+  else init_knob(q->knob, on);
   uint32_t id = 0;
-  double x = 0, y = 10;
-  for (int f = 0; f < 34; f++) {
-    const double t = 0.1 * f, h = f < 30 ? 0.0 : M_PI / 4;
-    x += 0.8 * cos(h), y += 0.8 * sin(h);
+  double x = q->x, y = q->y;
+  for (int f = 0; f < q->whole + 4; f++) {
+    const double t = 0.1 * f, h = f < q->whole ? 0.0 : q->turn_deg * M_PI / 180.0, c = cos(h), s = sin(h);
+    x += q->step * c, y += q->step * s;
     clear();
-    if (f < 30) {
-      put(t, x, y, 4.5, 1.8, h, 1.5, 120);
-    } else { /* the car's centre at (x, y): its rear from -2.25 to 1.15 m, its front from 1.35 to 2.25 */
-      put(t, x - 0.55 * cos(h), y - 0.55 * sin(h), 3.4, 1.8, h, 1.5, 90);
-      put(t, x + 1.8 * cos(h), y + 1.8 * sin(h), 0.9, 1.8, h, 1.5, 30);
+    if (q->beam) objs.lowest_beam_deg = -15.0f;
+    if (f < q->whole) {
+      put(t, x, y, 4.5, 1.8, h, 1.3, 120);
+    } else {
+      const double ur = -2.25 + 0.5 * q->rear_len, uf = 2.25 - 0.5 * q->front_len;
+      put(t, x + ur * c, y + ur * s, q->rear_len, 1.8, h, 1.3, 60);
+      put(t, x + uf * c, y + uf * s, q->front_len, 1.8, h, 1.3, 30);
+    }
+    for (uint32_t k = 0; k < objs.count && q->beam; k++) {
+      objs.obj[k].sensor.box_min[2] = -4.3f;
+      objs.obj[k].sensor.box_max[2] = -3.0f;
+      objs.obj[k].top_gap = 0.4f;
     }
     rs_track_frame(&tr, &objs, t + 0.05);
-    if (f == 29) id = tr.list.object_track[0];
-    if (f >= 30 && on) {
+    if (f == q->whole - 1) id = tr.list.object_track[0];
+    if (f >= q->whole && on) {
       ck_assert_uint_eq(tr.list.object_track[0], id);
       ck_assert_uint_eq(tr.list.object_track[1], id);
     }
@@ -850,14 +862,41 @@ static uint32_t turned_parts_born(int on) {
   return tr.n.born;
 }
 
-START_TEST(t_split_turned) {
-  ck_assert_uint_eq(turned_parts_born(1), 1);
+/* the rule of q->knob: on, one track; off, a second one; on by default; `bad` refused */
+static void parts_rule(const parts_seq_t *q, const char *bad) {
+  ck_assert_uint_eq(parts_born(q, 1), 1);
   ck_assert_uint_ge(tr.n.absorbed, 4);
-  ck_assert_uint_eq(turned_parts_born(0), 2);
-  rs_track_cfg_t c; /* on by default, and out of range refused */
-  rs_track_cfg_default(&c);
-  ck_assert_int_eq(c.split_object_axis, 1);
-  knob_refused("split_object_axis", "-1");
+  ck_assert_uint_eq(parts_born(q, 0), 2);
+  ck_assert_uint_eq(parts_born(q, -1), 1);
+  knob_refused(q->knob, bad);
+}
+
+/* A car turning, seen as two parts while its track's heading (the
+ * velocity's) is still behind the turn: 3 s east at 8 m/s seen whole, then
+ * driving at 45 degrees, its rear 3.4 m and its front 0.9 m seen as two
+ * clusters 0.2 m apart (a post between). The front part lies outside the
+ * track's box grown by the margin, and the two do not fit the track's size on
+ * its axes (the rear part's box spans 3.5 m across them), but they do on the
+ * rear part's own axis: no track is born for the front, its returns carry
+ * the car's id. With split_object_axis 0 it becomes a track of its own. */
+START_TEST(t_split_turned) {
+  const parts_seq_t q = {.knob = "split_object_axis", .x = 0, .y = 10, .step = 0.8, .turn_deg = 45, .rear_len = 3.4,
+                         .front_len = 0.9, .whole = 30, .beam = false};
+  parts_rule(&q, "-1");
+}
+END_TEST
+
+/* A car turning near the circle its top is below the lowest beam in, seen
+ * as its two ends: 2 s east at 5 m/s along a lane 12 m off the pole, seen
+ * whole, then 70 degrees into a right turn, only its rear 1.2 m and its front
+ * 1.0 m seen. The two fit the car on its own axis but neither on the track's
+ * (across it they span 4.8 m; the track's heading is its velocity's, still
+ * east) nor on a part's (too short to give one): with split_near_circle no
+ * track is born for the other end, with 0 one is. */
+START_TEST(t_split_near_circle) {
+  const parts_seq_t q = {.knob = "split_near_circle", .x = -16, .y = 12, .step = 0.5, .turn_deg = -70, .rear_len = 1.2,
+                         .front_len = 1.0, .whole = 20, .beam = true};
+  parts_rule(&q, "2");
 }
 END_TEST
 
@@ -1487,6 +1526,7 @@ int main(void) {
   tcase_add_test(tc, t_walker_hidden_longer);
   tcase_add_test(tc, t_split_side);
   tcase_add_test(tc, t_split_turned);
+  tcase_add_test(tc, t_split_near_circle);
   tcase_add_test(tc, t_speed_follows);
   tcase_add_test(tc, t_speed_imm);
   tcase_add_test(tc, t_turn_rate);

@@ -58,6 +58,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->split_full_size = 1;
   c->blind_turn = 1;
   c->split_object_axis = 1;
+  c->split_near_circle = 1;
   c->lost_walker_s = 4.0;
   c->below_beam = 1;
   c->walked_hits = 10;
@@ -80,6 +81,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20) ||
       !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
       cfg->blind_turn < 0 || cfg->blind_turn > 1 || cfg->split_object_axis < 0 || cfg->split_object_axis > 1 ||
+      cfg->split_near_circle < 0 || cfg->split_near_circle > 1 ||
       !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 ||
       !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 ||
       cfg->speed_imm < 0 || cfg->speed_imm > 1 ||
@@ -113,7 +115,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
     KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB(q_jerk, 0.01, 100.0),
     KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),       KNOB_INT(blind_turn, 0, 1),
-    KNOB_INT(split_object_axis, 0, 1),
+    KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -711,10 +713,23 @@ static bool fits_on(const rs_tracker_t *tr, const rs_track_t *t, const rs_object
 /* on t's axes (a far car's near side and its roof, apart by a row's gap), or
  * on a's own when a is a vehicle's length and twice as long as wide
  * (split_object_axis: a turning car seen as two parts, its track's heading,
- * the velocity's, behind the turn) */
+ * the velocity's, behind the turn), or, for a vehicle's track whose box
+ * reaches within NEAR_CIRCLE_M of the lowest beam's reach, on any axis
+ * (split_near_circle, tried every 180 / FIT_AXES degrees: a car turning
+ * around the pole is seen as its two ends, or as its far side and an end,
+ * and its track's box drifts with the part it follows) */
+#define NEAR_CIRCLE_M 3.0
+#define FIT_AXES 36
 static bool fits_with(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *a, const rs_object_t *b) {
   if (!size_known(t)) return false;
   if (fits_on(tr, t, a, b, t->heading, t->hcos, t->hsin)) return true;
+  if (tr->cfg.split_near_circle && !(t->full_length < WALKER_M && t->full_width < WALKER_M) &&
+      near_edge(t->x[0], t->x[1], t->length, t->width) < beam_reach(tr, t) + NEAR_CIRCLE_M) {
+    for (int k = 0; k < FIT_AXES; k++) {
+      const double h = k * M_PI / FIT_AXES;
+      if (fits_on(tr, t, a, b, h, cos(h), sin(h))) return true;
+    }
+  }
   if (!tr->cfg.split_object_axis || !(a->sensor.obb_length >= 2.0f && a->sensor.obb_length >= 1.8f * a->sensor.obb_width))
     return false;
   const double h = a->sensor.obb_heading;

@@ -177,6 +177,9 @@ typedef struct {
                                   object in the track's size on that object's own axes, when the object is at
                                   least 2 m long and 1.8 times as long as wide (a turning car seen as two parts,
                                   the track's heading behind the turn; default 1; docs/tracking.md) */
+  int split_near_circle;       /* 1: for a vehicle's track whose box reaches within 3 m of the lowest beam's reach,
+                                  the same fit on any axis (every 5 degrees): a car turning around the sensor's
+                                  pole, seen as its two ends (default 1; docs/tracking.md) */
   int blind_turn;              /* 1: the blind-circle link also takes a young track that came out along a way
                                   turning off the old one's: the old track's line and the young one's meeting
                                   ahead of both, at 45-135 degrees (a car turning at the sensor's corner;
