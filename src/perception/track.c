@@ -530,7 +530,6 @@ static void predict(const rs_tracker_t *tr, rs_track_t *t, double tk) {
   t->t_state = tk;
 }
 
-
 /* Kalman update with a position measurement z of noise sd */
 static void update(rs_track_t *t, const double z[2], double sd) {
   const double r = sd * sd;
@@ -711,29 +710,30 @@ static bool fits_on(const rs_tracker_t *tr, const rs_track_t *t, const rs_object
 }
 
 /* on t's axes (a far car's near side and its roof, apart by a row's gap), or
- * on a's own when a is a vehicle's length and twice as long as wide
+ * on a's own when a is a vehicle's length and 1.8 times as long as wide
  * (split_object_axis: a turning car seen as two parts, its track's heading,
- * the velocity's, behind the turn), or, for a vehicle's track whose box
- * reaches within NEAR_CIRCLE_M of the lowest beam's reach, on any axis
- * (split_near_circle, tried every 180 / FIT_AXES degrees: a car turning
- * around the pole is seen as its two ends, or as its far side and an end,
- * and its track's box drifts with the part it follows) */
+ * the velocity's, behind the turn), or, when t's box reaches within
+ * NEAR_CIRCLE_M of the lowest beam's reach, on any axis (split_near_circle,
+ * tried every 180 / FIT_AXES degrees: a car turning around the pole is seen
+ * as its two ends, or as its far side and an end, and its track's box drifts
+ * with the part it follows). A track of known size is a vehicle's (at least
+ * 1.5 m long), not a walker's. */
 #define NEAR_CIRCLE_M 3.0
 #define FIT_AXES 36
 static bool fits_with(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *a, const rs_object_t *b) {
   if (!size_known(t)) return false;
   if (fits_on(tr, t, a, b, t->heading, t->hcos, t->hsin)) return true;
-  if (tr->cfg.split_near_circle && !(t->full_length < WALKER_M && t->full_width < WALKER_M) &&
-      near_edge(t->x[0], t->x[1], t->length, t->width) < beam_reach(tr, t) + NEAR_CIRCLE_M) {
-    for (int k = 0; k < FIT_AXES; k++) {
-      const double h = k * M_PI / FIT_AXES;
-      if (fits_on(tr, t, a, b, h, cos(h), sin(h))) return true;
-    }
-  }
-  if (!tr->cfg.split_object_axis || !(a->sensor.obb_length >= 2.0f && a->sensor.obb_length >= 1.8f * a->sensor.obb_width))
+  const double ha = a->sensor.obb_heading;
+  if (tr->cfg.split_object_axis && a->sensor.obb_length >= 2.0f && a->sensor.obb_length >= 1.8f * a->sensor.obb_width &&
+      fits_on(tr, t, a, b, ha, cos(ha), sin(ha)))
+    return true;
+  if (!tr->cfg.split_near_circle || near_edge(t->x[0], t->x[1], t->length, t->width) >= beam_reach(tr, t) + NEAR_CIRCLE_M)
     return false;
-  const double h = a->sensor.obb_heading;
-  return fits_on(tr, t, a, b, h, cos(h), sin(h));
+  for (int k = 0; k < FIT_AXES; k++) {
+    const double h = k * M_PI / FIT_AXES;
+    if (fits_on(tr, t, a, b, h, cos(h), sin(h))) return true;
+  }
+  return false;
 }
 
 /* ---- object lookup grid (hash of 4 m cells) ----------------------------- */
