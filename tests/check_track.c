@@ -1198,8 +1198,8 @@ static void note_confirmed(int at[2], int f) {
 }
 
 /* A car waiting at the line from the first frame (its centre within 3 cm)
- * confirms at its third hit, 0.2 s; a small cluster as still (12 returns)
- * only after 1.5 s; a car whose centre wanders by 0.4 m, or missed once (a
+ * confirms at its third hit, 0.2 s; a small cluster as still (12 returns, one
+ * row thin: a part the beams cut off a car) only after 1.5 s; a car whose centre wanders by 0.4 m, or missed once (a
  * miss also bars the 1.5 s rule: it confirms by moving), not at its third
  * hit either; with confirm_still_spread 0, the car too waits 1.5 s. */
 START_TEST(t_still_vehicle_confirms_fast) {
@@ -1212,7 +1212,7 @@ START_TEST(t_still_vehicle_confirms_fast) {
       clear();
       const double wander = variant == 1 ? (f % 2 ? 0.4 : 0.0) : 0.0;
       if (!(variant == 2 && f == 1)) car(t, 20.0 + j + wander, 5.0 - j, 0.0);
-      put(t, -12.0 + j, 9.0, 0.6, 0.5, 0.0, 1.7, 12);
+      put(t, -12.0 + j, 9.0, 0.6, 0.5, 0.0, 0.02, 12);
       rs_track_frame(&tr, &objs, t + 0.05);
       note_confirmed(confirmed_at, f);
     }
@@ -1229,7 +1229,7 @@ END_TEST
  * share there), confirms at its third hit too (the returns needed fall with
  * the square of the range beyond confirm_still_range, 20 m: 30 -> 8 here);
  * a still cluster of 15 returns 15 m away (a part of a near car split off by
- * the beams) waits 1.5 s; with confirm_still_range 0 the far car waits too. */
+ * the beams: one row thin) waits 1.5 s; with confirm_still_range 0 the far car waits too. */
 static int far_still_confirmed(double range_m, uint32_t returns, uint32_t *near_at) {
   init_knob("confirm_still_range", range_m);
   int at[2] = {-1, -1};
@@ -1237,7 +1237,7 @@ static int far_still_confirmed(double range_m, uint32_t returns, uint32_t *near_
     const double t = 50.0 + 0.1 * f, j = 0.03 * ((f % 3) - 1);
     clear();
     put(t, 48.0 + j, 14.0 - j, 4.5, 1.8, 0.0, 1.2, returns);
-    put(t, -10.0 + j, -11.0, 1.2, 0.8, 0.0, 1.0, 15);
+    put(t, -10.0 + j, -11.0, 1.2, 0.8, 0.0, 0.05, 15);
     rs_track_frame(&tr, &objs, t + 0.05);
     note_confirmed(at, f);
   }
@@ -1261,20 +1261,29 @@ END_TEST
  * returns in every frame, confirms at its fourth hit (confirm_walker_points,
  * 20), not after 1.5 s as a vehicle-sized still cluster of 22 returns (a
  * part of a near car) does; with confirm_walker_points 0, or with 16
- * returns, the walker waits 1.5 s too. The returns at 0, 1, 2: the walker's
- * frame, the car part's. */
-static void walker_still_confirmed(int walker_points, uint32_t returns, int at[2]) {
-  init_knob("confirm_walker_points", walker_points);
+ * returns, the walker waits 1.5 s too (confirm_upright_points off here:
+ * t_walker_upright_confirms_fast). The returns at 0, 1, 2: the walker's
+ * frame, the car part's. The walker at (x, y), `height` tall. */
+static void walker_still_at(int walker_points, int upright_points, double x, double y, double height, uint32_t returns,
+                            double step, double jitter, int at[2]) {
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  c.confirm_walker_points = walker_points;
+  c.confirm_upright_points = upright_points;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
   at[0] = at[1] = -1;
   for (int f = 0; f < 20; f++) {
-    const double t = 30.0 + 0.1 * f, j = 0.03 * ((f % 3) - 1);
+    const double t = 30.0 + 0.1 * f, j = jitter * ((f % 3) - 1);
     clear();
-    put(t, 8.0 + 0.1 * 0.1 * f + j, 6.0 - j, 0.5, 0.4, 0.0, 1.7, returns);
+    put(t, x + step * f + j, y - j, 0.5, 0.4, 0.0, height, returns);
     put(t, -8.0 + j, -6.0, 2.2, 1.6, 0.0, 1.2, 22);
     rs_track_frame(&tr, &objs, t + 0.05);
     note_confirmed(at, f);
   }
   ck_assert_uint_eq(tr.n.born, 2);
+}
+static void walker_still_confirmed(int walker_points, uint32_t returns, int at[2]) {
+  walker_still_at(walker_points, 0, 8.0, 6.0, 1.7, returns, 0.01, 0.03, at);
 }
 
 START_TEST(t_walker_still_confirms_fast) {
@@ -1286,6 +1295,33 @@ START_TEST(t_walker_still_confirms_fast) {
   ck_assert_int_ge(at[0], 14);
   walker_still_confirmed(20, 16, at);
   ck_assert_int_ge(at[0], 14);
+}
+END_TEST
+
+/* A person waiting at the kerb 22 m from a VLP-16, two rows tall (0.75 m of
+ * returns), swaying by 2 cm, hit by 12 returns: confirms at its fourth hit
+ * with confirm_upright_points (8), after 1.5 s with it off (the walkers' bar,
+ * 20 scaled to 22 m, is 17). Waiting 1.5 s either way: a sliver of the same
+ * size and returns one row thin (0.02 m: what the beams cut off a car), the
+ * person with 7 returns, and a bush of its size swaying by 0.12 m. */
+START_TEST(t_walker_upright_confirms_fast) {
+  int at[2];
+  const double x = 18.0, y = 12.6; /* 22 m away */
+  walker_still_at(20, 8, x, y, 0.75, 12, 0.0, 0.02, at);
+  ck_assert_int_eq(at[0], 3);
+  ck_assert_int_ge(at[1], 14);
+  walker_still_at(20, 0, x, y, 0.75, 12, 0.0, 0.02, at);
+  ck_assert_int_ge(at[0], 14);
+  walker_still_at(20, 8, x, y, 0.02, 12, 0.0, 0.02, at);
+  ck_assert_int_ge(at[0], 14);
+  walker_still_at(20, 8, x, y, 0.75, 7, 0.0, 0.02, at);
+  ck_assert_int_ge(at[0], 14);
+  walker_still_at(20, 8, x, y, 1.2, 12, 0.0, 0.06, at);
+  ck_assert_int_ge(at[0], 14);
+  rs_track_cfg_t c; /* on by default, and out of range refused */
+  rs_track_cfg_default(&c);
+  ck_assert_int_eq(c.confirm_upright_points, 8);
+  knob_refused("confirm_upright_points", "-1");
 }
 END_TEST
 
@@ -1540,6 +1576,7 @@ int main(void) {
   tcase_add_test(tc, t_still_vehicle_confirms_fast);
   tcase_add_test(tc, t_far_still_confirms_fast);
   tcase_add_test(tc, t_walker_still_confirms_fast);
+  tcase_add_test(tc, t_walker_upright_confirms_fast);
   tcase_add_test(tc, t_across_column_zero);
   tcase_add_test(tc, t_lost_frame_dt);
   tcase_add_test(tc, t_capacity);

@@ -23,6 +23,7 @@
 #define BIG 1e12
 #define GRID 4.0          /* m, cells of the object lookup grid */
 #define WALKER_M 1.3f     /* m, a box shorter and narrower than this is a walker's size (q_small, the class rule) */
+#define UPRIGHT_M 0.5f    /* m, a walker-sized track at least this tall stands upright (confirm_upright_points) */
 #define GRID_BUCKETS RS_TRACK_GRID_BUCKETS
 #define EDGES_PER_TRACK RS_TRACK_EDGES_PER_TRACK
 
@@ -52,6 +53,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->confirm_still_points = 30;
   c->confirm_still_range = 20.0;
   c->confirm_walker_points = 20;
+  c->confirm_upright_points = 8;
   c->hidden_anchor = 1;
   c->reacq_across_m = 1.0;
   c->confirm_walk_m = 0.3;
@@ -77,6 +79,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100) ||
       !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1 ||
       cfg->confirm_walker_points < 0 || cfg->confirm_walker_points > 100000 ||
+      cfg->confirm_upright_points < 0 || cfg->confirm_upright_points > 100000 ||
       !(cfg->confirm_still_range >= 0 && cfg->confirm_still_range <= 1000) ||
       cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20) ||
       !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
@@ -109,7 +112,7 @@ static const rs_opt_t knobs[] = {
     KNOB(confirm_move_m, 0.0, 20.0),  KNOB(confirm_still_s, 0.0, 60.0), KNOB(tentative_miss_s, 0.01, 10.0),
     KNOB(coast_s, 0.01, 60.0),        KNOB(lost_s, 0.0, 60.0),          KNOB(still_speed, 0.0, 5.0),
     KNOB(size_weight, 0.0, 100.0),    KNOB(confirm_still_spread, 0.0, 5.0), KNOB_INT(confirm_still_points, 1, 100000),
-    KNOB_INT(confirm_walker_points, 0, 100000),
+    KNOB_INT(confirm_walker_points, 0, 100000), KNOB_INT(confirm_upright_points, 0, 100000),
     KNOB(confirm_still_range, 0.0, 1000.0),
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
@@ -972,20 +975,32 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
   }
 }
 
-/* The returns a still track's object needs for the fast confirmation: a
- * car has fewer of them the farther it is (about the square of the range),
- * so beyond confirm_still_range the bar falls the same way, never below
- * RS_TRACK_STILL_POINTS_MIN. A fragment of a near car (a part split off by the
- * beams, 12-17 returns at 15 m) still waits like foliage. */
-static uint32_t still_points(const rs_track_cfg_t *cf, const rs_track_t *t) {
+/* The fast confirmation of a still track (confirm_still_spread): hit in
+ * every frame, every measurement within confirm_still_spread (plus 0.5 % of
+ * the range) of the first, and its object has enough returns. A car has
+ * fewer of them the farther it is (about the square of the range), so beyond
+ * confirm_still_range the bar falls the same way, never below
+ * RS_TRACK_STILL_POINTS_MIN. A fragment of a near car (a part split off by
+ * the beams, 12-17 returns at 15 m) still waits like foliage: a walker-sized
+ * track needs confirm_walker_points. Such fragments are one row thin (at most
+ * 0.12 m of returns on the simulator's captures); a person standing at the
+ * kerb is two rows or more (UPRIGHT_M) and, when it stands within
+ * UPRIGHT_SPREAD_M of where it was first seen (a bush swaying in the wind
+ * wanders farther), needs only confirm_upright_points. */
+#define UPRIGHT_SPREAD_M 0.1
+static bool still_fast(const rs_track_cfg_t *cf, const rs_track_t *t) {
+  if (t->misses != 0 || !(cf->confirm_still_spread > 0)) return false;
+  const double spread = cf->confirm_still_spread + 0.005 * hypot(t->px0, t->py0);
   int need = cf->confirm_still_points;
-  if (cf->confirm_walker_points > 0 && cf->confirm_walker_points < need && walker_sized(t) &&
-      t->hits >= (uint32_t)cf->confirm_hits + 1)
-    need = cf->confirm_walker_points;
+  const bool walker = walker_sized(t) && t->hits >= (uint32_t)cf->confirm_hits + 1;
+  if (walker && cf->confirm_walker_points > 0 && cf->confirm_walker_points < need) need = cf->confirm_walker_points;
+  if (walker && cf->confirm_upright_points > 0 && cf->confirm_upright_points < need && t->height >= UPRIGHT_M &&
+      t->spread <= fmin(spread, UPRIGHT_SPREAD_M))
+    need = cf->confirm_upright_points;
   const double r = hypot(t->x[0], t->x[1]), r0 = cf->confirm_still_range;
-  if (!(r0 > 0) || r <= r0) return (uint32_t)need;
-  const double bar = fmax(RS_TRACK_STILL_POINTS_MIN, ceil(need * (r0 / r) * (r0 / r)));
-  return (uint32_t)fmin(bar, need);
+  uint32_t bar = (uint32_t)need;
+  if (r0 > 0 && r > r0) bar = (uint32_t)fmin(fmax(RS_TRACK_STILL_POINTS_MIN, ceil(need * (r0 / r) * (r0 / r))), need);
+  return t->points >= bar && t->spread <= spread;
 }
 
 static rs_class_t classify(const rs_track_t *t) {
@@ -1384,8 +1399,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
                   (cf->confirm_walk_m > 0 && t->misses == 0 && walker_sized(t) &&
                    t->hits >= (uint32_t)cf->confirm_hits + 1 && moved >= cf->confirm_walk_m && moved >= 0.8 * t->distance) ||
                   (t->misses == 0 && t->t_update - t->t_birth >= cf->confirm_still_s) ||
-                  (t->misses == 0 && cf->confirm_still_spread > 0 && t->points >= still_points(cf, t) &&
-                   t->spread <= cf->confirm_still_spread + 0.005 * hypot(t->px0, t->py0)))) {
+                  still_fast(cf, t))) {
         t->state = RS_TRACK_CONFIRMED;
         tr->n.confirmed++;
       }

@@ -153,6 +153,9 @@ typedef struct {
   int confirm_walker_points;   /* the same rule for a walker-sized track, hit in every frame for confirm_hits + 1
                                   hits, needs this many returns instead (scaled by range the same way; default 20;
                                   0 = as a vehicle) */
+  int confirm_upright_points;  /* ... and this many when it stands at least 0.5 m tall (two rows or more: a
+                                  person at the kerb, not the one-row sliver the beams cut off a car;
+                                  scaled the same way; default 8; 0 = confirm_walker_points) */
   int hidden_anchor;           /* 1: a box end beside something nearer is where the rest of the object may be
                                   (rs_object_t.occluded): its centre is placed from the other end (default 1) */
   double reacq_across_m;       /* a moving vehicle's track unseen for more than 0.5 s takes no object farther
