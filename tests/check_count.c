@@ -515,6 +515,43 @@ START_TEST(t_lost_taken_up) {
 }
 END_TEST
 
+/* Second tracks: two vehicle-sized tracks crossing the gate within same_s
+ * (1.5 s) and 2.5 m along it, in one direction, are one vehicle (a split-off
+ * part, or a new track taking over): counted once. Counted twice: the same
+ * with same_s 0; two cars side by side in lanes 3.5 m apart; a car 1.8 s
+ * behind another in its lane; two walkers crossing side by side; the two
+ * tracks going opposite ways. Track b follows a by lag s at offset dy across
+ * the gate; both at v m/s towards -x, full lengths la and lb. */
+static uint64_t pair_crossings(double same_s, double lag, double dy, double v, double la, double lb, int dir_b) {
+  static const char *const l[] = {"gate 0 -5 0 5"};
+  setup(l, 1, NULL, 60);
+  cnt.same_s = same_s;
+  for (int f = 0; f < 80; f++) {
+    const double t = 20.0 + 0.1 * f;
+    tl.count = 0;
+    one(1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 3.0 * v - v * (t - 20.0), -0.5);
+    tl.track[tl.count - 1].full_length = (float)la;
+    const double xb = dir_b > 0 ? 3.0 * v - v * (t - 20.0 - lag) : -3.0 * v + v * (t - 20.0 - lag);
+    one(2, RS_TRACK_CONFIRMED, RS_CLASS_CAR, xb, -0.5 + dy);
+    tl.track[tl.count - 1].full_length = (float)lb;
+    rs_count_frame(&cnt, &tl, t);
+  }
+  return cnt.crossings;
+}
+
+START_TEST(t_second_tracks) {
+  ck_assert_uint_eq(pair_crossings(1.5, 0.4, 0.6, 10.0, 4.5, 2.6, 1), 1);
+  ck_assert_uint_eq(cnt.same_dup, 1);
+  ck_assert_uint_eq(pair_crossings(1.5, 0.0, 1.0, 10.0, 2.6, 2.6, 1), 1);
+  ck_assert_uint_eq(pair_crossings(0.0, 0.4, 0.6, 10.0, 4.5, 2.6, 1), 2);
+  ck_assert_uint_eq(pair_crossings(1.5, 0.0, 3.5, 10.0, 4.5, 4.5, 1), 2); /* the next lane */
+  ck_assert_uint_eq(pair_crossings(1.5, 1.8, 0.0, 10.0, 4.5, 4.5, 1), 2); /* following */
+  ck_assert_uint_eq(pair_crossings(1.5, 0.0, 0.6, 1.4, 0.6, 0.6, 1), 2); /* walkers */
+  ck_assert_uint_eq(pair_crossings(1.5, 0.0, 0.6, 10.0, 4.5, 4.5, -1), 2); /* the other way */
+  ck_assert_uint_eq(cnt.same_dup, 0);
+}
+END_TEST
+
 START_TEST(t_bad_lines) {
   rs_count_line_t line;
   char err[RS_ERRMSG_SIZE];
@@ -574,6 +611,7 @@ int main(void) {
   tcase_add_test(tc, t_hidden_window);
   tcase_add_test(tc, t_class_delay);
   tcase_add_test(tc, t_lost_taken_up);
+  tcase_add_test(tc, t_second_tracks);
   tcase_add_test(tc, t_unseen_crossings);
   suite_add_tcase(s, tc);
   return tu_run(s);

@@ -59,6 +59,7 @@ typedef struct {
   double count_hidden;
   double count_hidden_window;
   double count_unseen;
+  double count_same;
   double count_class_delay;
   int method;            /* rs_cluster_method_t */
   double eps;            /* the method's, when given */
@@ -256,6 +257,9 @@ static const rs_opt_t table[] = {
       "a confirmed track unseen for at most S seconds (coasting, or lost and kept), moving and of 5 hits or more, "
       "is followed on its prediction: a crossing there is held until it is seen again past the line (counted), "
       "before it (taken back) or ends (counted; 0 = off)"),
+    D("count-same", "S", count_same, 0.0, 10.0,
+      "a vehicle-sized track crossing a line within S seconds and 2.5 m along it of a crossing counted in its "
+      "direction for another vehicle-sized track is that vehicle's second track: not counted (0 = off)"),
     D("count-class-delay", "S", count_class_delay, 0.0, 30.0,
       "a crossing is tallied S seconds after it, under the track's class then (its class settles as it comes "
       "near; 0 = at once)"),
@@ -349,6 +353,7 @@ int main(int argc, char **argv) {
   st.count_hidden = RS_COUNT_HIDDEN_S;
   st.count_hidden_window = RS_COUNT_HIDDEN_WINDOW_S;
   st.count_unseen = RS_COUNT_UNSEEN_S;
+  st.count_same = RS_COUNT_SAME_S;
   st.count_class_delay = RS_COUNT_CLASS_DELAY_S;
   st.buffer_kib = RS_CAPTURE_BUFFER_DEFAULT / 1024;
   st.pub = (rs_publish_cfg_t){.channel = RS_PUB_DEFAULT_CHANNEL,
@@ -487,6 +492,7 @@ int main(int argc, char **argv) {
     counter.hidden_s = st.count_hidden;
     counter.hidden_window_s = st.count_hidden_window;
     counter.unseen_s = st.count_unseen;
+    counter.same_s = st.count_same;
     counter.class_delay_s = st.count_class_delay;
     cfg->counter = &counter;
   }

@@ -671,9 +671,9 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
       fprintf(out,
               "; of the crossings %llu hidden (tracks first seen past a line; %llu more were the same vehicle's), "
               "%llu on a prediction (the track unseen; %llu more taken back: seen again before the line; %llu more "
-              "were the same vehicle's)",
+              "were the same vehicle's); %llu not counted: a second track of a vehicle counted (--count-same)",
               (unsigned long long)c->hidden, (unsigned long long)c->hidden_dup, (unsigned long long)c->unseen,
-              (unsigned long long)c->unseen_undone, (unsigned long long)c->unseen_dup);
+              (unsigned long long)c->unseen_undone, (unsigned long long)c->unseen_dup, (unsigned long long)c->same_dup);
     if (c->pending)
       fprintf(out, "; %llu more found, tallied once their class settles (--count-class-delay)", (unsigned long long)c->pending);
     fprintf(out, "\n");

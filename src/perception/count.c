@@ -194,6 +194,7 @@ int rs_count_init(rs_counter_t *c, const rs_count_line_t *lines, int nlines, con
   c->hidden_window_s = RS_COUNT_HIDDEN_WINDOW_S;
   c->class_delay_s = RS_COUNT_CLASS_DELAY_S;
   c->unseen_s = RS_COUNT_UNSEEN_S;
+  c->same_s = RS_COUNT_SAME_S;
   c->t_first = -1.0;
   c->cur.t_start = c->cur.t_end = -1.0;
   if (pose) {
@@ -237,12 +238,13 @@ static void meet(const rs_count_line_t *l, double x0, double y0, double x1, doub
   *s = ((px - l->ax) * (l->bx - l->ax) + (py - l->ay) * (l->by - l->ay)) / len;
 }
 
-static void remember(rs_counter_t *c, int l, double t, double s, int dir, uint32_t id) {
+static void remember(rs_counter_t *c, int l, double t, double s, int dir, uint32_t id, bool vehicle) {
   const uint32_t k = c->recent_n[l]++ % RS_COUNT_RECENT;
   c->recent[l][k].t = t;
   c->recent[l][k].s = s;
   c->recent[l][k].dir = dir;
   c->recent[l][k].id = id;
+  c->recent[l][k].vehicle = vehicle;
 }
 
 /* track id's remembered crossing of line l, taken back */
@@ -260,6 +262,17 @@ static bool counted_near(const rs_counter_t *c, int l, double t, double s, int d
   const uint32_t n = c->recent_n[l] < RS_COUNT_RECENT ? c->recent_n[l] : RS_COUNT_RECENT;
   for (uint32_t k = 0; k < n; k++)
     if (c->recent[l][k].dir == dir && fabs(c->recent[l][k].t - t) <= HIDDEN_DT && fabs(c->recent[l][k].s - s) <= HIDDEN_DS)
+      return true;
+  return false;
+}
+
+/* a crossing of line l in direction dir at (t, s) by a vehicle-sized track other than id: counted
+ * within same_s and HIDDEN_DS (second tracks, count.h) */
+static bool vehicle_counted_near(const rs_counter_t *c, int l, double t, double s, int dir, uint32_t id) {
+  const uint32_t n = c->recent_n[l] < RS_COUNT_RECENT ? c->recent_n[l] : RS_COUNT_RECENT;
+  for (uint32_t k = 0; k < n; k++)
+    if (c->recent[l][k].vehicle && c->recent[l][k].id != id && c->recent[l][k].dir == dir &&
+        fabs(c->recent[l][k].t - t) <= c->same_s && fabs(c->recent[l][k].s - s) <= HIDDEN_DS)
       return true;
   return false;
 }
@@ -339,7 +352,7 @@ static void unseen_crossings(rs_counter_t *c, uint32_t i, const rs_track_t *tr, 
       c->unseen_dup++;
       continue;
     }
-    remember(c, l, t, s, dir, tr->id);
+    remember(c, l, t, s, dir, tr->id, tr->full_length >= RS_COUNT_VEHICLE_M);
     if (!c->slot[i].pending) c->slot[i].t_tally = t + c->class_delay_s;
     c->slot[i].pending |= bit;
     c->slot[i].predicted |= bit;
@@ -453,10 +466,16 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       if ((c->slot[i].counted | undone) & (1u << l)) continue;
       const double px = c->slot[i].x, py = c->slot[i].y;
       int dir = crosses(&c->lines[l], px, py, x, y);
+      const bool vehicle = tr->full_length >= RS_COUNT_VEHICLE_M;
       if (dir != 0) {
         double u, s;
         meet(&c->lines[l], px, py, x, y, &u, &s);
-        remember(c, l, t, s, dir, tr->id);
+        if (vehicle && c->same_s > 0 && vehicle_counted_near(c, l, t, s, dir, tr->id)) {
+          c->same_dup++;
+          c->slot[i].counted |= (uint16_t)(1u << l); /* its vehicle's: not checked again */
+          continue;
+        }
+        remember(c, l, t, s, dir, tr->id, vehicle);
       } else if (first_confirmed || (c->slot[i].born && t - c->slot[i].t0 <= c->hidden_window_s)) {
         double tc = 0, sc = 0;
         dir = hidden_crossing(c, l, c->slot[i].t0, c->slot[i].x0, c->slot[i].y0, t, x, y, &tc, &sc);
@@ -466,7 +485,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
           c->slot[i].counted |= (uint16_t)(1u << l); /* its vehicle's: not checked again */
           continue;
         }
-        remember(c, l, tc, sc, dir, tr->id);
+        remember(c, l, tc, sc, dir, tr->id, vehicle);
         c->hidden++;
       }
       if (dir == 0) continue;

@@ -57,6 +57,13 @@
  * counted when a crossing of the line in its direction was counted within
  * 1.5 s and 2.5 m (the vehicle's new track), as for hidden crossings.
  *
+ * Second tracks: a vehicle-sized track (RS_COUNT_VEHICLE_M long or more)
+ * crossing a line within `same_s` (default 1.5, 0 = off) and 2.5 m along it
+ * of a crossing counted in its direction for another vehicle-sized track is
+ * that vehicle's second track (split off it, or taking over from it): not
+ * counted (`same_dup`). Walkers and cyclists are not: two people cross a
+ * sidewalk line side by side.
+ *
  * Per-track memory (last position, lines already counted, zones inside) lives
  * in a fixed table keyed by track id; a track no longer in the list is forgotten. */
 #ifndef ROADSCAN_COUNT_H
@@ -78,6 +85,8 @@
 #define RS_COUNT_HIDDEN_WINDOW_S 2.0      /* default hidden_window_s */
 #define RS_COUNT_CLASS_DELAY_S 2.0        /* default class_delay_s */
 #define RS_COUNT_UNSEEN_S 2.0             /* default unseen_s */
+#define RS_COUNT_SAME_S 1.5               /* default same_s */
+#define RS_COUNT_VEHICLE_M 2.5            /* a track this long (its full length) or longer is a vehicle's (same_s) */
 #define RS_COUNT_UNSEEN_MIN_HITS 5        /* an unseen track of fewer hits is not followed (a flicker confirmed on 3) */
 
 _Static_assert(RS_COUNT_LINES <= 16, "lines counted per track fit in a uint16_t mask");
@@ -134,12 +143,16 @@ typedef struct {
   uint64_t unseen;                       /* of the crossings: on a prediction, the track unseen */
   uint64_t unseen_undone;                /* crossings on a prediction taken back: the track seen again before the line */
   uint64_t unseen_dup;                   /* crossings on a prediction not counted: the vehicle's new track was */
+  double same_s;                         /* a vehicle's second track crossing this soon after its first is not
+                                            counted (s; 0 = off); RS_COUNT_SAME_S */
+  uint64_t same_dup;                     /* crossings not counted: another track of the vehicle's was */
   uint64_t pending;                      /* crossings found and not yet tallied (their class is settling) */
   double t_first;                        /* the run's first frame (s) */
   struct {
     double t, s;                         /* when, and where along the line (m from A) */
     int dir;                             /* 1 forward, -1 backward, 0 taken back */
     uint32_t id;                         /* the track counted */
+    bool vehicle;                        /* ... was vehicle-sized (RS_COUNT_VEHICLE_M) */
   } recent[RS_COUNT_LINES][RS_COUNT_RECENT];
   uint32_t recent_n[RS_COUNT_LINES];     /* crossings recorded (the ring holds the last RS_COUNT_RECENT) */
   struct {
