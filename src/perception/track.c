@@ -23,6 +23,8 @@
 #define BIG 1e12
 #define GRID 4.0          /* m, cells of the object lookup grid */
 #define WALKER_M 1.3f     /* m, a box shorter and narrower than this is a walker's size (q_small, the class rule) */
+#define DUP_BOX_M 3.0f    /* m: dup_box's older track at least this long (a vehicle's) ... */
+#define DUP_BOX_V 2.0     /* m/s: ... and moving this fast (two queues side by side stand still) */
 #define UPRIGHT_M 0.5f    /* m, a walker-sized track at least this tall stands upright (confirm_upright_points) */
 #define GRID_BUCKETS RS_TRACK_GRID_BUCKETS
 #define EDGES_PER_TRACK RS_TRACK_EDGES_PER_TRACK
@@ -61,6 +63,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->blind_turn = 1;
   c->split_object_axis = 1;
   c->split_near_circle = 1;
+  c->dup_box = 1;
   c->lost_walker_s = 4.0;
   c->below_beam = 1;
   c->walked_hits = 10;
@@ -84,7 +87,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20) ||
       !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
       cfg->blind_turn < 0 || cfg->blind_turn > 1 || cfg->split_object_axis < 0 || cfg->split_object_axis > 1 ||
-      cfg->split_near_circle < 0 || cfg->split_near_circle > 1 ||
+      cfg->split_near_circle < 0 || cfg->split_near_circle > 1 || cfg->dup_box < 0 || cfg->dup_box > 1 ||
       !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 ||
       !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 ||
       cfg->speed_imm < 0 || cfg->speed_imm > 1 ||
@@ -118,7 +121,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
     KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB(q_jerk, 0.01, 100.0),
     KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),       KNOB_INT(blind_turn, 0, 1),
-    KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1),
+    KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1), KNOB_INT(dup_box, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -1343,7 +1346,12 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   /* duplicates, ended without an event: a tentative track inside the box of
    * a confirmed one at least its size (a fragment of its object); a
    * confirmed one unseen this frame, predicted where an older track of its
-   * size was seen (the older one follows the object) */
+   * size was seen (the older one follows the object); with dup_box, one
+   * unseen this frame and predicted inside the box of an older vehicle's
+   * track seen this frame (DUP_BOX_M long or more, moving at DUP_BOX_V or
+   * more) that moves alike: a part of that vehicle that had a track of its
+   * own (the two took its front and its rear in turn, or both at once as two
+   * clusters, each one's box a part of the vehicle's, never both its centre) */
   for (uint32_t i = 0; i < L->count; i++) {
     rs_track_t *t = &L->track[i];
     if (t->id == 0) continue;
@@ -1369,6 +1377,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
         const double lmax = fmax(o->length, t->length), lmin = fmin(o->length, t->length);
         const double dx = o->x[0] - px, dy = o->x[1] - py, r = fmax(0.5, 0.35 * o->length);
         dup = dx * dx + dy * dy <= r * r && lmin >= 0.5 * lmax - 0.5;
+        if (!dup && cf->dup_box && o->length >= DUP_BOX_M && hypot(o->x[2], o->x[3]) >= DUP_BOX_V && move_alike(o, t))
+          dup = in_track_box(tr, o, px, py);
       }
     }
     if (!dup) continue;

@@ -201,6 +201,9 @@ typedef struct {
                                   is predicted along a circle at that rate, not a straight line (a coordinated
                                   turn of known rate); 0 = always straight (the default: measured no better
                                   overall, docs/tracking.md, Turning vehicles) */
+  int dup_box;                 /* 1: a track unseen this frame and predicted inside the box of an older moving
+                                  vehicle's track seen this frame, moving alike, is a part of that vehicle: ended
+                                  as a duplicate (default 1) */
   int split_full_size;         /* 1: a free object is a split part of a track when both fit in the track's
                                   full size (its largest box, falling 0.05 m an update), not only in its
                                   smoothed box, which shrinks while the object is partly hidden (default 1) */
