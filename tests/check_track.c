@@ -849,45 +849,6 @@ START_TEST(t_dup_box) {
 }
 END_TEST
 
-/* z_gate. A car (returns 1.5 m high) driving at 5 m/s behind a bus, hidden
- * for three frames while the bus's roof edge (one row, 0.5 m above the car's
- * top) shows where the car is predicted: with z_gate its track takes none of
- * it (coasting), without it takes the roof edge each frame; seen again by its
- * roof alone (its top 0.3 m of returns), it takes that either way. Returns
- * how many of the four frames the car's track took an object. */
-static int z_gate_taken(int on) {
-  init_knob("z_gate", on);
-  int taken = 0;
-  for (int f = 0; f < 14; f++) {
-    const double t = 60.0 + 0.1 * f, x = 20.0 - 0.5 * f;
-    clear();
-    if (f < 10) {
-      car(t, x, 13.0, 3.1416);
-    } else if (f < 13) {
-      put(t, x + 0.3, 12.6, 1.2, 0.05, 0.0, 0.0, 25);
-      objs.obj[0].sensor.box_min[2] = objs.obj[0].sensor.box_max[2] = 0.2f; /* the car's top is at -0.3 */
-    } else {
-      car(t, x, 13.0, 3.1416);
-      objs.obj[0].sensor.box_min[2] = -0.6f; /* its roof alone */
-    }
-    rs_track_frame(&tr, &objs, t + 0.05);
-    const rs_track_t *k = find_id(1);
-    ck_assert_ptr_nonnull(k);
-    if (f >= 10) taken += k->object >= 0;
-  }
-  return taken;
-}
-
-START_TEST(t_z_gate) {
-  ck_assert_int_eq(z_gate_taken(1), 1);
-  ck_assert_int_eq(z_gate_taken(0), 4);
-  rs_track_cfg_t c; /* on by default, and out of range refused */
-  rs_track_cfg_default(&c);
-  ck_assert_int_eq(c.z_gate, 1);
-  knob_refused("z_gate", "2");
-}
-END_TEST
-
 START_TEST(t_split_side) {
   init_default();
   uint32_t id = 0;
@@ -1670,7 +1631,6 @@ int main(void) {
   tcase_add_test(tc, t_walker_still_confirms_fast);
   tcase_add_test(tc, t_walker_upright_confirms_fast);
   tcase_add_test(tc, t_dup_box);
-  tcase_add_test(tc, t_z_gate);
   tcase_add_test(tc, t_across_column_zero);
   tcase_add_test(tc, t_lost_frame_dt);
   tcase_add_test(tc, t_capacity);

@@ -23,7 +23,6 @@
 #define BIG 1e12
 #define GRID 4.0          /* m, cells of the object lookup grid */
 #define WALKER_M 1.3f     /* m, a box shorter and narrower than this is a walker's size (q_small, the class rule) */
-#define Z_GATE_M 0.3      /* m: z_gate's margin above a track's top */
 #define DUP_BOX_M 3.0f    /* m: dup_box's older track at least this long (a vehicle's) ... */
 #define DUP_BOX_V 2.0     /* m/s: ... and moving this fast (two queues side by side stand still) */
 #define UPRIGHT_M 0.5f    /* m, a walker-sized track at least this tall stands upright (confirm_upright_points) */
@@ -65,7 +64,6 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->split_object_axis = 1;
   c->split_near_circle = 1;
   c->dup_box = 1;
-  c->z_gate = 1;
   c->lost_walker_s = 4.0;
   c->below_beam = 1;
   c->walked_hits = 10;
@@ -89,7 +87,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20) ||
       !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
       cfg->blind_turn < 0 || cfg->blind_turn > 1 || cfg->split_object_axis < 0 || cfg->split_object_axis > 1 ||
-      cfg->split_near_circle < 0 || cfg->split_near_circle > 1 || cfg->dup_box < 0 || cfg->dup_box > 1 || cfg->z_gate < 0 || cfg->z_gate > 1 ||
+      cfg->split_near_circle < 0 || cfg->split_near_circle > 1 || cfg->dup_box < 0 || cfg->dup_box > 1 ||
       !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 ||
       !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 ||
       cfg->speed_imm < 0 || cfg->speed_imm > 1 ||
@@ -123,7 +121,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
     KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB(q_jerk, 0.01, 100.0),
     KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),       KNOB_INT(blind_turn, 0, 1),
-    KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1), KNOB_INT(dup_box, 0, 1), KNOB_INT(z_gate, 0, 1),
+    KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1), KNOB_INT(dup_box, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -955,10 +953,6 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
           /* a pedestrian does not turn into a vehicle (one passing where it walked, or was last seen), nor
            * does a track that walked like one, once its box has grown on a part of something else */
           if (walker_like(cf, t) && vehicle_sized(o->sensor.obb_length, o->sensor.obb_width)) continue;
-          /* nor is anything wholly above its top (z_gate): the roof edge of the bus between a hidden car
-           * and the sensor is not the car */
-          if (cf->z_gate && t->hits >= 5 && (double)o->sensor.box_min[2] > (double)t->z_min + (double)t->height_max + Z_GATE_M)
-            continue;
           /* and how unlike the track's last object it is: a track keeps its object, not a fragment beside it */
           /* (beyond what counting noise explains: 3 sd of the smaller count) */
           const double lo = o->points < t->points ? o->points : t->points, hi = o->points < t->points ? t->points : o->points;

@@ -201,9 +201,6 @@ typedef struct {
                                   is predicted along a circle at that rate, not a straight line (a coordinated
                                   turn of known rate); 0 = always straight (the default: measured no better
                                   overall, docs/tracking.md, Turning vehicles) */
-  int z_gate;                  /* 1: a track seen 5 times or more takes no object whose returns all lie over 0.3 m
-                                  above its top (its lowest point plus its height and the gap to the row above;
-                                  default 1) */
   int dup_box;                 /* 1: a track unseen this frame and predicted inside the box of an older moving
                                   vehicle's track seen this frame, moving alike, is a part of that vehicle: ended
                                   as a duplicate (default 1) */
