@@ -258,24 +258,21 @@ static void unremember(rs_counter_t *c, int l, uint32_t id) {
 #define HIDDEN_DS 2.5 /* m: ... and along the line is the same vehicle's */
 #define HIDDEN_MIN_SPEED 1.0
 
-static bool counted_near(const rs_counter_t *c, int l, double t, double s, int dir) {
+/* a crossing of line l in direction dir counted within dt of t and HIDDEN_DS of s; with id != 0,
+ * only one by a vehicle-sized track other than id (second tracks, count.h) */
+static bool counted_near(const rs_counter_t *c, int l, double t, double s, int dir, double dt, uint32_t id) {
   const uint32_t n = c->recent_n[l] < RS_COUNT_RECENT ? c->recent_n[l] : RS_COUNT_RECENT;
-  for (uint32_t k = 0; k < n; k++)
-    if (c->recent[l][k].dir == dir && fabs(c->recent[l][k].t - t) <= HIDDEN_DT && fabs(c->recent[l][k].s - s) <= HIDDEN_DS)
+  for (uint32_t k = 0; k < n; k++) {
+    const bool other_vehicle = c->recent[l][k].vehicle && c->recent[l][k].id != id;
+    if ((id == 0 || other_vehicle) && c->recent[l][k].dir == dir && fabs(c->recent[l][k].t - t) <= dt &&
+        fabs(c->recent[l][k].s - s) <= HIDDEN_DS)
       return true;
+  }
   return false;
 }
 
-/* a crossing of line l in direction dir at (t, s) by a vehicle-sized track other than id: counted
- * within same_s and HIDDEN_DS (second tracks, count.h) */
-static bool vehicle_counted_near(const rs_counter_t *c, int l, double t, double s, int dir, uint32_t id) {
-  const uint32_t n = c->recent_n[l] < RS_COUNT_RECENT ? c->recent_n[l] : RS_COUNT_RECENT;
-  for (uint32_t k = 0; k < n; k++)
-    if (c->recent[l][k].vehicle && c->recent[l][k].id != id && c->recent[l][k].dir == dir &&
-        fabs(c->recent[l][k].t - t) <= c->same_s && fabs(c->recent[l][k].s - s) <= HIDDEN_DS)
-      return true;
-  return false;
-}
+/* a track of a vehicle's length (second tracks, count.h) */
+static bool vehicle_sized(const rs_track_t *tr) { return tr->full_length >= RS_COUNT_VEHICLE_M; }
 
 static void tally(rs_counter_t *c, int l, int dir, unsigned cls) {
   if (dir > 0) {
@@ -348,11 +345,11 @@ static void unseen_crossings(rs_counter_t *c, uint32_t i, const rs_track_t *tr, 
     double u, s;
     meet(&c->lines[l], c->slot[i].x, c->slot[i].y, x, y, &u, &s);
     c->slot[i].counted |= bit;
-    if (counted_near(c, l, t, s, dir)) { /* the vehicle's new track counted it already */
+    if (counted_near(c, l, t, s, dir, HIDDEN_DT, 0)) { /* the vehicle's new track counted it already */
       c->unseen_dup++;
       continue;
     }
-    remember(c, l, t, s, dir, tr->id, tr->full_length >= RS_COUNT_VEHICLE_M);
+    remember(c, l, t, s, dir, tr->id, vehicle_sized(tr));
     if (!c->slot[i].pending) c->slot[i].t_tally = t + c->class_delay_s;
     c->slot[i].pending |= bit;
     c->slot[i].predicted |= bit;
@@ -442,7 +439,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       if (tr->state != RS_TRACK_TENTATIVE) unseen_crossings(c, i, tr, x, y, t);
       continue;
     }
-    const bool first_confirmed = !c->slot[i].confirmed;
+    const bool first_confirmed = !c->slot[i].confirmed, vehicle = vehicle_sized(tr);
     c->slot[i].confirmed = true;
     /* seen again: a crossing on its prediction stands, unless it is back before the line */
     uint16_t undone = 0;
@@ -466,11 +463,10 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       if ((c->slot[i].counted | undone) & (1u << l)) continue;
       const double px = c->slot[i].x, py = c->slot[i].y;
       int dir = crosses(&c->lines[l], px, py, x, y);
-      const bool vehicle = tr->full_length >= RS_COUNT_VEHICLE_M;
       if (dir != 0) {
         double u, s;
         meet(&c->lines[l], px, py, x, y, &u, &s);
-        if (vehicle && c->same_s > 0 && vehicle_counted_near(c, l, t, s, dir, tr->id)) {
+        if (vehicle && c->same_s > 0 && counted_near(c, l, t, s, dir, c->same_s, tr->id)) {
           c->same_dup++;
           c->slot[i].counted |= (uint16_t)(1u << l); /* its vehicle's: not checked again */
           continue;
@@ -480,7 +476,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
         double tc = 0, sc = 0;
         dir = hidden_crossing(c, l, c->slot[i].t0, c->slot[i].x0, c->slot[i].y0, t, x, y, &tc, &sc);
         if (dir == 0) continue;
-        if (counted_near(c, l, tc, sc, dir)) {
+        if (counted_near(c, l, tc, sc, dir, HIDDEN_DT, 0)) {
           c->hidden_dup++;
           c->slot[i].counted |= (uint16_t)(1u << l); /* its vehicle's: not checked again */
           continue;
