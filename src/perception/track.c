@@ -71,6 +71,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->speed_imm = 1;
   c->q_jerk = 1.0;
   c->turn_rate = 0.0;
+  c->near_ref_m = 25.0;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -91,7 +92,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 ||
       !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 ||
       cfg->speed_imm < 0 || cfg->speed_imm > 1 ||
-      !(cfg->q_jerk > 0 && cfg->q_jerk <= 100) || !(cfg->turn_rate >= 0 && cfg->turn_rate <= 2))
+      !(cfg->q_jerk > 0 && cfg->q_jerk <= 100) || !(cfg->turn_rate >= 0 && cfg->turn_rate <= 2) ||
+      !(cfg->near_ref_m >= 0 && cfg->near_ref_m <= 1000))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -122,6 +124,7 @@ static const rs_opt_t knobs[] = {
     KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB(q_jerk, 0.01, 100.0),
     KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),       KNOB_INT(blind_turn, 0, 1),
     KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1), KNOB_INT(dup_box, 0, 1),
+    KNOB(near_ref_m, 0.0, 1000.0),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -209,10 +212,10 @@ static void box_on_axes(const rs_track_t *t, const rs_object_t *o, double e[4]) 
  * map's columns run clockwise (azimuth from +y towards +x): of the two ends
  * on the box's centre line, the one counter-clockwise of the other lies at
  * the object's first column. */
-static int hidden_end(const rs_track_t *t, const rs_object_t *o, const double e[4]) {
+static int hidden_end_on(double c, double s, const rs_object_t *o, const double e[4]) {
   const unsigned h = o->occluded & (RS_OBJ_HIDDEN_START | RS_OBJ_HIDDEN_END);
   if (h == 0 || h == (RS_OBJ_HIDDEN_START | RS_OBJ_HIDDEN_END)) return 0;
-  const double c = t->hcos, s = t->hsin, cv = 0.5 * (e[2] + e[3]);
+  const double cv = 0.5 * (e[2] + e[3]);
   const double ax = e[0] * c - cv * s, ay = e[0] * s + cv * c; /* the end of smaller u */
   const double bx = e[1] * c - cv * s, by = e[1] * s + cv * c; /* of larger u */
   const double cross = ax * by - ay * bx, norm = hypot(ax, ay) * hypot(bx, by);
@@ -220,6 +223,7 @@ static int hidden_end(const rs_track_t *t, const rs_object_t *o, const double e[
   const bool larger_first = cross > 0; /* counter-clockwise: the smaller azimuth */
   return (h == RS_OBJ_HIDDEN_START) == larger_first ? 1 : -1;
 }
+static int hidden_end(const rs_track_t *t, const rs_object_t *o, const double e[4]) { return hidden_end_on(t->hcos, t->hsin, o, e); }
 
 static double obj_time(const rs_object_t *o, double t_frame);
 /* how near the sensor the lowest beam reaches a top at sensor z = top (m; 0: everywhere, or not known) */
@@ -1038,6 +1042,75 @@ static float smooth(float cur, float obs, bool first) {
   return cur + (obs > cur ? 0.5f : 0.05f) * (obs - cur);
 }
 
+/* ---- the near side (near_ref_m) ----------------------------------------------
+ * A vehicle coming into view far off shows its side facing the sensor first;
+ * rows reach the rest of it in the frames after, so its box grows away from
+ * the sensor and the box's centre moves slower than the vehicle (or the other
+ * way). The side facing the sensor moves with it. While a track is young and
+ * its size not known, the speed estimator is fed the point of each box
+ * farthest towards the sensor along the direction fixed at its birth (on the
+ * box's centre line across it); after, the box's centre, its states moved by
+ * the offset between the two points of the same box (no jump in speed). Near
+ * the sensor the side facing it is where the lowest beam cuts the vehicle:
+ * only beyond near_ref_m. */
+#define NEAR_REF_S 1.0 /* s, the age up to which a track's speed estimator may follow the near side */
+static void near_side(const rs_track_t *t, const rs_object_t *o, double p[2]) {
+  const double c = t->ref_dir[0], s = t->ref_dir[1];
+  double e[4];
+  box_on(o, atan2(s, c), c, s, e);
+  const double cv = 0.5 * (e[2] + e[3]);
+  p[0] = e[1] * c - cv * s;
+  p[1] = e[1] * s + cv * c;
+}
+/* whether the end of object o's box along its own axis that lies towards dir (the sensor) is marked
+ * hidden: the box may grow there as something nearer moves off it */
+static bool near_hidden(const rs_object_t *o, const double dir[2]) {
+  const unsigned m = o->occluded & (RS_OBJ_HIDDEN_START | RS_OBJ_HIDDEN_END);
+  if (m == 0) return false;
+  if (m == (RS_OBJ_HIDDEN_START | RS_OBJ_HIDDEN_END)) return true;
+  const double h = o->sensor.obb_heading, c = cos(h), s = sin(h);
+  double e[4];
+  box_on(o, h, c, s, e);
+  const double cv = 0.5 * (e[2] + e[3]);
+  const double ax = e[0] * c - cv * s, ay = e[0] * s + cv * c, bx = e[1] * c - cv * s, by = e[1] * s + cv * c;
+  const double cross = ax * by - ay * bx;
+  if (cross == 0.0) return true; /* both ends on one line of sight: either may be the hidden one */
+  const int hid = (m == RS_OBJ_HIDDEN_START) == (cross > 0) ? 1 : -1;
+  return hid * (c * dir[0] + s * dir[1]) > 0;
+}
+/* the speed estimator's measurement zi of object o, given the filter's z (at tk) */
+static void ref_meas(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, const double z[2], double tk,
+                     bool first, double zi[2]) {
+  zi[0] = z[0];
+  zi[1] = z[1];
+  if (first) {
+    const double r = hypot(o->sensor.obb_center[0], o->sensor.obb_center[1]);
+    t->ref_near = false;
+    if (!(tr->cfg.near_ref_m > 0) || !(r > 0)) return;
+    t->ref_dir[0] = -o->sensor.obb_center[0] / r;
+    t->ref_dir[1] = -o->sensor.obb_center[1] / r;
+  } else if (!t->ref_near) {
+    return;
+  }
+  double p[2];
+  near_side(t, o, p);
+  const bool keep = tk - t->t_birth < NEAR_REF_S && !size_known(t) && hypot(p[0], p[1]) > tr->cfg.near_ref_m &&
+                    !near_hidden(o, t->ref_dir) &&
+                    (first || tk - t->imm.t <= IMM_RESTART_S);
+  if (first) {
+    t->ref_near = keep;
+  } else if (!keep) { /* back to the centre: the estimator's positions moved by the offset */
+    for (int j = 0; j < 2; j++)
+      for (int a = 0; a < 2; a++) t->imm.x[j][a][0] += z[a] - p[a];
+    t->ref_near = false;
+    return;
+  }
+  if (t->ref_near) {
+    zi[0] = p[0];
+    zi[1] = p[1];
+  }
+}
+
 /* track t took object o (measured at tk) */
 static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double tk) {
   double z[2], sd, misfit;
@@ -1050,12 +1123,16 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   const double sdu = update_sd(tr, sd, misfit);
   update(t, z, sdu);
   const bool first = t->hits == 0;
+  double zi[2];
+  ref_meas(tr, t, o, z, tk, first, zi);
   if (first) {
     imm_start(t);
+    for (int j = 0; j < 2; j++)
+      for (int a = 0; a < 2; a++) t->imm.x[j][a][0] = zi[a];
   } else {
     double q[3];
     accel_density(tr, t, q);
-    imm_step(t, z, sdu * sdu, tk, (const double[2]){q[0], q[2]}, tr->cfg.q_jerk);
+    imm_step(t, zi, sdu * sdu, tk, (const double[2]){q[0], q[2]}, tr->cfg.q_jerk);
   }
   t->length = smooth(t->length, o->sensor.obb_length, first);
   t->width = smooth(t->width, o->sensor.obb_width, first);

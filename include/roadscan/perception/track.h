@@ -204,6 +204,10 @@ typedef struct {
   int dup_box;                 /* 1: a track unseen this frame and predicted inside the box of an older moving
                                   vehicle's track seen this frame, moving alike, is a part of that vehicle: ended
                                   as a duplicate (default 1) */
+  double near_ref_m;           /* m: while a track is under 1 s old and its size not yet known, the speed
+                                  estimator follows the side of its boxes nearest the sensor, not their
+                                  centre, as long as that side is farther than this (a vehicle coming into
+                                  view grows away from the sensor); 0 = off (default 25; docs/tracking.md) */
   int split_full_size;         /* 1: a free object is a split part of a track when both fit in the track's
                                   full size (its largest box, falling 0.05 m an update), not only in its
                                   smoothed box, which shrinks while the object is partly hidden (default 1) */
@@ -263,6 +267,8 @@ typedef struct {
   bool seen_whole;           /* updated once with all of its box beyond the lowest beam's reach (below_beam) */
   bool blind_kept;           /* lost longer than lost_s, kept for the blind-circle link alone (blind_s) */
   rs_track_imm_t imm;        /* the speed estimator (speed_imm) */
+  bool ref_near;             /* the speed estimator follows the box's side nearest the sensor (near_ref_m) */
+  double ref_dir[2];         /* towards the sensor from where it was born: the side's direction */
   double vel[2];             /* reported velocity, m/s: the speed estimator's for a track not of a walker's size
                                 (speed_imm), the Kalman filter's otherwise */
 } rs_track_t;
