@@ -1052,7 +1052,9 @@ static float smooth(float cur, float obs, bool first) {
  * box's centre line across it); after, the box's centre, its states moved by
  * the offset between the two points of the same box (no jump in speed). Near
  * the sensor the side facing it is where the lowest beam cuts the vehicle:
- * only beyond near_ref_m. */
+ * only beyond near_ref_m. Nor where that side may be a hidden end (a box
+ * growing there as something nearer moves off it): such a box is measured by
+ * its centre, and the next clean one by its near side again. */
 #define NEAR_REF_S 1.0 /* s, the age up to which a track's speed estimator may follow the near side */
 static void near_side(const rs_track_t *t, const rs_object_t *o, double p[2]) {
   const double c = t->ref_dir[0], s = t->ref_dir[1];
@@ -1078,7 +1080,9 @@ static bool near_hidden(const rs_object_t *o, const double dir[2]) {
   const int hid = (m == RS_OBJ_HIDDEN_START) == (cross > 0) ? 1 : -1;
   return hid * (c * dir[0] + s * dir[1]) > 0;
 }
-/* the speed estimator's measurement zi of object o, given the filter's z (at tk) */
+/* the speed estimator's measurement zi of object o, given the filter's z (at tk): the near side
+ * while the track is young and that side is clean, the centre otherwise; switching either way moves
+ * the estimator's positions by the offset between the two points of o's box */
 static void ref_meas(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, const double z[2], double tk,
                      bool first, double zi[2]) {
   zi[0] = z[0];
@@ -1086,26 +1090,22 @@ static void ref_meas(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o
   if (first) {
     const double r = hypot(o->sensor.obb_center[0], o->sensor.obb_center[1]);
     t->ref_near = false;
+    t->ref_dir[0] = t->ref_dir[1] = 0.0;
     if (!(tr->cfg.near_ref_m > 0) || !(r > 0)) return;
     t->ref_dir[0] = -o->sensor.obb_center[0] / r;
     t->ref_dir[1] = -o->sensor.obb_center[1] / r;
-  } else if (!t->ref_near) {
-    return;
   }
+  if (t->ref_dir[0] == 0.0 && t->ref_dir[1] == 0.0) return; /* off, or no longer young */
+  const bool young = tk - t->t_birth < NEAR_REF_S && !size_known(t) && (first || tk - t->imm.t <= IMM_RESTART_S);
   double p[2];
   near_side(t, o, p);
-  const bool keep = tk - t->t_birth < NEAR_REF_S && !size_known(t) && hypot(p[0], p[1]) > tr->cfg.near_ref_m &&
-                    !near_hidden(o, t->ref_dir) &&
-                    (first || tk - t->imm.t <= IMM_RESTART_S);
-  if (first) {
-    t->ref_near = keep;
-  } else if (!keep) { /* back to the centre: the estimator's positions moved by the offset */
+  const bool near = young && hypot(p[0], p[1]) > tr->cfg.near_ref_m && !near_hidden(o, t->ref_dir);
+  if (!first && near != t->ref_near) /* the estimator's positions are the other point's: moved by the offset */
     for (int j = 0; j < 2; j++)
-      for (int a = 0; a < 2; a++) t->imm.x[j][a][0] += z[a] - p[a];
-    t->ref_near = false;
-    return;
-  }
-  if (t->ref_near) {
+      for (int a = 0; a < 2; a++) t->imm.x[j][a][0] += near ? p[a] - z[a] : z[a] - p[a];
+  t->ref_near = near;
+  if (!young) t->ref_dir[0] = t->ref_dir[1] = 0.0;
+  if (near) {
     zi[0] = p[0];
     zi[1] = p[1];
   }
