@@ -268,7 +268,8 @@ typedef struct {
   bool blind_kept;           /* lost longer than lost_s, kept for the blind-circle link alone (blind_s) */
   rs_track_imm_t imm;        /* the speed estimator (speed_imm) */
   bool ref_near;             /* the speed estimator follows the box's side nearest the sensor (near_ref_m) */
-  double ref_dir[2];         /* towards the sensor from where it was born: the side's direction */
+  double ref_dir[2];         /* towards the sensor from where it was born: the side's direction; (0, 0) once
+                                the track is no longer young (or near_ref_m is 0) */
   double vel[2];             /* reported velocity, m/s: the speed estimator's for a track not of a walker's size
                                 (speed_imm), the Kalman filter's otherwise */
 } rs_track_t;
