@@ -30,6 +30,14 @@
     scripts/track-errors.py unmatched MOTDUMP TRACKS
         The confirmed rows of a track file that no true instance matches (IoU > 0.5), and
         how many of them have fewer than 10 returns (never a true instance's).
+    scripts/track-errors.py matched MOTDUMP TRACKS STATES [MOTDUMP TRACKS STATES ...]
+        Per capture, then over all given: the speed error as roadscan-eval --tracking scores it (the confirmed rows matched to a
+        true vehicle within 80 m, IoU > 0.5, from its --mot-dump), split: tracks younger than
+        1 s past the capture's first 3 s (moving vehicles), those in its first 3 s, and the
+        older tracks' rows by how long the track has had this vehicle: under 2 s after having
+        had another one (it took this one over), under 2 s as its first, or longer; per kind
+        its rows, its share of the squared error and its RMSE. (The truth is taken between
+        its states, not extrapolated: a few rows fewer than roadscan-eval's.)
     scripts/track-errors.py close STATES...
         Per true-states file: how many pairs of walkers came within 0.45 m of each other (centres;
         bodies are 0.5 m wide), the states within 0.6 m, and the nearest two ever came (m): how
@@ -322,9 +330,73 @@ def close(*paths):
               f"nearest {nearest:.2f} m")
 
 
+def matched(*paths):
+    if len(paths) % 3:
+        sys.exit(__doc__.strip())
+    sq_all, n_all = Counter(), Counter()
+    for k in range(0, len(paths), 3):
+        sq, n = matched_one(*paths[k:k + 3])
+        sq_all.update(sq)
+        n_all.update(n)
+    if len(paths) > 3:
+        print_split("all", sq_all, n_all)
+
+
+def print_split(name, sq, n):
+    total = sum(sq.values())
+    if not total:
+        print(f"{name}: no confirmed vehicle rows matched within 80 m")
+        return
+    print(f"{name}: {sum(n.values())} rows, speed RMSE {math.sqrt(total / sum(n.values())):.3f} m/s")
+    for kind in sorted(n):
+        print(f"  {kind:34s} rows {n[kind]:6d}  squared error {100.0 * sq[kind] / total:5.1f} %  "
+              f"RMSE {math.sqrt(sq[kind] / n[kind]):.2f}")
+
+
+def matched_one(mot_path, tracks_path, states_path):
+    states, cls = load_states(states_path)
+    rows = {}
+    with open(tracks_path, newline="") as f:
+        for r in csv.DictReader(f):
+            rows[(int(r["frame"]), int(r["track"]))] = r
+    pairs = []
+    with open(mot_path, newline="") as f:
+        for r in csv.DictReader(f):
+            if int(r["pred"]) >= 3 and float(r["iou"]) > 0.5:
+                pairs.append((int(r["frame"]), int(r["pred"]) - 2, int(r["truth"])))
+    pairs.sort()
+    t0 = min(rows[0][0] for rows in states.values())
+    first_with, had = {}, {}  # (track, truth) -> first frame matched; track -> the truths it matched
+    sq, n = Counter(), Counter()
+    for frame, track, truth in pairs:
+        first_with.setdefault((track, truth), frame)
+        took = bool(had.setdefault(track, set()) - {truth})
+        had[track].add(truth)
+        r = rows.get((frame, track))
+        if r is None or r["state"] != "confirmed" or cls.get(truth) not in VEHICLES:
+            continue
+        t = float(r["t"])
+        s = at(states[truth], t)
+        if s is None or math.hypot(s[0], s[1]) > 80.0:
+            continue
+        v = math.hypot(s[2], s[3])
+        if float(r["age"]) < 1.0:
+            kind = "younger than 1 s, first 3 s" if t - t0 < 3.0 else \
+                   "younger than 1 s, moving" if v >= 1.0 else "younger than 1 s, still"
+        else:
+            on = (frame - first_with[(track, truth)]) * 0.1  # frames of 0.1 s
+            kind = "older, took it over < 2 s ago" if on < 2.0 and took else \
+                   "older, first had it < 2 s ago" if on < 2.0 else "older, had it >= 2 s"
+        e = float(r["speed"]) - v
+        sq[kind] += e * e
+        n[kind] += 1
+    print_split(mot_path, sq, n)
+    return sq, n
+
+
 def main(argv):
-    modes = {"speed": speed, "ids": ids, "close": close, "traffic": traffic, "unmatched": unmatched}
-    if len(argv) < 2 or argv[0] not in modes or (argv[0] not in ("close", "traffic") and len(argv) != 3):
+    modes = {"speed": speed, "ids": ids, "close": close, "traffic": traffic, "unmatched": unmatched, "matched": matched}
+    if len(argv) < 2 or argv[0] not in modes or (argv[0] not in ("close", "traffic", "matched") and len(argv) != 3):
         sys.exit(__doc__.strip())
     modes[argv[0]](*argv[1:])
 
