@@ -604,13 +604,16 @@ END_TEST
  * marked hidden at the front (something nearer beside it): those are measured
  * by their centre. Returns the largest speed error of the track from its
  * fourth update to its tenth (its estimator starts at 0 m/s): 0.6 m/s with,
- * 3.4 without, 2.8 with the first two boxes hidden. */
-static double coming_into_view_error(double near_ref_m, int hidden_first) {
-  init_knob("near_ref_m", near_ref_m);
+ * 3.4 without, 2.8 with the first two boxes hidden. A 12 m bus (length) grows
+ * for 1.8 s, past the 5 updates after which its track's size counts as known:
+ * with frames 20, its error from the fourth update to the twentieth. The
+ * tracker is set up with the parameter knob at value. */
+static double coming_into_view_error(const char *knob, double value, int hidden_first, double length, int frames) {
+  init_knob(knob, value);
   const double v = 10.0;
   double worst = 0;
-  for (int f = 0; f < 10; f++) {
-    const double t = 0.1 * f, front = 60.0 - v * t, seen = fmin(4.5, 1.0 + 6.0 * t);
+  for (int f = 0; f < frames; f++) {
+    const double t = 0.1 * f, front = 60.0 - v * t, seen = fmin(length, 1.0 + 6.0 * t);
     clear();
     put(t, front + 0.5 * seen, 3.0, seen, 1.8, 0.0, 1.5, (uint32_t)(8 * seen));
     if (f < hidden_first) objs.obj[0].occluded = RS_OBJ_HIDDEN_START; /* its front, the smaller azimuth */
@@ -621,6 +624,9 @@ static double coming_into_view_error(double near_ref_m, int hidden_first) {
   ck_assert_uint_eq(tr.n.born, 1);
   ck_assert_uint_eq(tr.list.track[0].state, RS_TRACK_CONFIRMED);
   return worst;
+}
+static double car_into_view_error(double near_ref_m, int hidden_first) {
+  return coming_into_view_error("near_ref_m", near_ref_m, hidden_first, 4.5, 10);
 }
 
 /* A truck stands 8.6 m long along y = 15, x 35.7-44.3; a van passing
@@ -646,18 +652,26 @@ static double uncovered_speed(double near_ref_m) {
 }
 
 START_TEST(t_near_side) {
-  const double near = coming_into_view_error(25.0, 0), centred = coming_into_view_error(0.0, 0);
+  const double near = car_into_view_error(25.0, 0), centred = car_into_view_error(0.0, 0);
   ck_assert_msg(near <= 0.8, "coming into view: speed %.2f m/s off following the near side", near);
   ck_assert_msg(centred >= 2.5 && centred >= 3.0 * near, "coming into view: %.2f m/s off following the centre, %.2f the near side", centred, near);
   /* only beyond near_ref_m: the same car with the near side at 58-50 m, the rule from 70 m, is followed by its centre */
-  ck_assert_double_eq_tol(coming_into_view_error(70.0, 0), centred, 1e-9);
+  ck_assert_double_eq_tol(car_into_view_error(70.0, 0), centred, 1e-9);
   /* its first two boxes marked hidden at the front: the centre for those, the front from the third */
-  const double late = coming_into_view_error(25.0, 2);
+  const double late = car_into_view_error(25.0, 2);
   ck_assert_msg(late <= centred - 0.3, "the front followed from the third box: %.2f m/s off, the centre %.2f", late, centred);
   /* a box growing towards the sensor from behind something: the near side is not followed */
   const double uncovered = uncovered_speed(25.0), uncovered_off = uncovered_speed(0.0);
   ck_assert_double_eq_tol(uncovered, uncovered_off, 1e-9);
+  /* a bus: its box grows for 1.8 s, the near side is followed for near_ref_s (2 s by default); stopping
+   * at 1 s (or, as before, once its size counted as known after 5 updates) follows its centre while it
+   * still grows */
+  const double bus = coming_into_view_error("near_ref_s", 2.0, 0, 12.0, 20), bus_1s = coming_into_view_error("near_ref_s", 1.0, 0, 12.0, 20);
+  ck_assert_msg(bus <= 0.8, "a bus coming into view: speed %.2f m/s off following the near side for 2 s", bus);
+  ck_assert_msg(bus_1s >= 1.5 && bus_1s >= 2.0 * bus, "a bus coming into view: %.2f m/s off with the near side for 1 s, %.2f for 2 s", bus_1s, bus);
+  ck_assert_double_eq_tol(coming_into_view_error("near_ref_s", 0.0, 0, 12.0, 20), coming_into_view_error("near_ref_m", 0.0, 0, 12.0, 20), 1e-9);
   knob_refused("near_ref_m", "-1");
+  knob_refused("near_ref_s", "-1");
 }
 END_TEST
 

@@ -72,6 +72,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->q_jerk = 1.0;
   c->turn_rate = 0.0;
   c->near_ref_m = 25.0;
+  c->near_ref_s = 2.0;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -93,7 +94,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 ||
       cfg->speed_imm < 0 || cfg->speed_imm > 1 ||
       !(cfg->q_jerk > 0 && cfg->q_jerk <= 100) || !(cfg->turn_rate >= 0 && cfg->turn_rate <= 2) ||
-      !(cfg->near_ref_m >= 0 && cfg->near_ref_m <= 1000))
+      !(cfg->near_ref_m >= 0 && cfg->near_ref_m <= 1000) || !(cfg->near_ref_s >= 0 && cfg->near_ref_s <= 60))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -124,7 +125,7 @@ static const rs_opt_t knobs[] = {
     KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB(q_jerk, 0.01, 100.0),
     KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),       KNOB_INT(blind_turn, 0, 1),
     KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1), KNOB_INT(dup_box, 0, 1),
-    KNOB(near_ref_m, 0.0, 1000.0),
+    KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -1051,20 +1052,21 @@ static float smooth(float cur, float obs, bool first) {
   return cur + (obs > cur ? 0.5f : 0.05f) * (obs - cur);
 }
 
-/* ---- the near side (near_ref_m) ----------------------------------------------
+/* ---- the near side (near_ref_m, near_ref_s) ---------------------------------
  * A vehicle coming into view far off shows its side facing the sensor first;
  * rows reach the rest of it in the frames after, so its box grows away from
  * the sensor and the box's centre moves slower than the vehicle (or the other
- * way). The side facing the sensor moves with it. While a track is young and
- * its size not known, the speed estimator is fed the point of each box
- * farthest towards the sensor along the direction fixed at its birth (on the
- * box's centre line across it); after, the box's centre, its states moved by
- * the offset between the two points of the same box (no jump in speed). Near
- * the sensor the side facing it is where the lowest beam cuts the vehicle:
- * only beyond near_ref_m. Nor where that side may be a hidden end (a box
- * growing there as something nearer moves off it): such a box is measured by
- * its centre, and the next clean one by its near side again. */
-#define NEAR_REF_S 1.0 /* s, the age up to which a track's speed estimator may follow the near side */
+ * way). The side facing the sensor moves with it. While a track is younger
+ * than near_ref_s (its smoothed size, known after a few updates, still lags
+ * the boxes: they keep growing for a second or two), the speed estimator is
+ * fed the point of each box farthest towards the sensor along the direction
+ * fixed at its birth (on the box's centre line across it); after, the box's
+ * centre, its states moved by the offset between the two points of the same
+ * box (no jump in speed). Near the sensor the side facing it is where the
+ * lowest beam cuts the vehicle: only beyond near_ref_m. Nor where that side
+ * may be a hidden end (a box growing there as something nearer moves off
+ * it): such a box is measured by its centre, and the next clean one by its
+ * near side again. */
 static void near_side(const rs_track_t *t, const rs_object_t *o, double p[2]) {
   const double c = t->ref_dir[0], s = t->ref_dir[1];
   double e[4];
@@ -1100,7 +1102,7 @@ static void ref_meas(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o
     t->ref_dir[1] = -o->sensor.obb_center[1] / r;
   }
   if (t->ref_dir[0] == 0.0 && t->ref_dir[1] == 0.0) return; /* off, or no longer young */
-  const bool young = tk - t->t_birth < NEAR_REF_S && !size_known(t) && (first || tk - t->imm.t <= IMM_RESTART_S);
+  const bool young = tk - t->t_birth < tr->cfg.near_ref_s && (first || tk - t->imm.t <= IMM_RESTART_S);
   double p[2];
   near_side(t, o, p);
   const bool near = young && hypot(p[0], p[1]) > tr->cfg.near_ref_m && !near_hidden(o, t->ref_dir);

@@ -204,10 +204,11 @@ typedef struct {
   int dup_box;                 /* 1: a track unseen this frame and predicted inside the box of an older moving
                                   vehicle's track seen this frame, moving alike, is a part of that vehicle: ended
                                   as a duplicate (default 1) */
-  double near_ref_m;           /* m: while a track is under 1 s old and its size not yet known, the speed
-                                  estimator follows the side of its boxes nearest the sensor, not their
-                                  centre, as long as that side is farther than this (a vehicle coming into
-                                  view grows away from the sensor); 0 = off (default 25; docs/tracking.md) */
+  double near_ref_m;           /* m: while a track is younger than near_ref_s, the speed estimator follows
+                                  the side of its boxes nearest the sensor, not their centre, as long as
+                                  that side is farther than this (a vehicle coming into view grows away
+                                  from the sensor); 0 = off (default 25; docs/tracking.md) */
+  double near_ref_s;           /* s: the age up to which near_ref_m applies (default 2; 0 = off) */
   int split_full_size;         /* 1: a free object is a split part of a track when both fit in the track's
                                   full size (its largest box, falling 0.05 m an update), not only in its
                                   smoothed box, which shrinks while the object is partly hidden (default 1) */
