@@ -6,7 +6,8 @@
  * tracks, bad zones; hidden crossings (a track first seen past a line);
  * the class delay (a crossing tallied under the class its track settles on);
  * a lost track taken up again past a line; unseen crossings (a track
- * followed on its prediction, held until it is seen again or ends). */
+ * followed on its prediction, held until it is seen again or ends); the band
+ * (a car standing on a line, a track running on over it as its car stops). */
 #include "roadscan/perception/count.h"
 #include "roadscan/util/error.h"
 #include "testutil.h"
@@ -552,6 +553,98 @@ START_TEST(t_second_tracks) {
 }
 END_TEST
 
+/* The band (band_m). A car stops with its centre 0.1 m before the line "stop 0 -5 0 5" (x = 0), driving
+ * -x (forward), its centre wandering +-0.25 m for 10 s (stepping over the line every other second); then
+ * either drives on (drive_on) or the run ends. band: band_m; crossings tallied when found. Returns the
+ * forward crossings tallied. */
+static uint32_t stop_on_line(double band, int drive_on) {
+  static const char *const l[] = {"stop 0 -5 0 5"};
+  setup(l, 1, NULL, 60); /* (tallied when found: nothing to take back, the band alone) */
+  cnt.band_m = band;
+  double t = 50.0;
+  for (int f = 0; f < 30; f++, t += 0.1) { /* from 3.1 m to 0.1 m before it */
+    tl.count = 0;
+    one(1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 3.1 - 0.1 * f, 1.0);
+    rs_count_frame(&cnt, &tl, t);
+  }
+  for (int f = 0; f < 100; f++, t += 0.1) { /* standing: 0.1 m before it, +-0.25 m */
+    tl.count = 0;
+    one(1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 0.1 + 0.25 * sin(f * M_PI / 10.0), 1.0);
+    rs_count_frame(&cnt, &tl, t);
+  }
+  for (int f = 0; f < 30 && drive_on; f++, t += 0.1) {
+    tl.count = 0;
+    one(1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 0.1 - 0.2 * f, 1.0);
+    rs_count_frame(&cnt, &tl, t);
+  }
+  rs_count_flush(&cnt, t);
+  ck_assert_uint_eq(sum(cnt.total[0].backward), 0);
+  return sum(cnt.total[0].forward);
+}
+
+/* A track runs 1.4 m past the line as its car stops 0.6 m short of it (the filter's overshoot, coasting),
+ * then is seen where the car stands, 1 s later; 5 s on, the car drives over. back_s: how long after its
+ * crossing it is seen back. Returns the forward crossings; *undone: back_undone. */
+static uint32_t overshoot(double band, double back_s, uint64_t *undone) {
+  static const char *const l[] = {"stop 0 -5 0 5"};
+  setup(l, 1, NULL, 60);
+  cnt.band_m = band;
+  cnt.class_delay_s = 2.0;
+  double t = 80.0;
+  int f = 0;
+  for (; f <= 36; f++, t += 0.1) { /* 2.2 m before, at 0.1 m a frame, to 1.4 m past (frame 22 crosses) */
+    tl.count = 0;
+    one(2, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 2.2 - 0.1 * f, -2.0);
+    rs_count_frame(&cnt, &tl, t);
+  }
+  for (int g = 0; g < 80; g++, t += 0.1) { /* then where the car stands, 0.6 m before it, from back_s */
+    tl.count = 0;
+    one(2, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 0.1 * g < back_s - 1.4 ? -1.4 : 0.6, -2.0);
+    rs_count_frame(&cnt, &tl, t);
+  }
+  for (int g = 0; g < 20; g++, t += 0.1) { /* it drives over */
+    tl.count = 0;
+    one(2, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 0.6 - 0.2 * g, -2.0);
+    rs_count_frame(&cnt, &tl, t);
+  }
+  rs_count_flush(&cnt, t);
+  *undone = cnt.back_undone;
+  ck_assert_uint_eq(sum(cnt.total[0].backward), 0);
+  return sum(cnt.total[0].forward);
+}
+
+START_TEST(t_band) {
+  /* standing on the line: counted once when it drives on, either way; never when it does not drive on,
+   * but at the line (band 0) its centre's first step over counts */
+  ck_assert_uint_eq(stop_on_line(RS_COUNT_BAND_M, 1), 1);
+  ck_assert_uint_eq(stop_on_line(0.0, 1), 1);
+  ck_assert_uint_eq(stop_on_line(RS_COUNT_BAND_M, 0), 0);
+  ck_assert_uint_eq(stop_on_line(0.0, 0), 1);
+  /* the overshoot: taken back when seen back before its crossing is tallied, then counted once as it
+   * drives over; at the line (band 0) counted once, at the overshoot, and not taken back */
+  uint64_t undone = 0;
+  ck_assert_uint_eq(overshoot(RS_COUNT_BAND_M, 1.0, &undone), 1);
+  ck_assert_uint_eq(undone, 1);
+  ck_assert_uint_eq(overshoot(0.0, 1.0, &undone), 1);
+  ck_assert_uint_eq(undone, 0);
+  /* seen back only after the class delay: the crossing was tallied, it stands (and the drive over is
+   * the same line: not counted again) */
+  ck_assert_uint_eq(overshoot(RS_COUNT_BAND_M, 3.0, &undone), 1);
+  ck_assert_uint_eq(undone, 0);
+  /* a track crossing past the segment's end within the band's reach is not counted: a step from 0.2 m
+   * before to 0.5 m past at y = 5.05, just beyond the end (0, 5) */
+  static const char *const l[] = {"stop 0 -5 0 5"};
+  setup(l, 1, NULL, 60);
+  const double xs[] = {2.0, 1.0, 0.2, -0.5, -1.5};
+  for (int f = 0; f < 5; f++) {
+    tl.count = 0;
+    one(3, RS_TRACK_CONFIRMED, RS_CLASS_CAR, xs[f], 5.05);
+    rs_count_frame(&cnt, &tl, 90.0 + 0.1 * f);
+  }
+  ck_assert_uint_eq(cnt.crossings, 0);
+}
+END_TEST
+
 START_TEST(t_bad_lines) {
   rs_count_line_t line;
   char err[RS_ERRMSG_SIZE];
@@ -613,6 +706,7 @@ int main(void) {
   tcase_add_test(tc, t_lost_taken_up);
   tcase_add_test(tc, t_second_tracks);
   tcase_add_test(tc, t_unseen_crossings);
+  tcase_add_test(tc, t_band);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

@@ -60,6 +60,7 @@ typedef struct {
   double count_hidden_window;
   double count_unseen;
   double count_same;
+  double count_band;
   double count_class_delay;
   int method;            /* rs_cluster_method_t */
   double eps;            /* the method's, when given */
@@ -260,6 +261,10 @@ static const rs_opt_t table[] = {
     D("count-same", "S", count_same, 0.0, 10.0,
       "a vehicle-sized track crossing a line within S seconds and 2.5 m along it of a crossing counted in its "
       "direction for another vehicle-sized track is that vehicle's second track: not counted (0 = off)"),
+    D("count-band", "M", count_band, 0.0, 5.0,
+      "a seen track crosses a line when it is seen M metres past it, having been seen M metres before it (a "
+      "standing vehicle's centre wanders); seen back M metres before the crossing is tallied takes it back (0 = "
+      "at the line)"),
     D("count-class-delay", "S", count_class_delay, 0.0, 30.0,
       "a crossing is tallied S seconds after it, under the track's class then (its class settles as it comes "
       "near; 0 = at once)"),
@@ -354,6 +359,7 @@ int main(int argc, char **argv) {
   st.count_hidden_window = RS_COUNT_HIDDEN_WINDOW_S;
   st.count_unseen = RS_COUNT_UNSEEN_S;
   st.count_same = RS_COUNT_SAME_S;
+  st.count_band = RS_COUNT_BAND_M;
   st.count_class_delay = RS_COUNT_CLASS_DELAY_S;
   st.buffer_kib = RS_CAPTURE_BUFFER_DEFAULT / 1024;
   st.pub = (rs_publish_cfg_t){.channel = RS_PUB_DEFAULT_CHANNEL,
@@ -493,6 +499,7 @@ int main(int argc, char **argv) {
     counter.hidden_window_s = st.count_hidden_window;
     counter.unseen_s = st.count_unseen;
     counter.same_s = st.count_same;
+    counter.band_m = st.count_band;
     counter.class_delay_s = st.count_class_delay;
     cfg->counter = &counter;
   }

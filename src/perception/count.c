@@ -195,6 +195,7 @@ int rs_count_init(rs_counter_t *c, const rs_count_line_t *lines, int nlines, con
   c->class_delay_s = RS_COUNT_CLASS_DELAY_S;
   c->unseen_s = RS_COUNT_UNSEEN_S;
   c->same_s = RS_COUNT_SAME_S;
+  c->band_m = RS_COUNT_BAND_M;
   c->t_first = -1.0;
   c->cur.t_start = c->cur.t_end = -1.0;
   if (pose) {
@@ -236,6 +237,34 @@ static void meet(const rs_count_line_t *l, double x0, double y0, double x1, doub
   *u = d0 != d1 ? d0 / (d0 - d1) : 0.0;
   const double px = x0 + *u * (x1 - x0), py = y0 + *u * (y1 - y0), len = hypot(l->bx - l->ax, l->by - l->ay);
   *s = ((px - l->ax) * (l->bx - l->ax) + (py - l->ay) * (l->by - l->ay)) / len;
+}
+
+/* line l's side of (x, y) beyond band_m: 1 left (forward's), -1 right, 0 within the band */
+static int side_of(const rs_counter_t *c, int l, double x, double y) {
+  const rs_count_line_t *ln = &c->lines[l];
+  const double d = cross(ln->ax, ln->ay, ln->bx, ln->by, x, y) / hypot(ln->bx - ln->ax, ln->by - ln->ay);
+  return d > c->band_m ? 1 : d < -c->band_m ? -1 : 0;
+}
+
+/* the seen track of slot i at (x, y): its sides of the lines updated; the
+ * direction it crossed line l in (it is past the band on the side other than
+ * the one it was last seen clear on, along the line's segment), or 0 */
+static int band_cross(rs_counter_t *c, uint32_t i, int l, double x, double y, double *s) {
+  const uint16_t bit = (uint16_t)(1u << l);
+  const int side = side_of(c, l, x, y);
+  if (side == 0) return 0;
+  const bool known = (c->slot[i].side_known & bit) != 0, was_left = (c->slot[i].side_left & bit) != 0;
+  c->slot[i].side_known |= bit;
+  if (side > 0) c->slot[i].side_left |= bit;
+  else c->slot[i].side_left &= (uint16_t)~bit;
+  if (!known || (side > 0) == was_left) return 0;
+  /* where: the last step's meeting with the line when it met it, else the track's place along it */
+  const rs_count_line_t *ln = &c->lines[l];
+  const double len = hypot(ln->bx - ln->ax, ln->by - ln->ay);
+  double u;
+  if (crosses(ln, c->slot[i].x, c->slot[i].y, x, y) != 0) meet(ln, c->slot[i].x, c->slot[i].y, x, y, &u, s);
+  else *s = ((x - ln->ax) * (ln->bx - ln->ax) + (y - ln->ay) * (ln->by - ln->ay)) / len;
+  return *s >= 0.0 && *s <= len ? side : 0;
 }
 
 static void remember(rs_counter_t *c, int l, double t, double s, int dir, uint32_t id, bool vehicle) {
@@ -431,6 +460,12 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       c->slot[i].y0 = y;
       c->slot[i].confirmed = false;
       c->slot[i].born = tr->state == RS_TRACK_TENTATIVE;
+      c->slot[i].side_known = c->slot[i].side_left = 0;
+      for (int l = 0; l < c->nlines && c->band_m > 0; l++) {
+        const int side = side_of(c, l, x, y);
+        if (side != 0) c->slot[i].side_known |= (uint16_t)(1u << l);
+        if (side > 0) c->slot[i].side_left |= (uint16_t)(1u << l);
+      }
     }
     c->slot[i].frame = c->frame_no;
     if (tr->state == RS_TRACK_CONFIRMED) c->slot[i].cls = (uint8_t)((unsigned)tr->cls < RS_CLASS_COUNT ? tr->cls : 0);
@@ -460,12 +495,31 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       }
     }
     for (int l = 0; l < c->nlines; l++) {
-      if ((c->slot[i].counted | undone) & (1u << l)) continue;
       const double px = c->slot[i].x, py = c->slot[i].y;
-      int dir = crosses(&c->lines[l], px, py, x, y);
+      double u, s = 0;
+      int dir = 0;
+      if (c->band_m > 0) {
+        dir = band_cross(c, i, l, x, y, &s); /* (the sides kept current on every line) */
+        const uint16_t bit = (uint16_t)(1u << l);
+        if (dir != 0 && (c->slot[i].pending & bit) && !(undone & bit) &&
+            (dir > 0) != ((c->slot[i].pending_fwd & bit) != 0)) { /* back before its crossing was tallied */
+          if (c->slot[i].predicted & bit) c->unseen--;
+          c->slot[i].pending &= (uint16_t)~bit;
+          c->slot[i].pending_fwd &= (uint16_t)~bit;
+          c->slot[i].predicted &= (uint16_t)~bit;
+          c->slot[i].counted &= (uint16_t)~bit;
+          c->pending--;
+          c->back_undone++;
+          unremember(c, l, tr->id);
+          continue;
+        }
+        if ((c->slot[i].counted | undone) & bit) continue;
+      } else {
+        if ((c->slot[i].counted | undone) & (1u << l)) continue;
+        dir = crosses(&c->lines[l], px, py, x, y);
+        if (dir != 0) meet(&c->lines[l], px, py, x, y, &u, &s);
+      }
       if (dir != 0) {
-        double u, s;
-        meet(&c->lines[l], px, py, x, y, &u, &s);
         if (vehicle && c->same_s > 0 && counted_near(c, l, t, s, dir, c->same_s, tr->id)) {
           c->same_dup++;
           c->slot[i].counted |= (uint16_t)(1u << l); /* its vehicle's: not checked again */

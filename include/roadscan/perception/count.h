@@ -64,6 +64,20 @@
  * counted (`same_dup`). Walkers and cyclists are not: two people cross a
  * sidewalk line side by side.
  *
+ * The band: a seen track crosses a line when it is seen more than `band_m`
+ * (default 0.3, 0 = at the line) past it, having last been seen more than
+ * that before it. The box centre of a standing vehicle wanders by tenths of
+ * a metre; a car stopped on a line is counted once, when it drives on, not
+ * each time its centre steps over. Where along the line: where the last step
+ * met it, else the track's place along it; beyond the segment's ends it is
+ * not a crossing. A track seen back past the band before its crossing is
+ * tallied (the class delay) takes the crossing back, and may cross again: a
+ * track running on over a line as its vehicle stops short of it, then seen
+ * where the vehicle stands (`back_undone`). Crossings on a prediction and
+ * hidden crossings are found as before; the band's sides are those of the
+ * positions the track was seen at (first seen within a band, it has no side
+ * of that line until it is seen clear of it).
+ *
  * Per-track memory (last position, lines already counted, zones inside) lives
  * in a fixed table keyed by track id; a track no longer in the list is forgotten. */
 #ifndef ROADSCAN_COUNT_H
@@ -86,6 +100,7 @@
 #define RS_COUNT_CLASS_DELAY_S 2.0        /* default class_delay_s */
 #define RS_COUNT_UNSEEN_S 2.0             /* default unseen_s */
 #define RS_COUNT_SAME_S 1.5               /* default same_s */
+#define RS_COUNT_BAND_M 0.3               /* default band_m */
 #define RS_COUNT_VEHICLE_M 2.5            /* a track this long (its full length) or longer is a vehicle's (same_s) */
 #define RS_COUNT_UNSEEN_MIN_HITS 5        /* an unseen track of fewer hits is not followed (a flicker confirmed on 3) */
 
@@ -146,6 +161,11 @@ typedef struct {
   double same_s;                         /* a vehicle's second track crossing this soon after its first is not
                                             counted (s; 0 = off); RS_COUNT_SAME_S */
   uint64_t same_dup;                     /* crossings not counted: another track of the vehicle's was */
+  double band_m;                         /* a seen track crosses a line when it is seen this far past it, having
+                                            been seen this far before it; back this far before the crossing is
+                                            tallied takes it back (m; 0 = at the line); RS_COUNT_BAND_M */
+  uint64_t back_undone;                  /* crossings taken back: the track seen back past the band before they
+                                            were tallied (band_m) */
   uint64_t pending;                      /* crossings found and not yet tallied (their class is settling) */
   double t_first;                        /* the run's first frame (s) */
   struct {
@@ -160,6 +180,7 @@ typedef struct {
     uint16_t counted;                    /* lines this track was counted on */
     uint16_t pending, pending_fwd;       /* of those, not yet tallied; and which of them forward */
     uint16_t predicted;                  /* of the pending, crossed on a prediction (held until seen or ended) */
+    uint16_t side_known, side_left;      /* band_m: lines it was seen clear of, and on which side (left: forward's) */
     double t_tally;                      /* when the pending ones are tallied */
     uint8_t cls;                         /* its class at its last confirmed frame */
     uint8_t inside;                      /* zones it is inside (as of its last confirmed frame, or first seen) */
