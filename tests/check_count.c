@@ -7,7 +7,8 @@
  * the class delay (a crossing tallied under the class its track settles on);
  * a lost track taken up again past a line; unseen crossings (a track
  * followed on its prediction, held until it is seen again or ends); the band
- * (a car standing on a line, a track running on over it as its car stops). */
+ * (a car standing on a line, a track running on over it as its car stops);
+ * a walker crossing back (counted each way once, a car's track once). */
 #include "roadscan/perception/count.h"
 #include "roadscan/util/error.h"
 #include "testutil.h"
@@ -29,6 +30,9 @@ static void one(uint32_t id, rs_track_state_t st, rs_class_t cls, double x, doub
   t->x[1] = y;
 }
 
+/* the last track added is this long (its full length: RS_COUNT_VEHICLE_M or more is a vehicle's) */
+static void sized(float full_length) { tl.track[tl.count - 1].full_length = full_length; }
+
 static void setup(const char *const *texts, int n, const rs_pose_t *pose, double interval) {
   rs_count_line_t lines[RS_COUNT_LINES];
   char err[RS_ERRMSG_SIZE];
@@ -47,12 +51,14 @@ START_TEST(t_directions_and_once) {
   static const char *const l[] = {"gate 0 -5 0 5"}; /* along +y: its left is -x */
   setup(l, 1, NULL, 60);
   /* car 1 drives -x (right to left of the line: forward), car 2 +x (backward); car 1 turns
-   * back and crosses again: counted once */
+   * back and crosses again: counted once (a vehicle's track crossing back is another vehicle's it
+   * took, or its centre wandering; t_walker_back has the walkers') */
   for (int f = 0; f < 40; f++) {
     double t = 100.0 + 0.1 * f;
     tl.count = 0;
     const double x1 = f < 20 ? 10.0 - f : -10.0 + (f - 20);
     one(1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, x1, 1.0);
+    sized(4.5f);
     one(2, RS_TRACK_CONFIRMED, RS_CLASS_BUS, -10.0 + f, -2.0);
     one(3, RS_TRACK_CONFIRMED, RS_CLASS_CAR, -10.0 + f, 8.0); /* beyond the line's end */
     rs_count_frame(&cnt, &tl, t);
@@ -564,17 +570,17 @@ static uint32_t stop_on_line(double band, int drive_on) {
   double t = 50.0;
   for (int f = 0; f < 30; f++, t += 0.1) { /* from 3.1 m to 0.1 m before it */
     tl.count = 0;
-    one(1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 3.1 - 0.1 * f, 1.0);
+    one(1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 3.1 - 0.1 * f, 1.0); sized(4.5f);
     rs_count_frame(&cnt, &tl, t);
   }
   for (int f = 0; f < 100; f++, t += 0.1) { /* standing: 0.1 m before it, +-0.25 m */
     tl.count = 0;
-    one(1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 0.1 + 0.25 * sin(f * M_PI / 10.0), 1.0);
+    one(1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 0.1 + 0.25 * sin(f * M_PI / 10.0), 1.0); sized(4.5f);
     rs_count_frame(&cnt, &tl, t);
   }
   for (int f = 0; f < 30 && drive_on; f++, t += 0.1) {
     tl.count = 0;
-    one(1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 0.1 - 0.2 * f, 1.0);
+    one(1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 0.1 - 0.2 * f, 1.0); sized(4.5f);
     rs_count_frame(&cnt, &tl, t);
   }
   rs_count_flush(&cnt, t);
@@ -594,17 +600,17 @@ static uint32_t overshoot(double band, double back_s, uint64_t *undone) {
   int f = 0;
   for (; f <= 36; f++, t += 0.1) { /* 2.2 m before, at 0.1 m a frame, to 1.4 m past (frame 22 crosses) */
     tl.count = 0;
-    one(2, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 2.2 - 0.1 * f, -2.0);
+    one(2, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 2.2 - 0.1 * f, -2.0); sized(4.5f);
     rs_count_frame(&cnt, &tl, t);
   }
   for (int g = 0; g < 80; g++, t += 0.1) { /* then where the car stands, 0.6 m before it, from back_s */
     tl.count = 0;
-    one(2, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 0.1 * g < back_s - 1.4 ? -1.4 : 0.6, -2.0);
+    one(2, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 0.1 * g < back_s - 1.4 ? -1.4 : 0.6, -2.0); sized(4.5f);
     rs_count_frame(&cnt, &tl, t);
   }
   for (int g = 0; g < 20; g++, t += 0.1) { /* it drives over */
     tl.count = 0;
-    one(2, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 0.6 - 0.2 * g, -2.0);
+    one(2, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 0.6 - 0.2 * g, -2.0); sized(4.5f);
     rs_count_frame(&cnt, &tl, t);
   }
   rs_count_flush(&cnt, t);
@@ -642,6 +648,55 @@ START_TEST(t_band) {
     rs_count_frame(&cnt, &tl, 90.0 + 0.1 * f);
   }
   ck_assert_uint_eq(cnt.crossings, 0);
+}
+END_TEST
+
+/* A walker's track crossing back after its crossing was tallied is counted that way too, once: a
+ * walker goes out over "walk 0 -2 0 2" (x = 0) at 1 m/s, turns back back_after_s past the line (3 s:
+ * its forward crossing tallied after the class delay), crosses back, turns again again_after_s past
+ * the line and goes out for 6 s, crossing forward once more. With 3 s and 4 s: one forward, one
+ * backward. The same path by a car-long track: one forward. Turning back before a crossing is tallied
+ * takes that crossing back instead (t_band), for walkers too, the second crossing included. */
+static void walk_back(float full_length, rs_class_t cls, double back_after_s, double again_after_s) {
+  static const char *const l[] = {"walk 0 -2 0 2"};
+  setup(l, 1, NULL, 60);
+  cnt.class_delay_s = 2.0;
+  double t = 200.0, x = 2.0;
+  const int out = (int)(back_after_s / 0.1 + 0.5), in = (int)(again_after_s / 0.1 + 0.5);
+  for (int f = 0; f < 20 + out + out + in + 60; f++, t += 0.1) {
+    /* -x to back_after_s past the line, +x to again_after_s past it, -x for 6 s */
+    x += f < 20 + out ? -0.1 : f < 20 + out + out + in ? 0.1 : -0.1;
+    tl.count = 0;
+    one(9, RS_TRACK_CONFIRMED, cls, x, 0.5);
+    sized(full_length);
+    rs_count_frame(&cnt, &tl, t);
+  }
+  rs_count_flush(&cnt, t);
+}
+
+START_TEST(t_walker_back) {
+  walk_back(0.6f, RS_CLASS_PEDESTRIAN, 3.0, 4.0);
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_PEDESTRIAN], 1);
+  ck_assert_uint_eq(cnt.total[0].backward[RS_CLASS_PEDESTRIAN], 1);
+  ck_assert_uint_eq(cnt.crossings, 2);
+  ck_assert_uint_eq(cnt.walked_back, 1);
+  walk_back(4.5f, RS_CLASS_CAR, 3.0, 4.0);
+  ck_assert_uint_eq(sum(cnt.total[0].forward), 1);
+  ck_assert_uint_eq(sum(cnt.total[0].backward), 0);
+  ck_assert_uint_eq(cnt.crossings, 1);
+  ck_assert_uint_eq(cnt.walked_back, 0);
+  /* back 0.6 s past the line: seen back before the tally, taken back; then out again, counted forward once */
+  walk_back(0.6f, RS_CLASS_PEDESTRIAN, 0.6, 4.0);
+  ck_assert_uint_eq(cnt.back_undone, 1);
+  ck_assert_uint_eq(sum(cnt.total[0].forward), 1);
+  ck_assert_uint_eq(sum(cnt.total[0].backward), 0);
+  /* out (tallied), back 0.6 s past the line and out again: the crossing back taken back, the first
+   * stands: one forward */
+  walk_back(0.6f, RS_CLASS_PEDESTRIAN, 3.0, 0.6);
+  ck_assert_uint_eq(cnt.back_undone, 1);
+  ck_assert_uint_eq(sum(cnt.total[0].forward), 1);
+  ck_assert_uint_eq(sum(cnt.total[0].backward), 0);
+  ck_assert_uint_eq(cnt.walked_back, 0);
 }
 END_TEST
 
@@ -707,6 +762,7 @@ int main(void) {
   tcase_add_test(tc, t_second_tracks);
   tcase_add_test(tc, t_unseen_crossings);
   tcase_add_test(tc, t_band);
+  tcase_add_test(tc, t_walker_back);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

@@ -267,6 +267,15 @@ static int band_cross(rs_counter_t *c, uint32_t i, int l, double x, double y, do
   return *s >= 0.0 && *s <= len ? side : 0;
 }
 
+/* line bit counted for slot i in direction dir (its first direction kept) */
+static void mark_counted(rs_counter_t *c, uint32_t i, uint16_t bit, int dir) {
+  if (!(c->slot[i].counted & bit)) {
+    if (dir > 0) c->slot[i].counted_fwd |= bit;
+    else c->slot[i].counted_fwd &= (uint16_t)~bit;
+  }
+  c->slot[i].counted |= bit;
+}
+
 static void remember(rs_counter_t *c, int l, double t, double s, int dir, uint32_t id, bool vehicle) {
   const uint32_t k = c->recent_n[l]++ % RS_COUNT_RECENT;
   c->recent[l][k].t = t;
@@ -373,7 +382,7 @@ static void unseen_crossings(rs_counter_t *c, uint32_t i, const rs_track_t *tr, 
     if (dir == 0) continue;
     double u, s;
     meet(&c->lines[l], c->slot[i].x, c->slot[i].y, x, y, &u, &s);
-    c->slot[i].counted |= bit;
+    mark_counted(c, i, bit, dir);
     if (counted_near(c, l, t, s, dir, HIDDEN_DT, 0)) { /* the vehicle's new track counted it already */
       c->unseen_dup++;
       continue;
@@ -461,6 +470,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       c->slot[i].confirmed = false;
       c->slot[i].born = tr->state == RS_TRACK_TENTATIVE;
       c->slot[i].side_known = c->slot[i].side_left = 0;
+      c->slot[i].counted_fwd = c->slot[i].counted_both = 0;
       for (int l = 0; l < c->nlines && c->band_m > 0; l++) {
         const int side = side_of(c, l, x, y);
         if (side != 0) c->slot[i].side_known |= (uint16_t)(1u << l);
@@ -507,13 +517,25 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
           c->slot[i].pending &= (uint16_t)~bit;
           c->slot[i].pending_fwd &= (uint16_t)~bit;
           c->slot[i].predicted &= (uint16_t)~bit;
-          c->slot[i].counted &= (uint16_t)~bit;
+          if (c->slot[i].counted_both & bit) { /* its crossing back: the first, tallied, stands */
+            c->slot[i].counted_both &= (uint16_t)~bit;
+            c->walked_back--;
+          } else {
+            c->slot[i].counted &= (uint16_t)~bit;
+          }
           c->pending--;
           c->back_undone++;
           unremember(c, l, tr->id);
           continue;
         }
-        if ((c->slot[i].counted | undone) & bit) continue;
+        if ((c->slot[i].counted | undone) & bit) {
+          /* crossed back after its crossing was tallied: counted that way too, once */
+          if (vehicle || dir == 0 || (undone & bit) || (c->slot[i].pending & bit) || (c->slot[i].counted_both & bit) ||
+              (dir > 0) == ((c->slot[i].counted_fwd & bit) != 0))
+            continue;
+          c->slot[i].counted_both |= bit;
+          c->walked_back++;
+        }
       } else {
         if ((c->slot[i].counted | undone) & (1u << l)) continue;
         dir = crosses(&c->lines[l], px, py, x, y);
@@ -522,7 +544,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       if (dir != 0) {
         if (vehicle && c->same_s > 0 && counted_near(c, l, t, s, dir, c->same_s, tr->id)) {
           c->same_dup++;
-          c->slot[i].counted |= (uint16_t)(1u << l); /* its vehicle's: not checked again */
+          mark_counted(c, i, (uint16_t)(1u << l), dir); /* its vehicle's: not checked again */
           continue;
         }
         remember(c, l, t, s, dir, tr->id, vehicle);
@@ -532,7 +554,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
         if (dir == 0) continue;
         if (counted_near(c, l, tc, sc, dir, HIDDEN_DT, 0)) {
           c->hidden_dup++;
-          c->slot[i].counted |= (uint16_t)(1u << l); /* its vehicle's: not checked again */
+          mark_counted(c, i, (uint16_t)(1u << l), dir); /* its vehicle's: not checked again */
           continue;
         }
         remember(c, l, tc, sc, dir, tr->id, vehicle);
@@ -540,7 +562,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       }
       if (dir == 0) continue;
       const uint16_t bit = (uint16_t)(1u << l);
-      c->slot[i].counted |= bit;
+      mark_counted(c, i, bit, dir);
       if (!c->slot[i].pending) c->slot[i].t_tally = t + c->class_delay_s;
       c->slot[i].pending |= bit;
       if (dir > 0) c->slot[i].pending_fwd |= bit;

@@ -4,7 +4,8 @@
  * Each line is a segment A -> B on the ground plane, in the site frame when
  * a pose is given (the sensor frame otherwise). A confirmed track crosses it
  * when the segment from its previous position to its current one meets the
- * line segment; it is counted once per line, in the direction it crossed
+ * line segment; it is counted once per line (a walker's track once each
+ * way, see the band below), in the direction it crossed
  * ("forward": from the right of A -> B to its left, i.e. counter-clockwise
  * about A; "backward" the other way), under its class (see the class delay
  * below).
@@ -77,6 +78,14 @@
  * hidden crossings are found as before; the band's sides are those of the
  * positions the track was seen at (first seen within a band, it has no side
  * of that line until it is seen clear of it).
+ * With the band, a track not vehicle-sized (a walker's, a cyclist's) whose
+ * crossing was tallied and that crosses back is counted that way too, once
+ * (`walked_back`): people turn back on a crosswalk or a sidewalk, and two
+ * walkers passing on a line may leave with each other's tracks, each track
+ * then crossing once each way; seen back over the line before that second
+ * crossing is tallied, it is taken back and the first stands. A vehicle's
+ * track crossing back is not counted (it took another vehicle's place, or
+ * its centre wandered).
  *
  * Per-track memory (last position, lines already counted, zones inside) lives
  * in a fixed table keyed by track id; a track no longer in the list is forgotten. */
@@ -166,6 +175,8 @@ typedef struct {
                                             tallied takes it back (m; 0 = at the line); RS_COUNT_BAND_M */
   uint64_t back_undone;                  /* crossings taken back: the track seen back past the band before they
                                             were tallied (band_m) */
+  uint64_t walked_back;                  /* of the crossings, a walker's track's second, back over a line after
+                                            its first was tallied (band_m) */
   uint64_t pending;                      /* crossings found and not yet tallied (their class is settling) */
   double t_first;                        /* the run's first frame (s) */
   struct {
@@ -181,6 +192,7 @@ typedef struct {
     uint16_t pending, pending_fwd;       /* of those, not yet tallied; and which of them forward */
     uint16_t predicted;                  /* of the pending, crossed on a prediction (held until seen or ended) */
     uint16_t side_known, side_left;      /* band_m: lines it was seen clear of, and on which side (left: forward's) */
+    uint16_t counted_fwd, counted_both;  /* of the counted lines, those first crossed forward; those crossed both ways */
     double t_tally;                      /* when the pending ones are tallied */
     uint8_t cls;                         /* its class at its last confirmed frame */
     uint8_t inside;                      /* zones it is inside (as of its last confirmed frame, or first seen) */
