@@ -2,7 +2,8 @@
  * the first model from the first seconds; a parked car that leaves is gone
  * from the model after the next relearn (with the learner thread waited for,
  * and running on its own); a candidate that explains the recent frames worse
- * than the model in use is not taken, with the reason. */
+ * than the model in use is not taken, with the reason; a first model being
+ * learned when the input ends is waited for and taken (rs_bgu_finish). */
 #include "roadscan/perception/bgupdate.h"
 #include "roadscan/util/error.h"
 #include "testutil.h"
@@ -112,6 +113,39 @@ START_TEST(t_update_async) {
 }
 END_TEST
 
+/* the input ends as the first model is learned (the learner on its own):
+ * rs_bgu_finish waits for it and takes it over; with its window not yet
+ * over there is nothing to wait for */
+START_TEST(t_finish) {
+  rs_bgu_t u;
+  rs_bgu_cfg_t c = cfg(false);
+  ck_assert_int_eq(rs_bgu_init(&u, &c, NULL), RS_OK);
+  ck_assert_int_eq(feed(&u, 0.0, 1.0, 1e9), 0);
+  ck_assert(!rs_bgu_finish(&u, 1000.9, 60.0));
+  ck_assert_ptr_null(rs_bgu_model(&u));
+  rs_bgu_deinit(&u);
+  ck_assert_int_eq(rs_bgu_init(&u, &c, NULL), RS_OK);
+  /* the store is reserved by the learner at the first frame: the window's frames here wait for it */
+  frame_at(0.0, 1e9);
+  rs_bgu_frame(&u, &slot); /* hands the store's reservation over */
+  for (int i = 0; i < 6000 && atomic_load_explicit(&u.state, memory_order_acquire) != RS_BGU_COLLECTING; i++) {
+    struct timespec d = {0, 10000000L};
+    nanosleep(&d, NULL);
+  }
+  ck_assert(u.ready); /* (read after the state's acquire) */
+  /* the frame after the 3 s window starts the learning; the input ends there */
+  const int taken = feed(&u, 0.0, 3.05, 1e9);
+  const bool finished = rs_bgu_finish(&u, 1003.0, 60.0);
+  ck_assert_int_eq(taken + (int)finished, 1); /* taken at once (a fast learner), else at the finish */
+  const rs_bg_model_t *m = rs_bgu_model(&u);
+  ck_assert_ptr_nonnull(m);
+  ck_assert_uint_eq(u.initial_frames, 30);
+  ck_assert(rs_bg_is_static(m, 2, 45, 10.0f));
+  ck_assert(!rs_bgu_finish(&u, 1003.0, 60.0)); /* once */
+  rs_bgu_deinit(&u);
+}
+END_TEST
+
 /* a candidate that explains less than the model in use is refused */
 START_TEST(t_reject) {
   rs_bgu_t u;
@@ -140,6 +174,7 @@ int main(void) {
   tcase_add_test(tc, t_first_model_and_update_sync);
   tcase_add_test(tc, t_update_async);
   tcase_add_test(tc, t_reject);
+  tcase_add_test(tc, t_finish);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

@@ -108,10 +108,13 @@ static void make_store(rs_bgu_t *u) {
   u->k = u->cfg.window_s > 0 ? (int)fmax(1.0, floor(u->cfg.window_s * hz / frames)) : 1;
 }
 
+/* The learner runs at SCHED_IDLE once it learns: a relearn takes what the
+ * processing thread leaves. Reserving the store at the first frame is short
+ * and comes first, at the normal priority: at idle priority on a busy box the
+ * frames of a first model's window would go by before there was a store. */
 static void *learner_main(void *arg) {
   rs_bgu_t *u = arg;
-  struct sched_param sp = {0};
-  pthread_setschedparam(pthread_self(), SCHED_IDLE, &sp); /* best effort: not allowed everywhere */
+  bool idle = false;
   for (;;) {
     sem_wait(&u->go);
     if (atomic_load_explicit(&u->quit, memory_order_acquire)) break;
@@ -120,6 +123,11 @@ static void *learner_main(void *arg) {
       make_store(u);
       atomic_store_explicit(&u->state, RS_BGU_COLLECTING, memory_order_release);
     } else if (st == RS_BGU_LEARNING) {
+      if (!idle) {
+        struct sched_param sp = {0};
+        pthread_setschedparam(pthread_self(), SCHED_IDLE, &sp); /* best effort: not allowed everywhere */
+        idle = true;
+      }
       learn_once(u);
       atomic_store_explicit(&u->state, RS_BGU_READY, memory_order_release);
     } else {
@@ -183,8 +191,8 @@ void rs_bgu_deinit(rs_bgu_t *u) {
 
 const rs_bg_model_t *rs_bgu_model(const rs_bgu_t *u) { return u->active >= 0 ? &u->models[u->active] : NULL; }
 
-/* takes a finished candidate over (or not); processing thread */
-static bool take_over(rs_bgu_t *u, const rs_slot_t *s) {
+/* takes a finished candidate over (or not) at sensor time t; processing thread */
+static bool take_over_at(rs_bgu_t *u, double t) {
   const int spare = u->active < 0 ? 0 : 1 - u->active;
   bool changed = false;
   if (u->last_rc != RS_OK) {
@@ -196,7 +204,7 @@ static bool take_over(rs_bgu_t *u, const rs_slot_t *s) {
   } else {
     const bool first = u->active < 0;
     u->active = spare;
-    u->changed_at = s->meta.t_first;
+    u->changed_at = t;
     u->changed_wall = (int64_t)time(NULL);
     changed = true;
     if (first) {
@@ -213,6 +221,8 @@ static bool take_over(rs_bgu_t *u, const rs_slot_t *s) {
   atomic_store_explicit(&u->state, RS_BGU_COLLECTING, memory_order_release);
   return changed;
 }
+
+static bool take_over(rs_bgu_t *u, const rs_slot_t *s) { return take_over_at(u, s->meta.t_first); }
 
 /* hands work to the learner thread; lossless replays wait for it */
 static void hand_over(rs_bgu_t *u, int state) {
@@ -275,4 +285,25 @@ bool rs_bgu_frame(rs_bgu_t *u, const rs_slot_t *s) {
     return atomic_load_explicit(&u->state, memory_order_acquire) == RS_BGU_READY && take_over(u, s);
   }
   return false;
+}
+
+bool rs_bgu_finish(rs_bgu_t *u, double t_last, double timeout_s) {
+  if (!u->thread_started || u->active >= 0) return false;
+  int st = atomic_load_explicit(&u->state, memory_order_acquire);
+  if (st != RS_BGU_LEARNING && st != RS_BGU_READY) return false;
+  /* the input is over: nothing left to yield to (best effort, as SCHED_IDLE was) */
+  struct sched_param sp = {0};
+  pthread_setschedparam(u->thread, SCHED_OTHER, &sp);
+  const long polls = (long)(fmax(0.0, timeout_s) * 100.0) + 1; /* 10 ms each */
+  for (long k = 0; k < polls && st != RS_BGU_READY; k++) {
+    const struct timespec d = {0, 10000000L};
+    nanosleep(&d, NULL);
+    st = atomic_load_explicit(&u->state, memory_order_acquire);
+  }
+  if (st != RS_BGU_READY) {
+    rs_log(RS_LOG_WARN, "background: the first model was still being learned %.0f s after the input ended: none taken",
+           timeout_s);
+    return false;
+  }
+  return take_over_at(u, t_last);
 }

@@ -245,4 +245,5 @@ void rs_proc_finish(rs_proc_t *p, rs_proc_report_t *r) {
   r->divided_cell = p->divided_cell;
   r->divided_track = p->divided_track;
   if (p->cfg.counter && rs_count_flush(p->cfg.counter, p->last_t)) r->counts = &p->cfg.counter->closed;
+  if (p->bgu_on) rs_bgu_finish(&p->bgu, p->last_t, RS_PROC_FINISH_LEARN_S); /* a first model under way */
 }

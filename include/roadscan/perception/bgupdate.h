@@ -9,8 +9,11 @@
  *    frame boundary once the learner has one (rs_bgu_model() is then the
  *    model to subtract). It never allocates and never waits, except in
  *    lossless (--fast) replays, where it waits for the learner so that a
- *    replay gives the same labels whatever the machine's speed;
- *  - a learner thread (low priority: SCHED_IDLE) runs rs_bg_learn on the
+ *    replay gives the same labels whatever the machine's speed, and at the
+ *    end of input for a first model under way (rs_bgu_finish);
+ *  - a learner thread (low priority: SCHED_IDLE from its first learning on;
+ *    the store's reservation at the first frame comes before, at the normal
+ *    priority) runs rs_bg_learn on the
  *    samples, checks the candidate against the model in use on the same
  *    samples, and hands it over, or rejects it (counted, with the reason);
  *  - the two hand the work back and forth through one atomic state:
@@ -103,6 +106,14 @@ const rs_bg_model_t *rs_bgu_model(const rs_bgu_t *u);
  * in use changed with this frame. */
 bool rs_bgu_frame(rs_bgu_t *u, const rs_slot_t *s);
 /* Share of the sampled returns a model calls background (0..1; the check). */
+/* End of input (the processing thread, after its last frame; or whoever owns
+ * the updater once it has joined): when the first model is being learned, its
+ * learning is waited for (at most timeout_s of wall time, the learner's
+ * priority raised to normal, best effort) and the model taken over, at sensor
+ * time t_last; the learner has saved it (learn_out) by then. A replay that
+ * ends while its first model is learned keeps it, whatever the machine's load
+ * (the learner is SCHED_IDLE). Returns true when a model was taken over. */
+bool rs_bgu_finish(rs_bgu_t *u, double t_last, double timeout_s);
 double rs_bgu_explained(const rs_bg_model_t *m, const rs_bg_rules_t *rules, const rs_bg_learner_t *l);
 
 #endif

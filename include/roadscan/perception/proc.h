@@ -52,6 +52,7 @@ typedef struct {
 } rs_proc_cfg_t;
 
 #define RS_PROC_DIVIDED_MAX 32768 /* returns of clusters divided between tracks, per frame */
+#define RS_PROC_FINISH_LEARN_S 60.0 /* s of wall time rs_proc_finish waits for a first model being learned */
 _Static_assert(RS_PROC_DIVIDED_MAX <= RS_LAYERS * RS_MAX_CELLS, "no more than a frame's cells");
 
 enum { RS_STAGE_BACKGROUND, RS_STAGE_CLUSTER, RS_STAGE_OBJECTS, RS_STAGE_TRACKS, RS_STAGE_COUNTING, RS_STAGES };
@@ -110,7 +111,9 @@ void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_pro
 /* The model in use (NULL while the first one is learned, or without a background). */
 const rs_bg_model_t *rs_proc_model(const rs_proc_t *p);
 const char *rs_proc_stage_name(int stage);
-/* The end of the run: closes the open counting interval (r->counts, else NULL). */
+/* The end of the run: closes the open counting interval (r->counts, else NULL),
+ * and waits for a first background model being learned (rs_bgu_finish, at most
+ * RS_PROC_FINISH_LEARN_S): a replay that ends as its model is learned keeps it. */
 void rs_proc_finish(rs_proc_t *p, rs_proc_report_t *r);
 
 #endif
