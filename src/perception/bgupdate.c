@@ -301,7 +301,9 @@ bool rs_bgu_finish(rs_bgu_t *u, double t_last, double timeout_s) {
     st = atomic_load_explicit(&u->state, memory_order_acquire);
   }
   if (st != RS_BGU_READY) {
-    rs_log(RS_LOG_WARN, "background: the first model was still being learned %.0f s after the input ended: none taken",
+    rs_log(RS_LOG_WARN,
+           "background: the first model was still being learned %.0f s after the input ended: not used (it is saved "
+           "when it is done, with --learn-out)",
            timeout_s);
     return false;
   }

@@ -52,7 +52,9 @@ typedef struct {
 } rs_proc_cfg_t;
 
 #define RS_PROC_DIVIDED_MAX 32768 /* returns of clusters divided between tracks, per frame */
-#define RS_PROC_FINISH_LEARN_S 60.0 /* s of wall time rs_proc_finish waits for a first model being learned */
+#define RS_PROC_FINISH_LEARN_S 8.0 /* s of wall time rs_proc_finish waits for a first model being learned: below the
+                                      service's WatchdogSec (10 s), not fed meanwhile; a model not ready by then is
+                                      still saved (--learn-out) as the learner is joined, only not used */
 _Static_assert(RS_PROC_DIVIDED_MAX <= RS_LAYERS * RS_MAX_CELLS, "no more than a frame's cells");
 
 enum { RS_STAGE_BACKGROUND, RS_STAGE_CLUSTER, RS_STAGE_OBJECTS, RS_STAGE_TRACKS, RS_STAGE_COUNTING, RS_STAGES };
