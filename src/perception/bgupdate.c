@@ -127,6 +127,9 @@ static void *learner_main(void *arg) {
         struct sched_param sp = {0};
         pthread_setschedparam(pthread_self(), SCHED_IDLE, &sp); /* best effort: not allowed everywhere */
         idle = true;
+        /* rs_bgu_finish raises it after setting `finishing`: either it raised it after this, or this
+         * sees the flag (sequentially consistent) and takes the normal priority back itself */
+        if (atomic_load(&u->finishing)) pthread_setschedparam(pthread_self(), SCHED_OTHER, &sp);
       }
       learn_once(u);
       atomic_store_explicit(&u->state, RS_BGU_READY, memory_order_release);
@@ -144,6 +147,7 @@ int rs_bgu_init(rs_bgu_t *u, const rs_bgu_cfg_t *cfg, const rs_bg_model_t *initi
   u->active = -1;
   atomic_init(&u->state, RS_BGU_COLLECTING);
   atomic_init(&u->quit, false);
+  atomic_init(&u->finishing, false);
   if (initial) {
     int rc = rs_bg_model_copy(&u->models[0], initial);
     if (rc != RS_OK) return rc;
@@ -292,6 +296,7 @@ bool rs_bgu_finish(rs_bgu_t *u, double t_last, double timeout_s) {
   int st = atomic_load_explicit(&u->state, memory_order_acquire);
   if (st != RS_BGU_LEARNING && st != RS_BGU_READY) return false;
   /* the input is over: nothing left to yield to (best effort, as SCHED_IDLE was) */
+  atomic_store(&u->finishing, true);
   struct sched_param sp = {0};
   pthread_setschedparam(u->thread, SCHED_OTHER, &sp);
   const long polls = (long)(fmax(0.0, timeout_s) * 100.0) + 1; /* 10 ms each */

@@ -165,6 +165,8 @@ int rs_count_add_zones(rs_counter_t *c, const rs_count_zone_t *zones, int nzones
   return RS_OK;
 }
 
+static double line_len(const rs_count_line_t *l) { return hypot(l->bx - l->ax, l->by - l->ay); }
+
 int rs_count_init(rs_counter_t *c, const rs_count_line_t *lines, int nlines, const rs_pose_t *pose, double interval_s,
                   char *err, size_t n) {
   memset(c, 0, sizeof *c);
@@ -177,7 +179,7 @@ int rs_count_init(rs_counter_t *c, const rs_count_line_t *lines, int nlines, con
     return RS_E_INVAL;
   }
   for (int i = 0; i < nlines; i++) {
-    if (hypot(lines[i].bx - lines[i].ax, lines[i].by - lines[i].ay) < 0.1) {
+    if (line_len(&lines[i]) < 0.1) {
       snprintf(err, n, "count line %s: its ends are less than 0.1 m apart", lines[i].name);
       return RS_E_INVAL;
     }
@@ -230,20 +232,32 @@ int rs_count_crosses(const rs_count_line_t *l, double x0, double y0, double x1, 
   return crosses(l, x0, y0, x1, y1);
 }
 
+/* the distance from A along line l of (x, y)'s foot on it */
+static double along(const rs_count_line_t *l, double x, double y) {
+  return ((x - l->ax) * (l->bx - l->ax) + (y - l->ay) * (l->by - l->ay)) / line_len(l);
+}
+
 /* where P0 -> P1 meets line l's support: the share u along P0 -> P1 and the
  * distance s from A along the line (for steps that cross it) */
 static void meet(const rs_count_line_t *l, double x0, double y0, double x1, double y1, double *u, double *s) {
   const double d0 = cross(l->ax, l->ay, l->bx, l->by, x0, y0), d1 = cross(l->ax, l->ay, l->bx, l->by, x1, y1);
   *u = d0 != d1 ? d0 / (d0 - d1) : 0.0;
-  const double px = x0 + *u * (x1 - x0), py = y0 + *u * (y1 - y0), len = hypot(l->bx - l->ax, l->by - l->ay);
-  *s = ((px - l->ax) * (l->bx - l->ax) + (py - l->ay) * (l->by - l->ay)) / len;
+  *s = along(l, x0 + *u * (x1 - x0), y0 + *u * (y1 - y0));
 }
 
 /* line l's side of (x, y) beyond band_m: 1 left (forward's), -1 right, 0 within the band */
 static int side_of(const rs_counter_t *c, int l, double x, double y) {
   const rs_count_line_t *ln = &c->lines[l];
-  const double d = cross(ln->ax, ln->ay, ln->bx, ln->by, x, y) / hypot(ln->bx - ln->ax, ln->by - ln->ay);
+  const double d = cross(ln->ax, ln->ay, ln->bx, ln->by, x, y) / line_len(ln);
   return d > c->band_m ? 1 : d < -c->band_m ? -1 : 0;
+}
+
+/* slot i seen clear of line l on side (side_of, not 0) */
+static void note_side(rs_counter_t *c, uint32_t i, int l, int side) {
+  const uint16_t bit = (uint16_t)(1u << l);
+  c->slot[i].side_known |= bit;
+  if (side > 0) c->slot[i].side_left |= bit;
+  else c->slot[i].side_left &= (uint16_t)~bit;
 }
 
 /* the seen track of slot i at (x, y): its sides of the lines updated; the
@@ -254,17 +268,21 @@ static int band_cross(rs_counter_t *c, uint32_t i, int l, double x, double y, do
   const int side = side_of(c, l, x, y);
   if (side == 0) return 0;
   const bool known = (c->slot[i].side_known & bit) != 0, was_left = (c->slot[i].side_left & bit) != 0;
-  c->slot[i].side_known |= bit;
-  if (side > 0) c->slot[i].side_left |= bit;
-  else c->slot[i].side_left &= (uint16_t)~bit;
+  note_side(c, i, l, side);
   if (!known || (side > 0) == was_left) return 0;
   /* where: the last step's meeting with the line when it met it, else the track's place along it */
   const rs_count_line_t *ln = &c->lines[l];
-  const double len = hypot(ln->bx - ln->ax, ln->by - ln->ay);
   double u;
   if (crosses(ln, c->slot[i].x, c->slot[i].y, x, y) != 0) meet(ln, c->slot[i].x, c->slot[i].y, x, y, &u, s);
-  else *s = ((x - ln->ax) * (ln->bx - ln->ax) + (y - ln->ay) * (ln->by - ln->ay)) / len;
-  return *s >= 0.0 && *s <= len ? side : 0;
+  else *s = along(ln, x, y);
+  return *s >= 0.0 && *s <= line_len(ln) ? side : 0;
+}
+
+/* slot i, whose crossing of line (bit) is counted, crossing it in direction dir: a second crossing,
+ * the way back, counted once for a track not vehicle-sized, its first tallied (not pending) */
+static bool counts_back(const rs_counter_t *c, uint32_t i, uint16_t bit, int dir, bool vehicle) {
+  if (vehicle || dir == 0 || (c->slot[i].pending & bit) || (c->slot[i].counted_both & bit)) return false;
+  return (dir > 0) != ((c->slot[i].counted_fwd & bit) != 0);
 }
 
 /* line bit counted for slot i in direction dir (its first direction kept) */
@@ -473,8 +491,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       c->slot[i].counted_fwd = c->slot[i].counted_both = 0;
       for (int l = 0; l < c->nlines && c->band_m > 0; l++) {
         const int side = side_of(c, l, x, y);
-        if (side != 0) c->slot[i].side_known |= (uint16_t)(1u << l);
-        if (side > 0) c->slot[i].side_left |= (uint16_t)(1u << l);
+        if (side != 0) note_side(c, i, l, side);
       }
     }
     c->slot[i].frame = c->frame_no;
@@ -529,11 +546,8 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
           continue;
         }
         if ((c->slot[i].counted | undone) & bit) {
-          /* crossed back after its crossing was tallied: counted that way too, once */
-          if (vehicle || dir == 0 || (undone & bit) || (c->slot[i].pending & bit) || (c->slot[i].counted_both & bit) ||
-              (dir > 0) == ((c->slot[i].counted_fwd & bit) != 0))
-            continue;
-          c->slot[i].counted_both |= bit;
+          if ((undone & bit) || !counts_back(c, i, bit, dir, vehicle)) continue;
+          c->slot[i].counted_both |= bit; /* crossed back after its crossing was tallied: counted that way too */
           c->walked_back++;
         }
       } else {

@@ -85,6 +85,7 @@ typedef struct {
   pthread_t thread;
   bool thread_started, sems;
   _Atomic bool quit;
+  _Atomic bool finishing; /* rs_bgu_finish waits: the learner keeps (or takes back) the normal priority */
   /* learner results (written by the learner before it releases the state) */
   int last_rc;
   char reason[160];            /* why the last candidate was rejected */
@@ -105,15 +106,16 @@ const rs_bg_model_t *rs_bgu_model(const rs_bgu_t *u);
  * starts a relearn, takes a finished model over. Returns true when the model
  * in use changed with this frame. */
 bool rs_bgu_frame(rs_bgu_t *u, const rs_slot_t *s);
-/* Share of the sampled returns a model calls background (0..1; the check). */
 /* End of input (the processing thread, after its last frame; or whoever owns
  * the updater once it has joined): when the first model is being learned, its
  * learning is waited for (at most timeout_s of wall time, the learner's
  * priority raised to normal, best effort) and the model taken over, at sensor
  * time t_last; the learner has saved it (learn_out) by then. A replay that
- * ends while its first model is learned keeps it, whatever the machine's load
- * (the learner is SCHED_IDLE). Returns true when a model was taken over. */
+ * ends while its first model is learned keeps it, however loaded the machine
+ * (the learner is SCHED_IDLE), unless the learning outlasts timeout_s.
+ * Returns true when a model was taken over. */
 bool rs_bgu_finish(rs_bgu_t *u, double t_last, double timeout_s);
+/* Share of the sampled returns a model calls background (0..1; the check). */
 double rs_bgu_explained(const rs_bg_model_t *m, const rs_bg_rules_t *rules, const rs_bg_learner_t *l);
 
 #endif
