@@ -53,6 +53,18 @@ static void init_knob(const char *name, double value) {
   ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
 }
 
+/* the defaults but two parameters, by name */
+static void init_knobs(const char *a, double va, const char *b, double vb) {
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  char text[32], err[256];
+  snprintf(text, sizeof text, "%.17g", va);
+  ck_assert_msg(rs_track_cfg_set(&c, a, text, err, sizeof err) == RS_OK, "%s", err);
+  snprintf(text, sizeof text, "%.17g", vb);
+  ck_assert_msg(rs_track_cfg_set(&c, b, text, err, sizeof err) == RS_OK, "%s", err);
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+}
+
 /* value refused for the parameter name, by a message that names it */
 static void knob_refused(const char *name, const char *value) {
   rs_track_cfg_t c;
@@ -885,9 +897,10 @@ END_TEST
  * frames; and the second of two cars standing side by side 3.2 m apart whose
  * boxes lie across the lanes (a box axis of a still car says little), unseen
  * for two frames. Returns whether the second track is listed at frame 10
- * (`kind` 0 the halves, 1 the next lane, 2 standing). */
+ * (`kind` 0 the halves, 1 the next lane, 2 standing). twin_s is off here: it
+ * would end the rear's track while both are seen (t_twin). */
 static bool dup_box_second_listed(int on, int kind) {
-  init_knob("dup_box", on);
+  init_knobs("dup_box", on, "twin_s", 0);
   bool listed = false;
   uint32_t second = 0;
   for (int f = 0; f < 12; f++) {
@@ -925,6 +938,61 @@ START_TEST(t_dup_box) {
   rs_track_cfg_default(&c);
   ck_assert_int_eq(c.dup_box, 1);
   knob_refused("dup_box", "2");
+}
+END_TEST
+
+/* twin_s. The van of t_dup_box, 5 m long at 8 m/s, seen for 3 s as its front
+ * (3.2 m) and its rear (2.6 m), two clusters whose boxes overlap by 0.8 m,
+ * both every frame: two tracks are born and confirmed, then the rear's (the
+ * younger) ends as a duplicate, with no end event, and the rear's returns
+ * carry the front's id; with twin_s 0 both go on. Not ended: two cars queued
+ * in one lane 6 m apart at the same speed (their boxes 1.5 m apart), a car in
+ * the next lane 3.5 m over, and the two halves 60 m off (beyond 50 m a box of
+ * a few rows is no measure of an overlap). `kind` 0 the halves, 1 the queue,
+ * 2 the next lane, 3 the far halves; returns whether the second track is
+ * listed at the end, and the first's id and the id its last frame gave the
+ * second object */
+static bool twin_second_listed(double twin_s, int kind, uint32_t *first, uint32_t *second_label) {
+  init_knob("twin_s", twin_s);
+  uint32_t second = 0;
+  for (int f = 0; f < 30; f++) {
+    const double t = 10.0 + 0.1 * f, xc = (kind == 3 ? 60.0 : 10.0) + 8.0 * 0.1 * f;
+    clear();
+    if (kind == 0 || kind == 3) {
+      put(t, xc + 0.9, 5.0, 3.2, 1.9, 0.0, 1.9, 70);
+      put(t, xc - 1.2, 5.0, 2.6, 1.9, 0.0, 1.2, 50);
+    } else {
+      car(t, xc, 5.0, 0.0);
+      car(t, kind == 1 ? xc - 6.0 : xc, kind == 1 ? 5.0 : 8.5, 0.0);
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 0) {
+      ck_assert_uint_eq(tr.list.count, 2);
+      *first = tr.list.track[0].id;
+      second = tr.list.track[1].id;
+    }
+    if (f == 5) ck_assert_int_eq(find_id(second)->state, RS_TRACK_CONFIRMED);
+    for (uint32_t e = 0; e < tr.list.ended; e++) ck_assert_uint_ne(tr.list.end[e].id, second);
+    *second_label = tr.list.object_track[1];
+  }
+  ck_assert_ptr_nonnull(find_id(*first));
+  return find_id(second) != NULL;
+}
+
+START_TEST(t_twin) {
+  uint32_t first = 0, label = 0;
+  ck_assert(!twin_second_listed(0.3, 0, &first, &label));
+  ck_assert_uint_eq(label, first); /* the rear's returns: the van's id */
+  ck_assert_uint_eq(tr.n.duplicates, 1);
+  ck_assert(twin_second_listed(0, 0, &first, &label)); /* off: two tracks on one van */
+  ck_assert_uint_ne(label, first);
+  ck_assert(twin_second_listed(0.3, 1, &first, &label)); /* queued */
+  ck_assert(twin_second_listed(0.3, 2, &first, &label)); /* the next lane */
+  ck_assert(twin_second_listed(0.3, 3, &first, &label)); /* far */
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  ck_assert_double_eq(c.twin_s, 0.3);
+  knob_refused("twin_s", "-1");
 }
 END_TEST
 
@@ -1110,6 +1178,53 @@ START_TEST(t_walked_not_vehicle) {
   ck_assert_int_eq(c.walked_hits, 10);
   char err[160];
   ck_assert_int_eq(rs_track_cfg_set(&c, "walked_hits", "-1", err, sizeof err), RS_E_INVAL);
+}
+END_TEST
+
+/* walker_reacq_s. A walker seen only to the knees (0.4 m tall: not a
+ * pedestrian's shape, so the walked rule does not hold) walks 3 s at 1.2 m/s
+ * towards the sensor's pole and goes out of sight for 1 s (the circle below
+ * the lowest beam); then a car's part comes out of the circle beside where
+ * the walker was predicted: 3 m x 1.6 m, 300 returns against the walker's
+ * 25, moving at 3 m/s. The walker's track does not take it (a track of its
+ * own is born); with walker_reacq_s 0 it does, and becomes a car's. Returns
+ * the updates of the walker's track after it went out of sight. */
+static int walker_then_car_part(double reacq_s, uint32_t *walker_id) {
+  init_knob("walker_reacq_s", reacq_s);
+  uint32_t walker = 0, hits = 0;
+  int took = 0;
+  for (int f = 0; f < 50; f++) {
+    const double t = 0.1 * f;
+    clear();
+    if (f < 30) put(t, -7.0 + 1.2 * t, 2.0, 0.5, 0.4, 0.0, 0.4, 25);
+    else if (f >= 40) put(t, -2.6 + 3.0 * (t - 4.0), 3.8, 3.0, 1.6, 0.0, 1.2, 300);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 29) {
+      walker = tr.list.object_track[0];
+      ck_assert_uint_ne(walker, 0);
+      ck_assert_int_ne(find_id(walker)->shape_cls, RS_CLASS_PEDESTRIAN);
+      ck_assert_uint_eq(find_id(walker)->walked, 0);
+      hits = find_id(walker)->hits;
+    }
+    const rs_track_t *w = find_id(walker);
+    if (f >= 40 && w != NULL && w->hits > hits) took++;
+    if (w != NULL) hits = w->hits;
+  }
+  *walker_id = walker;
+  return took;
+}
+
+START_TEST(t_walker_reacq) {
+  uint32_t walker = 0;
+  ck_assert_int_eq(walker_then_car_part(0.3, &walker), 0);
+  ck_assert_uint_ne(tr.list.object_track[0], walker); /* the car part has a track of its own */
+  ck_assert_uint_ne(tr.list.object_track[0], 0);
+  ck_assert_int_ge(walker_then_car_part(0, &walker), 5); /* off: the walker's track takes the car */
+  ck_assert_uint_eq(tr.list.object_track[0], walker);
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  ck_assert_double_eq(c.walker_reacq_s, 0.3);
+  knob_refused("walker_reacq_s", "61");
 }
 END_TEST
 
@@ -1703,6 +1818,7 @@ int main(void) {
   tcase_add_test(tc, t_next_lane_not_taken);
   tcase_add_test(tc, t_pedestrian_not_vehicle);
   tcase_add_test(tc, t_walked_not_vehicle);
+  tcase_add_test(tc, t_walker_reacq);
   tcase_add_test(tc, t_walkers_pass);
   tcase_add_test(tc, t_foliage_never_confirms);
   tcase_add_test(tc, t_walker_confirms_fast);
@@ -1711,6 +1827,7 @@ int main(void) {
   tcase_add_test(tc, t_walker_still_confirms_fast);
   tcase_add_test(tc, t_walker_upright_confirms_fast);
   tcase_add_test(tc, t_dup_box);
+  tcase_add_test(tc, t_twin);
   tcase_add_test(tc, t_across_column_zero);
   tcase_add_test(tc, t_lost_frame_dt);
   tcase_add_test(tc, t_capacity);

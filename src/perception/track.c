@@ -25,6 +25,11 @@
 #define WALKER_M 1.3f     /* m, a box shorter and narrower than this is a walker's size (q_small, the class rule) */
 #define DUP_BOX_M 3.0f    /* m: dup_box's older track at least this long (a vehicle's) ... */
 #define DUP_BOX_V 2.0     /* m/s: ... and moving this fast (two queues side by side stand still) */
+#define TWIN_OVERLAP_M 0.5 /* m: twin_s's overlap of two boxes along their heading */
+#define TWIN_COS 0.966     /* ... whose velocities are at most 15 degrees apart */
+#define TWIN_DV 2.0        /* m/s: ... and speeds at most this far apart */
+#define TWIN_RANGE_M 50.0  /* m: ... within this range (farther, boxes of a few rows are no measure of overlap) */
+#define TWIN_SEEN_S 0.25   /* s: ... both seen this recently (a vehicle's coasting track predicted on is not a twin) */
 #define UPRIGHT_M 0.5f    /* m, a walker-sized track at least this tall stands upright (confirm_upright_points) */
 #define GRID_BUCKETS RS_TRACK_GRID_BUCKETS
 #define EDGES_PER_TRACK RS_TRACK_EDGES_PER_TRACK
@@ -73,6 +78,8 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->turn_rate = 0.0;
   c->near_ref_m = 25.0;
   c->near_ref_s = 2.0;
+  c->twin_s = 0.3;
+  c->walker_reacq_s = 0.3;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -94,7 +101,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 ||
       cfg->speed_imm < 0 || cfg->speed_imm > 1 ||
       !(cfg->q_jerk > 0 && cfg->q_jerk <= 100) || !(cfg->turn_rate >= 0 && cfg->turn_rate <= 2) ||
-      !(cfg->near_ref_m >= 0 && cfg->near_ref_m <= 1000) || !(cfg->near_ref_s >= 0 && cfg->near_ref_s <= 60))
+      !(cfg->near_ref_m >= 0 && cfg->near_ref_m <= 1000) || !(cfg->near_ref_s >= 0 && cfg->near_ref_s <= 60) ||
+      !(cfg->twin_s >= 0 && cfg->twin_s <= 60) || !(cfg->walker_reacq_s >= 0 && cfg->walker_reacq_s <= 60))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -125,7 +133,8 @@ static const rs_opt_t knobs[] = {
     KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB(q_jerk, 0.01, 100.0),
     KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),       KNOB_INT(blind_turn, 0, 1),
     KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1), KNOB_INT(dup_box, 0, 1),
-    KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),
+    KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),      KNOB(twin_s, 0.0, 60.0),
+    KNOB(walker_reacq_s, 0.0, 60.0),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -917,11 +926,25 @@ static void assign(rs_tracker_t *tr, uint32_t nobj) {
  * stitched to it. */
 #define WALKED_LEN_M 1.0f
 #define WALKED_WID_M 0.1f
+#define WALKER_BODY_WID_M 0.2f
+#define WALKER_REACQ_POINTS 4u /* walker_reacq_s: "many times its returns" */
 #define WALKED_V0 0.5f
 #define WALKED_V1 3.0f
 static bool walks(const rs_track_t *t) {
   return t->shape_cls == RS_CLASS_PEDESTRIAN && t->speed >= WALKED_V0 && t->speed <= WALKED_V1 &&
          t->length <= WALKED_LEN_M && t->width >= WALKED_WID_M;
+}
+/* track t has only ever been seen as a walker's body: its full box at most WALKED_LEN_M long and
+ * WALKER_BODY_WID_M wide or more (not a sliver of something far), over 10 hits */
+static bool walker_body(const rs_track_t *t) {
+  return t->hits >= 10 && t->full_length <= WALKED_LEN_M && t->full_width >= WALKER_BODY_WID_M;
+}
+/* walker_reacq_s: track t, seen only as a walker's body and unseen for `unseen` s, may not take up
+ * what is len x wid m and has `points` returns (a vehicle's size, many times its returns) */
+static bool walker_reacq(const rs_track_cfg_t *cf, const rs_track_t *t, double unseen, float len, float wid,
+                         uint32_t points) {
+  return cf->walker_reacq_s > 0 && unseen > cf->walker_reacq_s && walker_body(t) && vehicle_sized(len, wid) &&
+         points > WALKER_REACQ_POINTS * t->points;
 }
 /* track t is a pedestrian by its shape, or has walked like one */
 static bool walker_like(const rs_track_cfg_t *cf, const rs_track_t *t) {
@@ -967,6 +990,10 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
           /* a pedestrian does not turn into a vehicle (one passing where it walked, or was last seen), nor
            * does a track that walked like one, once its box has grown on a part of something else */
           if (walker_like(cf, t) && vehicle_sized(o->sensor.obb_length, o->sensor.obb_width)) continue;
+          /* nor is a walker's track, re-acquired, taken up by a vehicle: one seen only as a walker's body
+           * (walker_body) does not take a vehicle-sized object of many times its returns after walker_reacq_s
+           * unseen (a car coming out of the circle below the lowest beam where a walker went in) */
+          if (walker_reacq(cf, t, unseen, o->sensor.obb_length, o->sensor.obb_width, o->points)) continue;
           /* and how unlike the track's last object it is: a track keeps its object, not a fragment beside it */
           /* (beyond what counting noise explains: 3 sd of the smaller count) */
           const double lo = o->points < t->points ? o->points : t->points, hi = o->points < t->points ? t->points : o->points;
@@ -1240,6 +1267,57 @@ static void stitch(rs_tracker_t *tr, const rs_object_list_t *objs, uint32_t nobj
   y->id = 0; /* removed below */
 }
 
+/* twin_s: the list index of an older track, confirmed or coasting, whose box
+ * overlaps track t's at the frame's time by more than TWIN_OVERLAP_M along
+ * the older one's heading and across it, both moving at DUP_BOX_V or more,
+ * alike; -1 none. Two vehicles' boxes never overlap: the two follow one
+ * vehicle (each took a part of it, or one coasts on beside the other) */
+static int twin_of(rs_tracker_t *tr, const rs_track_t *t, double t_frame) {
+  const rs_track_list_t *L = &tr->list;
+  if (t->state != RS_TRACK_CONFIRMED && t->state != RS_TRACK_COASTING) return -1;
+  const double vt = hypot(t->x[2], t->x[3]);
+  if (vt < DUP_BOX_V || t_frame - t->t_update > TWIN_SEEN_S || hypot(t->x[0], t->x[1]) > TWIN_RANGE_M) return -1;
+  const double dtt = fmax(0.0, t_frame - t->t_state);
+  const double tx = t->x[0] + t->x[2] * dtt, ty = t->x[1] + t->x[3] * dtt;
+  const uint32_t nn = tracks_near(tr, tx, ty, 12.0); /* half a bus each */
+  for (uint32_t q = 0; q < nn; q++) {
+    const uint32_t j = tr->near[q];
+    const rs_track_t *o = &L->track[j];
+    if (o == t || o->id == 0 || o->id > t->id) continue;
+    if ((o->state != RS_TRACK_CONFIRMED && o->state != RS_TRACK_COASTING) || t_frame - o->t_update > TWIN_SEEN_S) continue;
+    const double vo = hypot(o->x[2], o->x[3]);
+    if (vo < DUP_BOX_V || hypot(o->x[2] - t->x[2], o->x[3] - t->x[3]) > TWIN_DV ||
+        o->x[2] * t->x[2] + o->x[3] * t->x[3] < TWIN_COS * vo * vt)
+      continue;
+    const double dto = fmax(0.0, t_frame - o->t_state);
+    const double dx = tx - (o->x[0] + o->x[2] * dto), dy = ty - (o->x[1] + o->x[3] * dto);
+    const double u = fabs(dx * o->hcos + dy * o->hsin), v = fabs(-dx * o->hsin + dy * o->hcos);
+    if (u < 0.5 * (o->length + t->length) - TWIN_OVERLAP_M && v < 0.5 * fmax(o->width, t->width))
+      return (int)j;
+  }
+  return -1;
+}
+
+/* twin_s: track y follows the same vehicle as the older track oi; y ends
+ * without an event and oi goes on: with y's object and state when oi is
+ * unseen this frame, else y's object's returns carry oi's id. False (y kept
+ * this frame) when y shares a cluster oi is not held in */
+static bool end_twin(rs_tracker_t *tr, const rs_object_list_t *objs, uint32_t nobj, uint32_t oi, rs_track_t *y) {
+  rs_track_list_t *L = &tr->list;
+  rs_track_t *o = &L->track[oi];
+  if (rs_track_held(y) && o->held_object != y->held_object) return false;
+  if (y->object >= 0 && o->object < 0 && !rs_track_held(o)) {
+    stitch(tr, objs, nobj, oi, y, true);
+    return true;
+  }
+  for (uint32_t k = 0; k < nobj; k++)
+    if (L->object_track[k] == y->id) L->object_track[k] = o->id;
+  if (rs_track_held(y) && L->object_track[y->held_object] == 0) L->object_track[y->held_object] = o->id;
+  y->object = -1;
+  y->id = 0;
+  return true;
+}
+
 /* coasting or lost, not held, not taken this frame */
 static bool unseen(const rs_track_t *o) {
   return o->id != 0 && o->object < 0 && !rs_track_held(o) && (o->state == RS_TRACK_COASTING || o->state == RS_TRACK_LOST);
@@ -1369,6 +1447,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       const rs_track_t *o = &L->track[j];
       if (j == i || o->id == 0 || o->object >= 0) continue; /* (stitched this frame) */
       if (walker_like(cf, o) && vehicle_sized(y->length, y->width)) continue; /* a walker is not a vehicle */
+      if (walker_reacq(cf, o, y->t_state - o->t_update, y->length, y->width, y->points)) continue;
       /* far from its position at the frame's time: out of every gate below (at most 2 gate_m from its
        * prediction at y's time, which is within 0.15 s x max_speed of it) */
       const double gx = y->x[0] - tr->tpos[j][0], gy = y->x[1] - tr->tpos[j][1], gr = 2.0 * cf->gate_m + 0.15 * cf->max_speed;
@@ -1439,6 +1518,18 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     rs_track_t *t = &L->track[i];
     if (t->id == 0) continue;
     const bool tentative = t->state == RS_TRACK_TENTATIVE;
+    if (!tentative && cf->twin_s > 0) {
+      const int j = twin_of(tr, t, t_frame);
+      if (j < 0) {
+        t->twin = 0;
+      } else if (t->twin != L->track[j].id) {
+        t->twin = L->track[j].id;
+        t->twin_t = t_frame;
+      } else if (t_frame - t->twin_t >= cf->twin_s - 1e-6 && end_twin(tr, objs, nobj, (uint32_t)j, t)) {
+        tr->n.duplicates++;
+        continue;
+      }
+    }
     if (!tentative && (t->object >= 0 || rs_track_held(t))) continue;
     double px = t->x[0], py = t->x[1];
     if (!tentative) {

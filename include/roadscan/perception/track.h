@@ -209,6 +209,15 @@ typedef struct {
                                   that side is farther than this (a vehicle coming into view grows away
                                   from the sensor); 0 = off (default 25; docs/tracking.md) */
   double near_ref_s;           /* s: the age up to which near_ref_m applies (default 2; 0 = off) */
+  double twin_s;               /* s: two vehicles' tracks (confirmed or coasting, moving at 2 m/s or more, alike) whose
+                                  boxes overlap, by more than 0.5 m along the motion and across it, for this long
+                                  follow one vehicle: the younger one ends as a duplicate, the older one taking
+                                  its object (two vehicles' boxes never overlap; 0 = off; default 0.3;
+                                  docs/tracking.md) */
+  double walker_reacq_s;       /* s: a track seen only as a walker's body (10 hits, its full box at most 1 m long and
+                                  0.2 m wide or more), unseen for longer than this, takes no vehicle-sized object
+                                  of over 4 times its last returns (a car coming out of the circle below the
+                                  lowest beam, where a walker went in; 0 = off; default 0.3; docs/tracking.md) */
   int split_full_size;         /* 1: a free object is a split part of a track when both fit in the track's
                                   full size (its largest box, falling 0.05 m an update), not only in its
                                   smoothed box, which shrinks while the object is partly hidden (default 1) */
@@ -271,6 +280,8 @@ typedef struct {
   bool ref_near;             /* the speed estimator follows the box's side nearest the sensor (near_ref_m) */
   double ref_dir[2];         /* towards the sensor from where it was born: the side's direction; (0, 0) once
                                 the track is no longer young (or near_ref_m is 0) */
+  uint32_t twin;             /* the older track whose box its own overlaps (twin_s), 0 none */
+  double twin_t;             /* since when (capture time) */
   double vel[2];             /* reported velocity, m/s: the speed estimator's for a track not of a walker's size
                                 (speed_imm), the Kalman filter's otherwise */
 } rs_track_t;
