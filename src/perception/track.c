@@ -25,6 +25,8 @@
 #define WALKER_M 1.3f     /* m, a box shorter and narrower than this is a walker's size (q_small, the class rule) */
 #define DUP_BOX_M 3.0f    /* m: dup_box's older track at least this long (a vehicle's) ... */
 #define DUP_BOX_V 2.0     /* m/s: ... and moving this fast (two queues side by side stand still) */
+#define SEEN_ACROSS_RANGE_M 80.0 /* m: seen_across_m within this range (farther, a box of a few rows is no measure) */
+#define SEEN_ACROSS_TURN 0.1      /* rad/s: ... for a track turning slower than this */
 #define TWIN_OVERLAP_M 0.5 /* m: twin_s's overlap of two boxes along their heading */
 #define TWIN_COS 0.966     /* ... whose velocities are at most 15 degrees apart */
 #define TWIN_DV 2.0        /* m/s: ... and speeds at most this far apart */
@@ -79,6 +81,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->near_ref_m = 25.0;
   c->near_ref_s = 2.0;
   c->twin_s = 0.3;
+  c->seen_across_m = 2.0;
   c->walker_reacq_s = 0.3;
 }
 
@@ -102,7 +105,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->speed_imm < 0 || cfg->speed_imm > 1 ||
       !(cfg->q_jerk > 0 && cfg->q_jerk <= 100) || !(cfg->turn_rate >= 0 && cfg->turn_rate <= 2) ||
       !(cfg->near_ref_m >= 0 && cfg->near_ref_m <= 1000) || !(cfg->near_ref_s >= 0 && cfg->near_ref_s <= 60) ||
-      !(cfg->twin_s >= 0 && cfg->twin_s <= 60) || !(cfg->walker_reacq_s >= 0 && cfg->walker_reacq_s <= 60))
+      !(cfg->twin_s >= 0 && cfg->twin_s <= 60) || !(cfg->walker_reacq_s >= 0 && cfg->walker_reacq_s <= 60) ||
+      !(cfg->seen_across_m >= 0 && cfg->seen_across_m <= 20))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -134,7 +138,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),       KNOB_INT(blind_turn, 0, 1),
     KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1), KNOB_INT(dup_box, 0, 1),
     KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),      KNOB(twin_s, 0.0, 60.0),
-    KNOB(walker_reacq_s, 0.0, 60.0),
+    KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -421,10 +425,17 @@ static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_objec
  * from its prediction: it stays in its lane, so across its heading it is at
  * most reacq_across_m plus half its width away, growing by 0.5 m a second
  * unseen; farther is another vehicle (the car in the next lane, 3.5 m over,
- * coming out from behind the same bus) */
+ * coming out from behind the same bus). Seen within the last 0.5 s, within
+ * SEEN_ACROSS_RANGE_M of the sensor and not turning (its speed estimator's
+ * turn rate under SEEN_ACROSS_TURN): at most seen_across_m (a cluster of the
+ * next lane's vehicle, or of it and this one together, is not this one) */
 static bool off_lane(const rs_track_cfg_t *cf, const rs_track_t *t, double dx, double dy, double unseen) {
-  if (!(cf->reacq_across_m > 0) || unseen <= 0.5 || !size_known(t) || hypot(t->x[2], t->x[3]) <= 2.0) return false;
-  return fabs(-dx * t->hsin + dy * t->hcos) > cf->reacq_across_m + 0.5 * t->width + 0.5 * (unseen - 0.5);
+  if (!size_known(t) || hypot(t->x[2], t->x[3]) <= 2.0) return false;
+  const double across = fabs(-dx * t->hsin + dy * t->hcos);
+  if (unseen <= 0.5)
+    return cf->seen_across_m > 0 && across > cf->seen_across_m && hypot(t->x[0], t->x[1]) < SEEN_ACROSS_RANGE_M &&
+           fabs(rs_track_turn_rate(t)) < SEEN_ACROSS_TURN;
+  return cf->reacq_across_m > 0 && across > cf->reacq_across_m + 0.5 * t->width + 0.5 * (unseen - 0.5);
 }
 
 /* the noise of an update by an object whose box misses its track's size by

@@ -35,7 +35,10 @@
  * graph is split into connected groups; each group of at most
  * RS_TRACK_GROUP_MAX tracks and objects is solved exactly on a static cost
  * matrix, a larger one greedily (counted). Ties break by track id, then
- * object order.
+ * object order. A moving vehicle's track takes nothing off its lane
+ * (reacq_across_m once unseen, seen_across_m while seen); a walker's track
+ * takes no vehicle (walked_hits, walker_reacq_s); two tracks on one vehicle
+ * end as one (dup_box, twin_s).
  * - One cluster over two confirmed tracks (queued cars touching): the
  *   predicted centres of both lie in its box; neither takes it, both keep
  *   their ids and are held (predicted, kept alive, speeds kept) until they
@@ -218,6 +221,11 @@ typedef struct {
                                   0.2 m wide or more), unseen for longer than this, takes no vehicle-sized object
                                   of over 4 times its last returns (a car coming out of the circle below the
                                   lowest beam, where a walker went in; 0 = off; default 0.3; docs/tracking.md) */
+  double seen_across_m;        /* m: a moving vehicle's track of known size, seen within the last 0.5 s, within 80 m
+                                  of the sensor and not turning (under 0.1 rad/s), takes no object farther across
+                                  its heading from its prediction than this (the next lane is 3-3.7 m over: a
+                                  cluster of the vehicle there, or of both, is not this one; 0 = off; default 2;
+                                  docs/tracking.md) */
   int split_full_size;         /* 1: a free object is a split part of a track when both fit in the track's
                                   full size (its largest box, falling 0.05 m an update), not only in its
                                   smoothed box, which shrinks while the object is partly hidden (default 1) */
