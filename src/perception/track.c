@@ -1236,6 +1236,12 @@ static void end_track(rs_tracker_t *tr, const rs_track_t *t, double t_end) {
   e->max_speed = t->max_speed;
 }
 
+/* the returns this frame gave track id `from` carry id `to` (a track ended into another) */
+static void relabel(rs_track_list_t *L, uint32_t nobj, uint32_t from, uint32_t to) {
+  for (uint32_t k = 0; k < nobj; k++)
+    if (L->object_track[k] == from) L->object_track[k] = to;
+}
+
 /* track y's object is unseen track oi's (stitching, the blind-circle link):
  * oi takes it over and its id continues; y ends without an event. copy: oi
  * takes y's state (y has seen more, or oi's is seconds old), else a Kalman
@@ -1272,8 +1278,7 @@ static void stitch(rs_tracker_t *tr, const rs_object_list_t *objs, uint32_t nobj
   o->object = k;
   o->state = RS_TRACK_CONFIRMED;
   tr->taken_by[k] = (int32_t)oi;
-  for (uint32_t q = 0; q < nobj; q++)
-    if (L->object_track[q] == yid) L->object_track[q] = o->id;
+  relabel(L, nobj, yid, o->id);
   y->object = -1;
   y->id = 0; /* removed below */
 }
@@ -1321,8 +1326,7 @@ static bool end_twin(rs_tracker_t *tr, const rs_object_list_t *objs, uint32_t no
     stitch(tr, objs, nobj, oi, y, true);
     return true;
   }
-  for (uint32_t k = 0; k < nobj; k++)
-    if (L->object_track[k] == y->id) L->object_track[k] = o->id;
+  relabel(L, nobj, y->id, o->id);
   if (rs_track_held(y) && L->object_track[y->held_object] == 0) L->object_track[y->held_object] = o->id;
   y->object = -1;
   y->id = 0;
@@ -1567,8 +1571,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       }
     }
     if (!dup) continue;
-    for (uint32_t k = 0; k < nobj && t->object >= 0; k++) /* its fragment's returns go to the track it is part of */
-      if (L->object_track[k] == t->id) L->object_track[k] = o->id;
+    if (t->object >= 0) relabel(L, nobj, t->id, o->id); /* its fragment's returns go to the track it is part of */
     t->id = 0;
     tr->n.duplicates++;
   }

@@ -212,10 +212,12 @@ typedef struct {
                                   that side is farther than this (a vehicle coming into view grows away
                                   from the sensor); 0 = off (default 25; docs/tracking.md) */
   double near_ref_s;           /* s: the age up to which near_ref_m applies (default 2; 0 = off) */
-  double twin_s;               /* s: two vehicles' tracks (confirmed or coasting, moving at 2 m/s or more, alike) whose
-                                  boxes overlap, by more than 0.5 m along the motion and across it, for this long
-                                  follow one vehicle: the younger one ends as a duplicate, the older one taking
-                                  its object (two vehicles' boxes never overlap; 0 = off; default 0.3;
+  double twin_s;               /* s: two tracks, confirmed or coasting, within 50 m, both seen in the last 0.25 s,
+                                  moving at 2 m/s or more with velocities within 15 degrees and 2 m/s, whose
+                                  boxes overlap by more than 0.5 m along the older one's heading with their
+                                  centres across it nearer than half the wider box, for this long, follow one
+                                  vehicle: the younger one ends as a duplicate, the older one taking its
+                                  object (two vehicles' boxes never overlap; 0 = off; default 0.3;
                                   docs/tracking.md) */
   double walker_reacq_s;       /* s: a track seen only as a walker's body (10 hits, its full box at most 1 m long and
                                   0.2 m wide or more), unseen for longer than this, takes no vehicle-sized object
