@@ -695,6 +695,92 @@ START_TEST(t_near_side) {
 }
 END_TEST
 
+/* Out of the circle (circle_whole). A VLP-16 4.5 m up, its lowest beam 15
+ * degrees down, its next 13: a car's roof (1.5 m high, 3 m below it) is
+ * seen from 11.2 m by the lowest beam, on one circle only (its returns there
+ * within 0.05 m of it), and from 13.0 m on by every beam. A car pulls away
+ * east along y = 9.7 from beside the pole (x = -1) at v m/s: its objects are
+ * the returns of its roof on a 5 cm grid, their box the smallest of those
+ * turned by whole degrees (length >= width, as the objects stage), nothing
+ * while under 20 returns. Its first boxes are the arc of the lowest beam over
+ * its roof (0.1 m wide, at 20 degrees to its way), then its roof's part
+ * beyond: their centre moves at half its speed, and the track's velocity
+ * with it. Returns the RMS speed error of its track over the second that
+ * starts 0.3 s after its first whole box (3 m by 1.2 m or more). in: a car
+ * first seen at x = 8, its box already cut by the circle, driving west at v
+ * into it instead (not out): the sum of its tracks' speeds over 1.5 s, until
+ * before it comes out at the other side (and 100 a frame for each the rule
+ * acted on). */
+static double out_of_circle(int on, double v, bool in) {
+  init_knob("circle_whole", on);
+  const double r1 = 3.0 / tan(15.0 * M_PI / 180.0), r2 = 3.0 / tan(13.0 * M_PI / 180.0), y0 = 9.7;
+  static double px[3500], py[3500];
+  double whole = -1, sq = 0, sum = 0;
+  int nsq = 0;
+  for (int f = 0; f < (in ? 15 : 40); f++) {
+    const double t = 0.1 * f, x0 = in ? 8.0 - v * t : -1.0 + v * t;
+    int n = 0;
+    for (double u = -2.25; u <= 2.25 + 1e-9; u += 0.05)
+      for (double w = -0.9; w <= 0.9 + 1e-9; w += 0.05) {
+        const double x = x0 + u, y = y0 + w, r = hypot(x, y);
+        if (fabs(r - r1) >= 0.05 && r < r2) continue;
+        ck_assert_int_lt(n, 3500);
+        px[n] = x, py[n] = y, n++;
+      }
+    clear();
+    objs.lowest_beam_deg = -15.0f;
+    if (n >= 20) {
+      double best = INFINITY, bh = 0, b[4] = {0, 0, 0, 0};
+      for (int d = 0; d < 180; d++) {
+        const double h = d * M_PI / 180.0, c = cos(h), s = sin(h);
+        double e[4] = {INFINITY, -INFINITY, INFINITY, -INFINITY};
+        for (int k = 0; k < n; k++) {
+          const double pu = px[k] * c + py[k] * s, pv = -px[k] * s + py[k] * c;
+          e[0] = fmin(e[0], pu), e[1] = fmax(e[1], pu), e[2] = fmin(e[2], pv), e[3] = fmax(e[3], pv);
+        }
+        if ((e[1] - e[0]) * (e[3] - e[2]) < best - 1e-9) best = (e[1] - e[0]) * (e[3] - e[2]), bh = h, memcpy(b, e, sizeof b);
+      }
+      double len = b[1] - b[0], wid = b[3] - b[2];
+      const double cu = 0.5 * (b[0] + b[1]), cv = 0.5 * (b[2] + b[3]);
+      const double cx = cu * cos(bh) - cv * sin(bh), cy = cu * sin(bh) + cv * cos(bh);
+      if (len < wid) {
+        const double l = len;
+        len = wid, wid = l, bh += M_PI / 2;
+      }
+      put(t, cx, cy, len, wid, bh, 1.3, (uint32_t)(n / 4));
+      objs.obj[0].sensor.box_min[2] = -4.3f;
+      objs.obj[0].sensor.box_max[2] = -3.0f;
+      if (whole < 0 && len >= 3.0 && wid >= 1.2) whole = t;
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    for (uint32_t i = 0; i < tr.list.count; i++) sum += tr.list.track[i].speed + 100.0 * tr.list.track[i].made_whole;
+    if (in) continue;
+    ck_assert_uint_le(tr.list.count, 1);
+    if (tr.list.count == 0) continue;
+    if (whole >= 0 && t >= whole + 0.3 - 1e-9 && t < whole + 1.3 - 1e-9) {
+      sq += (tr.list.track[0].speed - v) * (tr.list.track[0].speed - v);
+      nsq++;
+    }
+  }
+  if (in) return sum;
+  ck_assert_uint_eq(tr.n.born, 1);
+  ck_assert_uint_eq(tr.list.track[0].made_whole, on);
+  ck_assert_int_eq(nsq, 10);
+  return sqrt(sq / nsq);
+}
+
+START_TEST(t_circle_whole) {
+  for (double v = 5.0; v <= 9.0 + 1e-9; v += 2.0) {
+    const double on = out_of_circle(1, v, false), off = out_of_circle(0, v, false);
+    ck_assert_msg(on <= 0.6, "%.0f m/s: %.2f m/s off with circle_whole", v, on);
+    ck_assert_msg(off >= 1.0 && off >= 2.0 * on, "%.0f m/s: %.2f m/s off without, %.2f with", v, off, on);
+    /* a car driving into the circle is not touched */
+    ck_assert_double_eq_tol(out_of_circle(1, v, true), out_of_circle(0, v, true), 1e-9);
+  }
+  knob_refused("circle_whole", "2");
+}
+END_TEST
+
 /* A car at 8 m/s along y = 8 is hidden for 2.2 s (behind a bus); 1.8 s
  * in, a car in the next lane (y = 11.5, 3.5 m over) comes into view right
  * beside where the first is predicted, at its speed. The first car's track
@@ -1864,6 +1950,7 @@ int main(void) {
   tcase_add_test(tc, t_turn_rate);
   tcase_add_test(tc, t_hidden_end);
   tcase_add_test(tc, t_near_side);
+  tcase_add_test(tc, t_circle_whole);
   tcase_add_test(tc, t_next_lane_not_taken);
   tcase_add_test(tc, t_pedestrian_not_vehicle);
   tcase_add_test(tc, t_walked_not_vehicle);

@@ -83,6 +83,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->twin_s = 0.3;
   c->seen_across_m = 2.0;
   c->walker_reacq_s = 0.3;
+  c->circle_whole = 1;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -106,7 +107,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->q_jerk > 0 && cfg->q_jerk <= 100) || !(cfg->turn_rate >= 0 && cfg->turn_rate <= 2) ||
       !(cfg->near_ref_m >= 0 && cfg->near_ref_m <= 1000) || !(cfg->near_ref_s >= 0 && cfg->near_ref_s <= 60) ||
       !(cfg->twin_s >= 0 && cfg->twin_s <= 60) || !(cfg->walker_reacq_s >= 0 && cfg->walker_reacq_s <= 60) ||
-      !(cfg->seen_across_m >= 0 && cfg->seen_across_m <= 20))
+      !(cfg->seen_across_m >= 0 && cfg->seen_across_m <= 20) ||
+      cfg->circle_whole < 0 || cfg->circle_whole > 1)
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -138,7 +140,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),       KNOB_INT(blind_turn, 0, 1),
     KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1), KNOB_INT(dup_box, 0, 1),
     KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),      KNOB(twin_s, 0.0, 60.0),
-    KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0),
+    KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -1155,21 +1157,81 @@ static void ref_meas(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o
   }
 }
 
+/* ---- out of the circle (circle_whole) -----------------------------------------
+ * A car waiting beside the pole pulls away out of the circle inside which
+ * the lowest beam passes over its roof. While it comes out, its returns are
+ * that beam's arc over the roof (a VLP-16 4.5 m up: 0.02-0.1 m wide, growing
+ * along the circle), then the roof's part beyond it: boxes whose centre moves
+ * at half the car's speed or less and at 40 degrees to its way. The filter's
+ * velocity learned on them is slow and off the car's heading, and the track's
+ * axes with it; the first whole box then misfits those axes by metres, and
+ * the large update noise that gives makes the velocity catch up over a
+ * second or more (VLP-16 light: 3.5 m/s reported for a car at 7). A track born
+ * with its box cut by the circle (within WHOLE_CUT_M of it), the first time it
+ * moves out (over 1 m/s, away from the sensor: one driving in is not coming
+ * out) with a whole vehicle's box (WHOLE_LEN_M by WHOLE_WID_M) whose axis is
+ * within WHOLE_MAX of its velocity, takes that axis as its heading: its
+ * velocity is turned onto it, its position and velocity are as uncertain as
+ * at birth and not correlated (WHOLE_POS_SD, init_speed_sd; set after the
+ * prediction, so the jump from the cut box's centre to the whole one's is not
+ * taken for speed), and its speed estimator starts again there. Once per
+ * track. */
+#define WHOLE_LEN_M 3.0f
+#define WHOLE_WID_M 1.2f
+#define WHOLE_MAX 1.05 /* rad, 60 degrees */
+#define WHOLE_POS_SD 2.0 /* m */
+#define WHOLE_CUT_M 0.5  /* m: a box's nearest point within the circle grown by this is cut by it */
+/* object o's box reaches within the circle the lowest beam passes over its top inside (+ WHOLE_CUT_M) */
+static bool circle_cut(const rs_tracker_t *tr, const rs_object_t *o) {
+  const double rb = reach_at(tr, o->sensor.box_max[2]);
+  if (!(rb > 0)) return false;
+  const double h = o->sensor.obb_heading, c = cos(h), s = sin(h), x = o->sensor.obb_center[0], y = o->sensor.obb_center[1];
+  const double du = fmax(0.0, fabs(x * c + y * s) - 0.5 * o->sensor.obb_length);
+  const double dv = fmax(0.0, fabs(-x * s + y * c) - 0.5 * o->sensor.obb_width);
+  return hypot(du, dv) <= rb + WHOLE_CUT_M;
+}
+/* circle_whole: track t, born cut by the circle, takes o, the whole box of it moving out: turned onto its axis */
+static bool made_whole(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o) {
+  if (t->hits == 0) t->cut = circle_cut(tr, o); /* born at the circle */
+  if (!tr->cfg.circle_whole || !t->cut || t->made_whole || t->hits < 2 || o->sensor.obb_length < WHOLE_LEN_M ||
+      o->sensor.obb_width < WHOLE_WID_M)
+    return false;
+  const double v = hypot(t->x[2], t->x[3]);
+  if (!(v > 1.0) || t->x[0] * t->x[2] + t->x[1] * t->x[3] <= 0.0) return false; /* moving out, away from the sensor */
+  double c = cos(o->sensor.obb_heading), s = sin(o->sensor.obb_heading), vu = (t->x[2] * c + t->x[3] * s) / v;
+  if (vu < 0) c = -c, s = -s, vu = -vu; /* the axis's way the track moves */
+  if (acos(fmin(1.0, vu)) > WHOLE_MAX) return false;
+  t->made_whole = true;
+  t->x[2] = v * vu * c; /* the velocity along the axis */
+  t->x[3] = v * vu * s;
+  set_heading(t, (float)atan2(s, c));
+  return true;
+}
+/* ... and its position and velocity as uncertain as at its birth, not correlated (after the prediction:
+ * the jump from the cut box's centre to the whole one's is no speed) */
+static void whole_again(const rs_tracker_t *tr, rs_track_t *t) {
+  memset(t->P, 0, sizeof t->P);
+  t->P[0][0] = t->P[1][1] = WHOLE_POS_SD * WHOLE_POS_SD;
+  t->P[2][2] = t->P[3][3] = tr->cfg.init_speed_sd * tr->cfg.init_speed_sd;
+}
+
 /* track t took object o (measured at tk) */
 static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double tk) {
   double z[2], sd, misfit;
+  const bool whole = made_whole(tr, t, o); /* on the box's axes: meas_for's misfit is against them */
   meas_for(tr, t, o, z, &sd, &misfit);
   t->last_z[0] = z[0];
   t->last_z[1] = z[1];
   t->t_z = tk;
   if (t->hits > 0) t->spread = fmax(t->spread, hypot(z[0] - t->px0, z[1] - t->py0));
   predict(tr, t, tk);
+  if (whole) whole_again(tr, t);
   const double sdu = update_sd(tr, sd, misfit);
   update(t, z, sdu);
   const bool first = t->hits == 0;
   double zi[2];
   ref_meas(tr, t, o, z, tk, first, zi);
-  if (first) {
+  if (first || whole) {
     imm_start(t);
     for (int j = 0; j < 2; j++)
       for (int a = 0; a < 2; a++) t->imm.x[j][a][0] = zi[a];

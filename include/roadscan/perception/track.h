@@ -223,6 +223,14 @@ typedef struct {
                                   0.2 m wide or more), unseen for longer than this, takes no vehicle-sized object
                                   of over 4 times its last returns (a car coming out of the circle below the
                                   lowest beam, where a walker went in; 0 = off; default 0.3; docs/tracking.md) */
+  int circle_whole;            /* 1: a track born at the circle inside which the lowest beam passes over its object's
+                                  top (a car waiting beside the pole), the first time it moves out (over 1 m/s,
+                                  away from the sensor) with a whole vehicle's box (3 m by 1.2 m or more) whose
+                                  axis is within 60 degrees of its velocity, takes that axis as its heading, its
+                                  velocity turned onto it and as uncertain as at birth, and its speed estimator
+                                  starts again (the boxes of a car coming out of that circle are an arc of the
+                                  lowest ring over its roof, then the roof's part beyond it: they move at half
+                                  its speed and at an angle to it; default 1; docs/tracking.md) */
   double seen_across_m;        /* m: a moving vehicle's track of known size, seen within the last 0.5 s, within 80 m
                                   of the sensor and not turning (under 0.1 rad/s), takes no object farther across
                                   its heading from its prediction than this (the next lane is 3-3.7 m over: a
@@ -287,6 +295,8 @@ typedef struct {
   bool seen_whole;           /* updated once with all of its box beyond the lowest beam's reach (below_beam) */
   bool blind_kept;           /* lost longer than lost_s, kept for the blind-circle link alone (blind_s) */
   rs_track_imm_t imm;        /* the speed estimator (speed_imm) */
+  bool cut;                  /* its first object was cut by the lowest beam's circle (circle_whole) */
+  bool made_whole;           /* circle_whole has acted on it */
   bool ref_near;             /* the speed estimator follows the box's side nearest the sensor (near_ref_m) */
   double ref_dir[2];         /* towards the sensor from where it was born: the side's direction; (0, 0) once
                                 the track is no longer young (or near_ref_m is 0) */
