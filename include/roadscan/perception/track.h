@@ -24,7 +24,10 @@
  * size (a whole view is good to a few centimetres, a partial one is not:
  * the filter follows a vehicle that speeds up or brakes without lagging,
  * and is not pulled by a view that changes). Before that, and for gating,
- * the noise grows with the object's size (meas_sd, meas_sd_per_m). Time
+ * the noise grows with the object's size (meas_sd, meas_sd_per_m). A track
+ * born cut by the circle the lowest beam passes over its top inside (a car
+ * waiting beside the pole) is turned onto its first whole box's axis when it
+ * moves out, its velocity uncertain again (circle_whole). Time
  * steps come from those capture timestamps only, never the wall clock: a
  * replay at any speed gives the same tracks.
  *
