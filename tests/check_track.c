@@ -781,6 +781,47 @@ START_TEST(t_circle_whole) {
 }
 END_TEST
 
+/* Uncovered (uncover_restart). A van 4.8 m long and 2 m wide, its centre
+ * 40.6 m east and 13.2 m north of the sensor, heading east at v m/s (0:
+ * standing), is first seen for one frame as its 1.6 m rear beside something
+ * nearer (the box marked hidden at its front when `hidden`), then whole:
+ * the box's centre jumps 1.6 m forward. Returns the largest error of the
+ * speed its track reports from its fourth update to the fifteenth. */
+static double uncovered_error(int on, double v, bool hidden) {
+  init_knob("uncover_restart", on);
+  double worst = 0;
+  for (int f = 0; f < 15; f++) {
+    const double t = 0.1 * f, x = 40.6 + v * t;
+    clear();
+    if (f == 0) {
+      put(t, x - 2.4 + 0.8, 13.2, 1.6, 2.0, 0.0, 2.2, 60);
+      if (hidden) objs.obj[0].occluded = RS_OBJ_HIDDEN_END;
+    } else {
+      put(t, x, 13.2, 4.8, 2.0, 0.0, 2.2, 150);
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    ck_assert_uint_eq(tr.list.count, 1);
+    if (f >= 3) worst = fmax(worst, fabs(tr.list.track[0].speed - v));
+  }
+  ck_assert_uint_eq(tr.n.born, 1);
+  return worst;
+}
+
+START_TEST(t_uncovered) {
+  /* standing: 0 m/s with the rule, 1.8 without (its track took the jump for speed) */
+  const double still_on = uncovered_error(1, 0.0, true), still_off = uncovered_error(0, 0.0, true);
+  ck_assert_msg(still_on <= 0.3 && still_off >= 1.0, "standing van: %.2f m/s with, %.2f without", still_on, still_off);
+  for (double v = 5.0; v <= 10.0 + 1e-9; v += 5.0) { /* moving: 0.15 / 0.31 m/s off with, 0.33 / 0.52 without */
+    const double on = uncovered_error(1, v, true), off = uncovered_error(0, v, true);
+    ck_assert_msg(on <= 0.7 * off, "%.0f m/s: %.2f m/s off with, %.2f without", v, on, off);
+  }
+  /* a first box not marked hidden: the rule does nothing */
+  for (double v = 0.0; v <= 10.0 + 1e-9; v += 5.0)
+    ck_assert_double_eq_tol(uncovered_error(1, v, false), uncovered_error(0, v, false), 1e-12);
+  knob_refused("uncover_restart", "2");
+}
+END_TEST
+
 /* A car at 8 m/s along y = 8 is hidden for 2.2 s (behind a bus); 1.8 s
  * in, a car in the next lane (y = 11.5, 3.5 m over) comes into view right
  * beside where the first is predicted, at its speed. The first car's track
@@ -1951,6 +1992,7 @@ int main(void) {
   tcase_add_test(tc, t_hidden_end);
   tcase_add_test(tc, t_near_side);
   tcase_add_test(tc, t_circle_whole);
+  tcase_add_test(tc, t_uncovered);
   tcase_add_test(tc, t_next_lane_not_taken);
   tcase_add_test(tc, t_pedestrian_not_vehicle);
   tcase_add_test(tc, t_walked_not_vehicle);

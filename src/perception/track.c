@@ -84,6 +84,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->seen_across_m = 2.0;
   c->walker_reacq_s = 0.3;
   c->circle_whole = 1;
+  c->uncover_restart = 1;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -108,7 +109,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->near_ref_m >= 0 && cfg->near_ref_m <= 1000) || !(cfg->near_ref_s >= 0 && cfg->near_ref_s <= 60) ||
       !(cfg->twin_s >= 0 && cfg->twin_s <= 60) || !(cfg->walker_reacq_s >= 0 && cfg->walker_reacq_s <= 60) ||
       !(cfg->seen_across_m >= 0 && cfg->seen_across_m <= 20) ||
-      cfg->circle_whole < 0 || cfg->circle_whole > 1)
+      cfg->circle_whole < 0 || cfg->circle_whole > 1 || cfg->uncover_restart < 0 || cfg->uncover_restart > 1)
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -141,6 +142,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1), KNOB_INT(dup_box, 0, 1),
     KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),      KNOB(twin_s, 0.0, 60.0),
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
+    KNOB_INT(uncover_restart, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -1215,10 +1217,35 @@ static void whole_again(const rs_tracker_t *tr, rs_track_t *t) {
   t->P[2][2] = t->P[3][3] = tr->cfg.init_speed_sd * tr->cfg.init_speed_sd;
 }
 
+/* ---- uncovered (uncover_restart) --------------------------------------------
+ * A vehicle standing or moving behind something nearer is first seen in
+ * part: a box marked hidden at an end (rs_object_t.occluded: something
+ * nearer beside it), its centre where that part is. As the nearer thing moves
+ * off, the next box is the whole vehicle, metres longer, its centre metres
+ * away: a young track (born with a velocity as uncertain as init_speed_sd)
+ * takes that jump for speed (a van standing 43 m off, uncovered in one
+ * frame, reported 9.9 m/s and took a second to come down). When a track's
+ * second or third object (UNCOVER_HITS) is over UNCOVER_GROW_M longer than
+ * its last one and that one was marked hidden, its speed estimator starts
+ * again at this object, at 0 m/s with the velocity's uncertainty at birth:
+ * its next updates learn the speed. Only the reported velocity: the filter,
+ * the gates and the ids are untouched (the filter too: measured worse, in
+ * docs/tracking.md). */
+#define UNCOVER_HITS 2u
+#define UNCOVER_GROW_M 1.0f
+static bool uncovered(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o) {
+  const bool grown = tr->cfg.uncover_restart && t->hits >= 1 && t->hits <= UNCOVER_HITS && t->last_hidden &&
+                     o->sensor.obb_length > t->last_len + UNCOVER_GROW_M;
+  t->last_hidden = (o->occluded & (RS_OBJ_HIDDEN_START | RS_OBJ_HIDDEN_END)) != 0;
+  t->last_len = o->sensor.obb_length;
+  return grown;
+}
+
 /* track t took object o (measured at tk) */
 static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double tk) {
   double z[2], sd, misfit;
   const bool whole = made_whole(tr, t, o); /* on the box's axes: meas_for's misfit is against them */
+  const bool grown = uncovered(tr, t, o);
   meas_for(tr, t, o, z, &sd, &misfit);
   t->last_z[0] = z[0];
   t->last_z[1] = z[1];
@@ -1231,10 +1258,18 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   const bool first = t->hits == 0;
   double zi[2];
   ref_meas(tr, t, o, z, tk, first, zi);
-  if (first || whole) {
+  if (first || whole || grown) {
     imm_start(t);
     for (int j = 0; j < 2; j++)
-      for (int a = 0; a < 2; a++) t->imm.x[j][a][0] = zi[a];
+      for (int a = 0; a < 2; a++) {
+        t->imm.x[j][a][0] = zi[a];
+        if (grown && !whole) { /* at 0 m/s, as uncertain as at birth, not correlated */
+          t->imm.x[j][a][1] = 0.0;
+          t->imm.P[j][a][0] = sdu * sdu;
+          t->imm.P[j][a][1] = 0.0;
+          t->imm.P[j][a][3] = tr->cfg.init_speed_sd * tr->cfg.init_speed_sd;
+        }
+      }
   } else {
     double q[3];
     accel_density(tr, t, q);

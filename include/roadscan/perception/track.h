@@ -234,6 +234,11 @@ typedef struct {
                                   starts again (the boxes of a car coming out of that circle are an arc of the
                                   lowest ring over its roof, then the roof's part beyond it: they move at half
                                   its speed and at an angle to it; default 1; docs/tracking.md) */
+  int uncover_restart;         /* 1: a track whose second or third object is over 1 m longer than its last one,
+                                  which was marked hidden at an end (something nearer beside it: a vehicle
+                                  uncovered as that moves off), starts its speed estimator again there at 0
+                                  m/s, as uncertain as at birth (init_speed_sd): the jump of the box's centre
+                                  is not speed; the filter and the ids untouched (default 1; docs/tracking.md) */
   double seen_across_m;        /* m: a moving vehicle's track of known size, seen within the last 0.5 s, within 80 m
                                   of the sensor and not turning (under 0.1 rad/s), takes no object farther across
                                   its heading from its prediction than this (the next lane is 3-3.7 m over: a
@@ -299,6 +304,8 @@ typedef struct {
   bool blind_kept;           /* lost longer than lost_s, kept for the blind-circle link alone (blind_s) */
   rs_track_imm_t imm;        /* the speed estimator (speed_imm) */
   bool cut;                  /* its first object was cut by the lowest beam's circle (circle_whole) */
+  bool last_hidden;          /* its last object was marked hidden at an end (uncover_restart) */
+  float last_len;            /* its last object's length (uncover_restart) */
   bool made_whole;           /* circle_whole has acted on it */
   bool ref_near;             /* the speed estimator follows the box's side nearest the sensor (near_ref_m) */
   double ref_dir[2];         /* towards the sensor from where it was born: the side's direction; (0, 0) once
