@@ -27,7 +27,9 @@
  * the noise grows with the object's size (meas_sd, meas_sd_per_m). A track
  * born cut by the circle the lowest beam passes over its top inside (a car
  * waiting beside the pole) is turned onto its first whole box's axis when it
- * moves out, its velocity uncertain again (circle_whole). Time
+ * moves out, its velocity uncertain again (circle_whole). A young track
+ * whose box grows by metres as it is uncovered starts its speed estimator
+ * again (uncover_restart). Time
  * steps come from those capture timestamps only, never the wall clock: a
  * replay at any speed gives the same tracks.
  *
