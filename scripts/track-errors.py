@@ -38,6 +38,11 @@
         had another one (it took this one over), under 2 s as its first, or longer; per kind
         its rows, its share of the squared error and its RMSE. (The truth is taken between
         its states, not extrapolated: a few rows fewer than roadscan-eval's.)
+    scripts/track-errors.py born MOTDUMP TRACKS STATES [MOTDUMP TRACKS STATES ...]
+        Over all given: the rows of matched, split by whether their track was born within 15 m
+        of the sensor (its first row) and is younger than 2.5 s (a vehicle pulling away from
+        beside the pole, out of the circle below the lowest beam: circle_whole,
+        docs/tracking.md) or not; per kind its rows, share of the squared error and RMSE.
     scripts/track-errors.py close STATES...
         Per true-states file: how many pairs of walkers came within 0.45 m of each other (centres;
         bodies are 0.5 m wide), the states within 0.6 m, and the nearest two ever came (m): how
@@ -53,6 +58,8 @@ import sys
 from collections import Counter, defaultdict
 
 VEHICLES = {"car", "van", "truck", "bus"}
+BORN_NEAR_M = 15.0  # born: a track's first row this near the sensor
+BORN_YOUNG_S = 2.5  # ... and younger than this
 
 
 def load_states(path):
@@ -353,7 +360,10 @@ def print_split(name, sq, n):
               f"RMSE {math.sqrt(sq[kind] / n[kind]):.2f}")
 
 
-def matched_one(mot_path, tracks_path, states_path):
+def matched_rows(mot_path, tracks_path, states_path):
+    """The confirmed rows of a track file matched (IoU > 0.5, --mot-dump) to a true vehicle within
+    80 m: (frame, track, track row, true speed, whether the track had another road user before,
+    the frame it first had this one, the capture's first time)"""
     states, cls = load_states(states_path)
     rows = {}
     with open(tracks_path, newline="") as f:
@@ -367,7 +377,6 @@ def matched_one(mot_path, tracks_path, states_path):
     pairs.sort()
     t0 = min(rows[0][0] for rows in states.values())
     first_with, had = {}, {}  # (track, truth) -> first frame matched; track -> the truths it matched
-    sq, n = Counter(), Counter()
     for frame, track, truth in pairs:
         first_with.setdefault((track, truth), frame)
         took = bool(had.setdefault(track, set()) - {truth})
@@ -375,16 +384,21 @@ def matched_one(mot_path, tracks_path, states_path):
         r = rows.get((frame, track))
         if r is None or r["state"] != "confirmed" or cls.get(truth) not in VEHICLES:
             continue
-        t = float(r["t"])
-        s = at(states[truth], t)
+        s = at(states[truth], float(r["t"]))
         if s is None or math.hypot(s[0], s[1]) > 80.0:
             continue
-        v = math.hypot(s[2], s[3])
+        yield frame, track, r, math.hypot(s[2], s[3]), took, first_with[(track, truth)], t0
+
+
+def matched_one(mot_path, tracks_path, states_path):
+    sq, n = Counter(), Counter()
+    for frame, track, r, v, took, first, t0 in matched_rows(mot_path, tracks_path, states_path):
+        t = float(r["t"])
         if float(r["age"]) < 1.0:
             kind = "younger than 1 s, first 3 s" if t - t0 < 3.0 else \
                    "younger than 1 s, moving" if v >= 1.0 else "younger than 1 s, still"
         else:
-            on = (frame - first_with[(track, truth)]) * 0.1  # frames of 0.1 s
+            on = (frame - first) * 0.1  # frames of 0.1 s
             kind = "older, took it over < 2 s ago" if on < 2.0 and took else \
                    "older, first had it < 2 s ago" if on < 2.0 else "older, had it >= 2 s"
         e = float(r["speed"]) - v
@@ -394,9 +408,28 @@ def matched_one(mot_path, tracks_path, states_path):
     return sq, n
 
 
+def born(*paths):
+    if not paths or len(paths) % 3:
+        sys.exit(__doc__.strip())
+    sq, n = Counter(), Counter()
+    for k in range(0, len(paths), 3):
+        birth = {}  # track -> where its first row is
+        with open(paths[k + 1], newline="") as f:
+            for r in csv.DictReader(f):
+                birth.setdefault(int(r["track"]), (float(r["x"]), float(r["y"])))
+        for frame, track, r, v, took, first, t0 in matched_rows(*paths[k:k + 3]):
+            near = math.hypot(*birth[track]) < BORN_NEAR_M and float(r["age"]) < BORN_YOUNG_S
+            kind = f"born within {BORN_NEAR_M:.0f} m, younger than {BORN_YOUNG_S} s" if near else "the rest"
+            e = float(r["speed"]) - v
+            sq[kind] += e * e
+            n[kind] += 1
+    print_split("all", sq, n)
+
+
 def main(argv):
-    modes = {"speed": speed, "ids": ids, "close": close, "traffic": traffic, "unmatched": unmatched, "matched": matched}
-    if len(argv) < 2 or argv[0] not in modes or (argv[0] not in ("close", "traffic", "matched") and len(argv) != 3):
+    modes = {"speed": speed, "ids": ids, "close": close, "traffic": traffic, "unmatched": unmatched, "matched": matched,
+             "born": born}
+    if len(argv) < 2 or argv[0] not in modes or (argv[0] not in ("close", "traffic", "matched", "born") and len(argv) != 3):
         sys.exit(__doc__.strip())
     modes[argv[0]](*argv[1:])
 
