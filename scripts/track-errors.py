@@ -10,7 +10,8 @@
         +-0.3 s), speeding up or braking harder than 0.5 m/s^2 (over +-0.3 s), tracks
         younger than 1 s, rows of one vehicle followed by two tracks at once, and the
         steady rest; and the heading RMSE (the track's heading against the true velocity's
-        direction, rows of vehicles moving faster than 1 m/s) of each.
+        direction, rows of vehicles moving faster than 1 m/s) of each. Then the rows of
+        standing vehicles (true speed under 0.05 m/s) and how many of them report a speed.
     scripts/track-errors.py ids MOTDUMP STATES
         From roadscan-eval --tracking ... --mot-dump MOTDUMP: per true class, the frames of
         each true object not matched (IoU > 0.5) by its most frequent track, and each
@@ -60,6 +61,7 @@ from collections import Counter, defaultdict
 VEHICLES = {"car", "van", "truck", "bus"}
 BORN_NEAR_M = 15.0  # born: a track's first row this near the sensor
 BORN_YOUNG_S = 2.5  # ... and younger than this
+STANDING = 0.05  # speed: a vehicle slower than this (m/s) stands
 
 
 def load_states(path):
@@ -124,11 +126,11 @@ def speed(tracks_path, states_path):
             if math.hypot(s[2], s[3]) > 1.0 and r.get("heading", "") not in ("", "nan"):
                 herr = wrap(math.degrees(float(r["heading"]) - math.atan2(s[3], s[2])))
             samples.append((int(r["track"]), best, round(t, 2), float(r["speed"]) - math.hypot(s[2], s[3]), accel,
-                            float(r["age"]), turn, herr))
+                            float(r["age"]), turn, herr, math.hypot(s[2], s[3])))
     if not samples:
         print(f"{tracks_path}: no confirmed vehicle rows within 80 m")
         return
-    per_truth_time = Counter((k, t) for _, k, t, _, _, _, _, _ in samples)
+    per_truth_time = Counter((s[1], s[2]) for s in samples)
     total = sum(s[3] ** 2 for s in samples)
     kinds = {
         "turning (> 5 deg/s)": lambda s: s[6] > 5.0,
@@ -151,6 +153,11 @@ def speed(tracks_path, states_path):
     if rest:
         print(f"  {'the rest (steady, older, one track)':38s} rows {100.0 * len(rest) / n:5.1f} %  "
               f"RMSE {math.sqrt(sum(e * e for e in rest) / len(rest)):.3f}")
+    standing = [s for s in samples if s[8] < STANDING]
+    if standing:
+        moving = [s[3] + s[8] for s in standing if s[3] + s[8] > 0.0]
+        print(f"  {'standing (true speed < 0.05 m/s)':38s} rows {len(standing):6d}  reported moving {len(moving)} "
+              f"({100.0 * len(moving) / len(standing):.1f} %, the most {max(moving, default=0.0):.2f} m/s)")
 
 
 def ids(mot_path, states_path):
