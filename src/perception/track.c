@@ -1187,10 +1187,10 @@ static void ref_meas(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o
 static bool circle_cut(const rs_tracker_t *tr, const rs_object_t *o) {
   const double rb = reach_at(tr, o->sensor.box_max[2]);
   if (!(rb > 0)) return false;
-  const double h = o->sensor.obb_heading, c = cos(h), s = sin(h), x = o->sensor.obb_center[0], y = o->sensor.obb_center[1];
-  const double du = fmax(0.0, fabs(x * c + y * s) - 0.5 * o->sensor.obb_length);
-  const double dv = fmax(0.0, fabs(-x * s + y * c) - 0.5 * o->sensor.obb_width);
-  return hypot(du, dv) <= rb + WHOLE_CUT_M;
+  const double h = o->sensor.obb_heading;
+  double e[4]; /* the box on its own axes: the sensor's distance to it */
+  box_on(o, h, cos(h), sin(h), e);
+  return hypot(fmax(0.0, fmax(e[0], -e[1])), fmax(0.0, fmax(e[2], -e[3]))) <= rb + WHOLE_CUT_M;
 }
 /* circle_whole: track t, born cut by the circle, takes o, the whole box of it moving out: turned onto its axis */
 static bool made_whole(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o) {
@@ -1202,7 +1202,7 @@ static bool made_whole(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t 
   if (!(v > 1.0) || t->x[0] * t->x[2] + t->x[1] * t->x[3] <= 0.0) return false; /* moving out, away from the sensor */
   double c = cos(o->sensor.obb_heading), s = sin(o->sensor.obb_heading), vu = (t->x[2] * c + t->x[3] * s) / v;
   if (vu < 0) c = -c, s = -s, vu = -vu; /* the axis's way the track moves */
-  if (acos(fmin(1.0, vu)) > WHOLE_MAX) return false;
+  if (vu < cos(WHOLE_MAX)) return false;
   t->made_whole = true;
   t->x[2] = v * vu * c; /* the velocity along the axis */
   t->x[3] = v * vu * s;
