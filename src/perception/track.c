@@ -542,19 +542,22 @@ static void predict(const rs_tracker_t *tr, rs_track_t *t, double tk) {
   accel_density(tr, t, q);
   double F[4][4];
   transition(dt, turn_of(tr, t), F);
+  /* F = [[1, 0, a, -b], [0, 1, b, a], [0, 0, c, -s], [0, 0, s, c]]: F P F' written out without its zero
+   * and unit terms (the sums in the order of the full products: the same numbers) */
+  const double fa = F[0][2], fb = F[1][2], fc = F[2][2], fs = F[3][2];
   double FP[4][4], P[4][4];
-  for (int i = 0; i < 4; i++)
-    for (int j = 0; j < 4; j++) {
-      double s = 0;
-      for (int k = 0; k < 4; k++) s += F[i][k] * t->P[k][j];
-      FP[i][j] = s;
-    }
-  for (int i = 0; i < 4; i++)
-    for (int j = 0; j < 4; j++) {
-      double s = 0;
-      for (int k = 0; k < 4; k++) s += FP[i][k] * F[j][k];
-      P[i][j] = s;
-    }
+  for (int j = 0; j < 4; j++) {
+    FP[0][j] = t->P[0][j] + fa * t->P[2][j] + -fb * t->P[3][j];
+    FP[1][j] = t->P[1][j] + fb * t->P[2][j] + fa * t->P[3][j];
+    FP[2][j] = fc * t->P[2][j] + -fs * t->P[3][j];
+    FP[3][j] = fs * t->P[2][j] + fc * t->P[3][j];
+  }
+  for (int i = 0; i < 4; i++) {
+    P[i][0] = FP[i][0] + FP[i][2] * fa + FP[i][3] * -fb;
+    P[i][1] = FP[i][1] + FP[i][2] * fb + FP[i][3] * fa;
+    P[i][2] = FP[i][2] * fc + FP[i][3] * -fs;
+    P[i][3] = FP[i][2] * fs + FP[i][3] * fc;
+  }
   /* Q = [S dt^3/3, S dt^2/2; S dt^2/2, S dt], S the 2 x 2 density */
   const double a = dt * dt * dt / 3.0, b = dt * dt / 2.0, c = dt;
   const int pos[2] = {0, 1}, vel[2] = {2, 3};
@@ -568,8 +571,8 @@ static void predict(const rs_tracker_t *tr, rs_track_t *t, double tk) {
     }
   for (int i = 0; i < 4; i++)
     for (int j = 0; j < 4; j++) t->P[i][j] = P[i][j];
-  double x[4];
-  for (int i = 0; i < 4; i++) x[i] = F[i][0] * t->x[0] + F[i][1] * t->x[1] + F[i][2] * t->x[2] + F[i][3] * t->x[3];
+  const double x[4] = {t->x[0] + fa * t->x[2] + -fb * t->x[3], t->x[1] + fb * t->x[2] + fa * t->x[3],
+                       fc * t->x[2] + -fs * t->x[3], fs * t->x[2] + fc * t->x[3]};
   memcpy(t->x, x, sizeof x);
   t->t_state = tk;
 }
@@ -657,24 +660,43 @@ static void imm_step(rs_track_t *t, const double z[2], double r, double tk, cons
         }
       }
   }
+  /* the models' transitions: CV [[1, dt, 0], [0, 1, 0], [0, 0, 0]], CA [[1, dt, dt^2/2], [0, 1, dt], [0, 0, 1]];
+   * x = F x0, P = F P0 F' + Q written out without their zero and unit terms (the sums in the order of the
+   * full products: the same numbers) */
+  const double h2 = 0.5 * d2;
   for (int j = 0; j < 2; j++) {
-    double F[3][3] = {{1, dt, 0}, {0, 1, 0}, {0, 0, 0}};
-    if (j == 1) F[0][2] = 0.5 * d2, F[1][2] = dt, F[2][2] = 1;
     for (int a = 0; a < 2; a++) {
-      double Q[3][3] = {{q[a] * d3 / 3, q[a] * d2 / 2, 0}, {q[a] * d2 / 2, q[a] * dt, 0}, {0, 0, 0}};
-      if (j == 1) { /* white-noise jerk */
+      const double *x0a = x0[j][a];
+      double(*A)[3] = P0[j][a];
+      double x[3], P[3][3];
+      if (j == 0) { /* CV: the acceleration is 0; Q the white-noise acceleration's */
+        const double qa = q[a];
+        x[0] = x0a[0] + dt * x0a[1];
+        x[1] = x0a[1];
+        x[2] = 0.0;
+        const double fp00 = A[0][0] + dt * A[1][0], fp01 = A[0][1] + dt * A[1][1];
+        P[0][0] = qa * d3 / 3 + fp00 + fp01 * dt;
+        P[0][1] = qa * d2 / 2 + fp01;
+        P[1][1] = qa * dt + A[1][1];
+        P[0][2] = P[1][2] = P[2][2] = 0.0;
+      } else { /* CA: Q the white-noise jerk's */
         const double d4 = d3 * dt, d5 = d4 * dt;
-        const double Qa[3][3] = {{d5 / 20, d4 / 8, d3 / 6}, {d4 / 8, d3 / 3, d2 / 2}, {d3 / 6, d2 / 2, dt}};
-        for (int u = 0; u < 3; u++)
-          for (int v = 0; v < 3; v++) Q[u][v] = jerk * Qa[u][v];
+        x[0] = x0a[0] + dt * x0a[1] + h2 * x0a[2];
+        x[1] = x0a[1] + dt * x0a[2];
+        x[2] = x0a[2];
+        double FP[3][3];
+        for (int v = 0; v < 3; v++) {
+          FP[0][v] = A[0][v] + dt * A[1][v] + h2 * A[2][v];
+          FP[1][v] = A[1][v] + dt * A[2][v];
+          FP[2][v] = A[2][v];
+        }
+        P[0][0] = jerk * (d5 / 20) + FP[0][0] + FP[0][1] * dt + FP[0][2] * h2;
+        P[0][1] = jerk * (d4 / 8) + FP[0][1] + FP[0][2] * dt;
+        P[0][2] = jerk * (d3 / 6) + FP[0][2];
+        P[1][1] = jerk * (d3 / 3) + FP[1][1] + FP[1][2] * dt;
+        P[1][2] = jerk * (d2 / 2) + FP[1][2];
+        P[2][2] = jerk * dt + FP[2][2];
       }
-      double x[3], FP[3][3], P[3][3];
-      for (int u = 0; u < 3; u++) {
-        x[u] = F[u][0] * x0[j][a][0] + F[u][1] * x0[j][a][1] + F[u][2] * x0[j][a][2];
-        for (int v = 0; v < 3; v++) FP[u][v] = F[u][0] * P0[j][a][0][v] + F[u][1] * P0[j][a][1][v] + F[u][2] * P0[j][a][2][v];
-      }
-      for (int u = 0; u < 3; u++)
-        for (int v = u; v < 3; v++) P[u][v] = Q[u][v] + FP[u][0] * F[v][0] + FP[u][1] * F[v][1] + FP[u][2] * F[v][2];
       const double S = P[0][0] + r, y = z[a] - x[0];
       const double K[3] = {P[0][0] / S, P[0][1] / S, P[0][2] / S};
       for (int u = 0; u < 3; u++) {
@@ -863,13 +885,13 @@ static void assign(rs_tracker_t *tr, uint32_t nobj) {
   }
   /* edges grouped by their group's root (a stable counting sort: within a
    * group, edges keep their order, by track and then cost) */
-  uint32_t *start = tr->root_start;
-  memset(start, 0, sizeof(uint32_t) * (RS_TRACK_MAX + RS_OBJ_MAX + 1));
+  uint32_t *start = tr->root_start; /* a group's root is its lowest index: a track's, below nt */
+  memset(start, 0, sizeof(uint32_t) * (nt + 1));
   for (uint32_t e = 0; e < ne; e++) {
     tr->eroot[e] = find(c, tr->edge[e].t);
     start[tr->eroot[e] + 1]++;
   }
-  for (uint32_t r = 0; r < RS_TRACK_MAX + RS_OBJ_MAX; r++) start[r + 1] += start[r];
+  for (uint32_t r = 0; r < nt; r++) start[r + 1] += start[r];
   for (uint32_t e = 0; e < ne; e++) tr->gedge[start[tr->eroot[e]]++] = tr->edge[e];
   /* start[r] is now the end of group r's edges */
   for (uint32_t e0 = 0, e1; e0 < ne; e0 = e1) {
@@ -985,10 +1007,8 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
         for (int32_t k = tr->grid_head[bucket(gx, gy)], guard = 0; k >= 0 && guard < RS_OBJ_MAX; k = tr->grid_next[k], guard++) {
           const rs_object_t *o = &objs->obj[k];
           if (tr->taken_by[k] >= 0 || tr->shared[k]) continue;
-          double z[2], sd, p[2], S[3];
-          meas(tr, o, z, &sd);
-          if ((long)floor(z[0] / GRID) != gx || (long)floor(z[1] / GRID) != gy) continue; /* another cell, same bucket */
-          double misfit;
+          if (tr->obj_cell[k][0] != gx || tr->obj_cell[k][1] != gy) continue; /* another cell, same bucket */
+          double z[2], sd, p[2], S[3], misfit;
           meas_for(tr, t, o, z, &sd, &misfit);
           const double tk = tr->obj_t[k];
           predict_pos(tr, t, tk, p, S);
@@ -1454,7 +1474,9 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     tr->obj_t[k] = obj_time(o, t_frame);
     if (tr->obj_t[k] < t_frame - 1.0 || tr->obj_t[k] > t_frame + 1.0) tr->obj_t[k] = t_frame;
     if (o->points == 0) continue;
-    const uint32_t bk = bucket((long)floor(o->sensor.obb_center[0] / GRID), (long)floor(o->sensor.obb_center[1] / GRID));
+    tr->obj_cell[k][0] = (long)floor(o->sensor.obb_center[0] / GRID);
+    tr->obj_cell[k][1] = (long)floor(o->sensor.obb_center[1] / GRID);
+    const uint32_t bk = bucket(tr->obj_cell[k][0], tr->obj_cell[k][1]);
     tr->grid_next[k] = tr->grid_head[bk];
     tr->grid_head[bk] = (int32_t)k;
   }
@@ -1544,6 +1566,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
    * a younger one of its size is, follows the same object (a duplicate). The
    * older track takes the object over (its id continues), the younger one
    * ends without an event */
+  const double gr = 2.0 * cf->gate_m + 0.15 * cf->max_speed;
   uint32_t nunseen = 0; /* the coasting and lost tracks not held, in index order */
   for (uint32_t j = 0; j < L->count; j++) {
     const rs_track_t *o = &L->track[j];
@@ -1558,12 +1581,12 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       const uint32_t j = tr->near[q];
       const rs_track_t *o = &L->track[j];
       if (j == i || o->id == 0 || o->object >= 0) continue; /* (stitched this frame) */
-      if (walker_like(cf, o) && vehicle_sized(y->length, y->width)) continue; /* a walker is not a vehicle */
-      if (walker_reacq(cf, o, y->t_state - o->t_update, y->length, y->width, y->points)) continue;
       /* far from its position at the frame's time: out of every gate below (at most 2 gate_m from its
        * prediction at y's time, which is within 0.15 s x max_speed of it) */
-      const double gx = y->x[0] - tr->tpos[j][0], gy = y->x[1] - tr->tpos[j][1], gr = 2.0 * cf->gate_m + 0.15 * cf->max_speed;
+      const double gx = y->x[0] - tr->tpos[j][0], gy = y->x[1] - tr->tpos[j][1];
       if (gx * gx + gy * gy > gr * gr) continue;
+      if (walker_like(cf, o) && vehicle_sized(y->length, y->width)) continue; /* a walker is not a vehicle */
+      if (walker_reacq(cf, o, y->t_state - o->t_update, y->length, y->width, y->points)) continue;
       double p[2], S[3];
       predict_pos(tr, o, y->t_state, p, S);
       const double dx = y->x[0] - p[0], dy = y->x[1] - p[1];
@@ -1592,20 +1615,29 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     tr->n.stitched++;
   }
   /* the blind-circle link: a young moving track, born at the circle's other
-   * side of an unseen track last seen at its edge, is that track (at most
-   * RS_TRACK_MAX x RS_TRACK_MAX tests, each a few products; in practice the
-   * few tracks under 1.5 s old against the unseen ones) */
-  for (uint32_t i = 0; i < L->count && tr->cfg.blind_s > 0; i++) {
+   * side of an unseen track last seen at its edge, is that track (the few
+   * tracks under 1.5 s old against the candidates, each test a few
+   * products). The candidates, in index order: unseen tracks not of a
+   * walker's size (the sidewalks pass the pole and walkers cross them in
+   * groups, slowly, seconds in the circle; a young walker's track is no
+   * better sign of which one came out than a still one's of which one went
+   * in: held-out site 13, VLP-16 rush, three walkers' ids given to others).
+   * A link only takes tracks out of that set (the linked one is seen, the
+   * young one ends), so each is checked again when tried */
+  uint32_t ncand = 0;
+  for (uint32_t j = 0; j < L->count && tr->cfg.blind_s > 0; j++) {
+    const rs_track_t *o = &L->track[j];
+    if (unseen(o) && !(o->full_length < WALKER_M && o->full_width < WALKER_M)) tr->near[ncand++] = (uint16_t)j;
+  }
+  for (uint32_t i = 0; i < L->count && ncand > 0; i++) {
     rs_track_t *y = &L->track[i];
     if (y->object < 0 || y->id == 0 || y->hits < 3 || y->t_update - y->t_birth > 1.5) continue;
     int best = -1;
     double best_off = INFINITY;
-    for (uint32_t j = 0; j < L->count; j++) {
+    for (uint32_t q = 0; q < ncand; q++) {
+      const uint32_t j = tr->near[q];
       const rs_track_t *o = &L->track[j];
-      /* not a walker's: the sidewalks pass the pole and walkers cross them in groups, slowly (seconds in
-       * the circle); a young walker's track is no better sign of which one came out than a still one's
-       * of which one went in (held-out site 13, VLP-16 rush: three walkers' ids given to others) */
-      if (j == i || !unseen(o) || (o->full_length < WALKER_M && o->full_width < WALKER_M)) continue;
+      if (j == i || !unseen(o)) continue;
       const double off = blind_link(tr, o, y);
       if (off >= 0 && off < best_off) {
         best_off = off;

@@ -365,7 +365,7 @@ typedef struct {
   int32_t taken_by[RS_OBJ_MAX];        /* object -> track index, -1 */
   uint8_t shared[RS_OBJ_MAX];          /* object box holds >= 2 confirmed predictions */
   double obj_t[RS_OBJ_MAX];
-  float obj_z[RS_OBJ_MAX][2];
+  long obj_cell[RS_OBJ_MAX][2];        /* the grid cell of the object's box centre */
   uint16_t comp[RS_TRACK_MAX + RS_OBJ_MAX];
   uint16_t gt[RS_TRACK_GROUP_MAX], go[RS_TRACK_GROUP_MAX];
   double cost[RS_TRACK_GROUP_MAX][RS_TRACK_GROUP_MAX];
