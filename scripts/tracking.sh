@@ -13,6 +13,10 @@
 # prints its rows (the table's columns) without touching the doc; extra="..."
 # passes roadscand options as for the doc (docs/tracking.md: sites 13, 17, 21, 25).
 #
+#   scripts/tracking.sh --presets
+# instead scores the far and storm presets (both sensors, seeds 11/12, captures in
+# out/presets) and prints their rows.
+#
 #   scripts/tracking.sh --turns
 # instead scores the turns preset (a quarter of the vehicles turn) at sites 1, 5
 # and 9 (seeds 11/12, 21/22, 41/42), and the same seeds with turn_share=0 (the
@@ -65,11 +69,12 @@ row() { # tag label
 import json, sys
 label, path = sys.argv[1:3]
 j = json.load(open(path))
-pct = lambda v: f"{100 * v:.2f} %"
+pct = lambda v: "n/a" if v is None else f"{100 * v:.2f} %"
+num = lambda v: "n/a" if v is None else f"{v:.2f}"
 print(f"| {label} | {pct(j['mota'])} | {pct(j['idf1'])} | {pct(j['motp_iou'])} | {j['id_switches']} | "
       f"{j['fragmentations']} | {j['misses']} | {j['false_positives']} | {j['gt']} | "
       f"{j['mostly_tracked']} / {j['partly_tracked']} / {j['mostly_lost']} of {j['objects']} | {j['tracks']} | "
-      f"{j['speed_rmse_vehicles_80m']:.2f} | {j['position_rmse_vehicles_80m']:.2f} | {pct(j['confirmed_within_0_3s'])} | "
+      f"{num(j['speed_rmse_vehicles_80m'])} | {num(j['position_rmse_vehicles_80m'])} | {pct(j['confirmed_within_0_3s'])} | "
       f"{pct(j['class_count_error']) if j.get('class_count_error') is not None else 'n/a'} | "
       + f"{sum(v['counted'] for k, v in j.items() if k.startswith('count_'))} / "
       + f"{sum(v['true'] for k, v in j.items() if k.startswith('count_'))} | "
@@ -127,6 +132,19 @@ if [ "${1:-}" = "--turns" ]; then
       / unmatched/ { print "  " $0 }
       END { printf "%s: turned %d objects, %d of %d frames not with their track (left %d objects, %d of %d; right %d, %d of %d); straight %d objects, %d of %d\n",
             name, lo + ro, ll + rl, lf + rf, lo, ll, lf, ro, rl, rf, so, sl, sf }'
+  done
+  exit 0
+fi
+if [ "${1:-}" = "--presets" ]; then
+  # the far and storm presets (a site 100 m deep; rain) at the default site, learned on seed 11, scored on 12
+  out=out/presets
+  mkdir -p "$out"
+  header
+  for sensor in VLP-32C VLP-16; do
+    for sc in far storm; do
+      capture "$sensor-$sc" "$sensor" $sc 11 12
+      row "$sensor-$sc" "$sensor $sc, seed 12"
+    done
   done
   exit 0
 fi
