@@ -3,7 +3,8 @@
  * coasting tracks not counted, intervals on multiples of the interval,
  * tracks forgotten, the site frame of a pose, bad lines; zones: entries,
  * exits, occupancy, a track first seen inside, tentative and coasting
- * tracks, bad zones; hidden crossings (a track first seen past a line);
+ * tracks, bad zones; hidden crossings (a track first seen past a line;
+ * placed in its lane, not where a partial first box's path met the line);
  * the class delay (a crossing tallied under the class its track settles on);
  * a lost track taken up again past a line; unseen crossings (a track
  * followed on its prediction, held until it is seen again or ends); the band
@@ -302,6 +303,48 @@ START_TEST(t_hidden_crossings) {
   ck_assert_uint_eq(cnt.crossings, 1);
   ck_assert_uint_eq(sum(cnt.total[0].backward), 1);
   ck_assert_uint_eq(cnt.hidden, 0);
+}
+END_TEST
+
+/* Where a hidden crossing is placed along the line. Car A (track 3, lane y =
+ * -2) is seen crossing at t = 60.5, 3 m along the line. Car B (track 4), in
+ * the next lane (y = 1.5, 3.5 m over), comes out from behind others past the
+ * line at t = 61.0: its first box is a part of it, its centre at y = -0.5,
+ * settling on its lane 0.5 m a frame. At its first confirmed frame its mean
+ * velocity points across (8 m/s along, 5 m/s across), and its path run back
+ * meets the line 2 m along it at t = 60.5: within 1.5 s and 2.5 m of car A's
+ * crossing. Placed where the track is along the line (hidden_at_track, the
+ * default: 6 m), it is another car, counted; placed where its path met the
+ * line, it is taken for car A's new track and not counted. */
+static void next_lane(bool at_track) {
+  static const char *const l[] = {"gate 0 -5 0 5"}; /* forward: towards -x */
+  setup(l, 1, NULL, 60);
+  cnt.hidden_at_track = at_track;
+  tl.count = 0;
+  rs_count_frame(&cnt, &tl, 50.0);
+  for (int f = 0; f < 11; f++) { /* car A: x 4 -> -4 at 8 m/s in lane y = -2 */
+    tl.count = 0;
+    one(3, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 4.0 - 0.8 * f, -2.0);
+    rs_count_frame(&cnt, &tl, 60.0 + 0.1 * f);
+  }
+  ck_assert_uint_eq(cnt.crossings, 1);
+  for (int f = 0; f < 8; f++) { /* car B: first seen at (-4, -0.5), tentative for 3 frames */
+    tl.count = 0;
+    one(4, f < 3 ? RS_TRACK_TENTATIVE : RS_TRACK_CONFIRMED, RS_CLASS_CAR, -4.0 - 0.8 * f, -0.5 + 0.5 * (f < 4 ? f : 4));
+    rs_count_frame(&cnt, &tl, 61.0 + 0.1 * f);
+  }
+}
+
+START_TEST(t_hidden_place) {
+  next_lane(true);
+  ck_assert_uint_eq(cnt.crossings, 2);
+  ck_assert_uint_eq(cnt.hidden, 1);
+  ck_assert_uint_eq(cnt.hidden_dup, 0);
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_CAR], 2);
+  next_lane(false);
+  ck_assert_uint_eq(cnt.crossings, 1);
+  ck_assert_uint_eq(cnt.hidden, 0);
+  ck_assert_uint_eq(cnt.hidden_dup, 1);
 }
 END_TEST
 
@@ -757,6 +800,7 @@ int main(void) {
   tcase_add_test(tc, t_zones);
   tcase_add_test(tc, t_hidden_crossings);
   tcase_add_test(tc, t_hidden_window);
+  tcase_add_test(tc, t_hidden_place);
   tcase_add_test(tc, t_class_delay);
   tcase_add_test(tc, t_lost_taken_up);
   tcase_add_test(tc, t_second_tracks);

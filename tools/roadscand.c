@@ -58,6 +58,7 @@ typedef struct {
   double count_interval;
   double count_hidden;
   double count_hidden_window;
+  int count_hidden_path;   /* --count-hidden-place: 0 track, 1 path */
   double count_unseen;
   double count_same;
   double count_band;
@@ -254,6 +255,11 @@ static const rs_opt_t table[] = {
     D("count-hidden-window", "S", count_hidden_window, 0.0, 10.0,
       "the hidden-crossing check is repeated at each confirmed frame until S seconds after the track was first "
       "seen, with its mean velocity since then (0 = at its first confirmed frame only)"),
+    {.type = RS_OPT_CHOICE, .name = "count-hidden-place", .arg = "WHERE", .off = offsetof(T, count_hidden_path),
+     .choices = "track|path",
+     .help = "where along the line a hidden crossing is placed, for telling it from another vehicle's: track, the "
+             "track's place along the line (its lane) when the crossing is found; path, where its path run back "
+             "met the line"},
     D("count-unseen", "S", count_unseen, 0.0, 10.0,
       "a confirmed track unseen for at most S seconds (coasting, or lost and kept), moving and of 5 hits or more, "
       "is followed on its prediction: a crossing there is held until it is seen again past the line (counted), "
@@ -497,6 +503,7 @@ int main(int argc, char **argv) {
       return bad(err);
     counter.hidden_s = st.count_hidden;
     counter.hidden_window_s = st.count_hidden_window;
+    counter.hidden_at_track = st.count_hidden_path == 0;
     counter.unseen_s = st.count_unseen;
     counter.same_s = st.count_same;
     counter.band_m = st.count_band;

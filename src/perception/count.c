@@ -198,6 +198,7 @@ int rs_count_init(rs_counter_t *c, const rs_count_line_t *lines, int nlines, con
   c->unseen_s = RS_COUNT_UNSEEN_S;
   c->same_s = RS_COUNT_SAME_S;
   c->band_m = RS_COUNT_BAND_M;
+  c->hidden_at_track = true;
   c->t_first = -1.0;
   c->cur.t_start = c->cur.t_end = -1.0;
   if (pose) {
@@ -566,6 +567,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
         double tc = 0, sc = 0;
         dir = hidden_crossing(c, l, c->slot[i].t0, c->slot[i].x0, c->slot[i].y0, t, x, y, &tc, &sc);
         if (dir == 0) continue;
+        if (c->hidden_at_track) sc = along(&c->lines[l], x, y); /* its lane, not where a partial first box's path met it */
         if (counted_near(c, l, tc, sc, dir, HIDDEN_DT, 0)) {
           c->hidden_dup++;
           mark_counted(c, i, (uint16_t)(1u << l), dir); /* its vehicle's: not checked again */

@@ -31,7 +31,13 @@
  * time after the run's first frame, it is counted as crossed there, unless a
  * crossing of that line in the same direction was counted within 1.5 s and
  * 2.5 m of it (the same vehicle, counted by the track it had before it was
- * hidden; the line is then done for this track). The repeats are for a box
+ * hidden; the line is then done for this track). Where along the line: the
+ * track's place along it when the crossing is found (its lane; hidden_at_track,
+ * the default), not where the path run back met it: the first box of a
+ * vehicle coming out from behind others is a part of it, its centre off
+ * across the lane, and the mean velocity from it points across too, so the
+ * path met the line in the next lane, where another vehicle's crossing took
+ * it for that one's. The repeats are for a box
  * growing as the vehicle comes into view, whose centre moves little or the
  * wrong way at first; only for a track first listed tentative (born there),
  * not a lost one taken up again.
@@ -160,6 +166,8 @@ typedef struct {
   uint64_t hidden_dup;                   /* hidden crossings not counted: the vehicle's earlier track was */
   double hidden_s;                       /* how far back a track's path is run (s; 0 = off); default RS_COUNT_HIDDEN_S */
   double hidden_window_s;                /* ... at each confirmed frame this long after it was first seen (s); RS_COUNT_HIDDEN_WINDOW_S */
+  bool hidden_at_track;                  /* a hidden crossing's place along the line: the track's where it is
+                                            found (true, the default), or where its path run back met it */
   double class_delay_s;                  /* a crossing is tallied this long after it, under the track's class
                                             then (s; 0 = at once); RS_COUNT_CLASS_DELAY_S */
   double unseen_s;                       /* a confirmed track unseen this long or less is followed on its
