@@ -58,7 +58,7 @@ typedef struct {
   double count_interval;
   double count_hidden;
   double count_hidden_window;
-  int count_hidden_path;   /* --count-hidden-place: 0 track, 1 path */
+  int count_hidden_place;  /* --count-hidden-place: 0 track, 1 path */
   double count_unseen;
   double count_same;
   double count_band;
@@ -255,7 +255,7 @@ static const rs_opt_t table[] = {
     D("count-hidden-window", "S", count_hidden_window, 0.0, 10.0,
       "the hidden-crossing check is repeated at each confirmed frame until S seconds after the track was first "
       "seen, with its mean velocity since then (0 = at its first confirmed frame only)"),
-    {.type = RS_OPT_CHOICE, .name = "count-hidden-place", .arg = "WHERE", .off = offsetof(T, count_hidden_path),
+    {.type = RS_OPT_CHOICE, .name = "count-hidden-place", .arg = "WHERE", .off = offsetof(T, count_hidden_place),
      .choices = "track|path",
      .help = "where along the line a hidden crossing is placed, for telling it from another vehicle's: track, the "
              "track's place along the line (its lane) when the crossing is found; path, where its path run back "
@@ -503,7 +503,7 @@ int main(int argc, char **argv) {
       return bad(err);
     counter.hidden_s = st.count_hidden;
     counter.hidden_window_s = st.count_hidden_window;
-    counter.hidden_at_track = st.count_hidden_path == 0;
+    counter.hidden_at_track = st.count_hidden_place == 0; /* track */
     counter.unseen_s = st.count_unseen;
     counter.same_s = st.count_same;
     counter.band_m = st.count_band;

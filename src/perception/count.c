@@ -344,7 +344,9 @@ static void tally(rs_counter_t *c, int l, int dir, unsigned cls) {
 
 /* Line l for a track at its first confirmed frame (t, x, y) that was first
  * seen at (x0, y0) at time t0 and did not cross it since: did it cross it
- * unseen just before (the header's hidden crossings)? The direction, or 0. */
+ * unseen just before (the header's hidden crossings)? The direction, or 0;
+ * when and where along the line (hidden_at_track: where (x, y) is along it,
+ * the track's lane, not where a partial first box's path met it). */
 static int hidden_crossing(rs_counter_t *c, int l, double t0, double x0, double y0, double t, double x, double y,
                            double *t_cross, double *s_cross) {
   if (!(c->hidden_s > 0) || !(t > t0)) return 0;
@@ -356,7 +358,7 @@ static int hidden_crossing(rs_counter_t *c, int l, double t0, double x0, double 
   double u, s;
   meet(&c->lines[l], bx, by, x0, y0, &u, &s);
   *t_cross = t0 - (1.0 - u) * c->hidden_s;
-  *s_cross = s;
+  *s_cross = c->hidden_at_track ? along(&c->lines[l], x, y) : s;
   if (*t_cross < c->t_first) return 0; /* before the run: not a crossing of it */
   return dir;
 }
@@ -567,7 +569,6 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
         double tc = 0, sc = 0;
         dir = hidden_crossing(c, l, c->slot[i].t0, c->slot[i].x0, c->slot[i].y0, t, x, y, &tc, &sc);
         if (dir == 0) continue;
-        if (c->hidden_at_track) sc = along(&c->lines[l], x, y); /* its lane, not where a partial first box's path met it */
         if (counted_near(c, l, tc, sc, dir, HIDDEN_DT, 0)) {
           c->hidden_dup++;
           mark_counted(c, i, (uint16_t)(1u << l), dir); /* its vehicle's: not checked again */

@@ -667,7 +667,7 @@ static void imm_step(rs_track_t *t, const double z[2], double r, double tk, cons
   for (int j = 0; j < 2; j++) {
     for (int a = 0; a < 2; a++) {
       const double *x0a = x0[j][a];
-      double(*A)[3] = P0[j][a];
+      double(*A)[3] = P0[j][a]; /* (read only) */
       double x[3], P[3][3];
       if (j == 0) { /* CV: the acceleration is 0; Q the white-noise acceleration's */
         const double qa = q[a];

@@ -383,7 +383,8 @@ typedef struct {
   double vmax;                         /* the fastest track's speed this frame */
   bool have_pose;
   double rot[9], trans[3];             /* sensor -> site (rs_pose_t's convention) */
-  uint16_t near[RS_TRACK_MAX];
+  uint16_t near[RS_TRACK_MAX];         /* scratch: tracks_near's result, and the stitching's and the blind link's
+                                          candidate lists in their passes */
   /* per object of the last frame: the held tracks (list indices) its returns are divided between */
   uint32_t hold_objects;               /* objects of the last frame */
   uint8_t hold_n[RS_OBJ_MAX];
