@@ -114,6 +114,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
   tr->hold_objects = 0;
+  tr->obj_base = NULL;
+  tr->obj_n = 0;
   tr->have_pose = false;
   tr->cfg = *cfg;
   tr->next_id = 1;
@@ -192,6 +194,11 @@ const char *rs_class_name(rs_class_t c) {
   return (unsigned)c < RS_CLASS_COUNT ? names[c] : "?";
 }
 
+/* the length of (x, y): libm's hypot guards against overflow and rounds more
+ * carefully, at about twenty times the cost; the tracker's numbers are metres
+ * and metres per second, far from overflow */
+static inline double norm2(double x, double y) { return sqrt(x * x + y * y); }
+
 /* object k's measurement: box centre, noise sd */
 static void meas(const rs_tracker_t *tr, const rs_object_t *o, double *z, double *sd) {
   z[0] = o->sensor.obb_center[0];
@@ -222,7 +229,22 @@ static void box_on(const rs_object_t *o, double h, double c, double s, double e[
   const double cv = -o->sensor.obb_center[0] * s + o->sensor.obb_center[1] * c;
   e[0] = cu - du, e[1] = cu + du, e[2] = cv - dv, e[3] = cv + dv;
 }
-static void box_on_axes(const rs_track_t *t, const rs_object_t *o, double e[4]) { box_on(o, t->heading, t->hcos, t->hsin, e); }
+/* box_on on track t's axes: the cosine and sine of the angle between the two
+ * headings from the track's (hcd, hsd) and the object's (obj_cs, once a frame) */
+static void box_on_axes(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o, double e[4]) {
+  const uintptr_t at = (uintptr_t)o, base = (uintptr_t)tr->obj_base;
+  if (tr->obj_base == NULL || at < base || at >= base + tr->obj_n * sizeof *o) {
+    box_on(o, t->heading, t->hcos, t->hsin, e);
+    return;
+  }
+  const double *cs = tr->obj_cs[(at - base) / sizeof *o];
+  const double cd = fabs(cs[0] * t->hcd + cs[1] * t->hsd), sd = fabs(cs[1] * t->hcd - cs[0] * t->hsd);
+  const double a = 0.5 * o->sensor.obb_length, b = 0.5 * o->sensor.obb_width, c = t->hcos, s = t->hsin;
+  const double du = a * cd + b * sd, dv = a * sd + b * cd;
+  const double cu = o->sensor.obb_center[0] * c + o->sensor.obb_center[1] * s;
+  const double cv = -o->sensor.obb_center[0] * s + o->sensor.obb_center[1] * c;
+  e[0] = cu - du, e[1] = cu + du, e[2] = cv - dv, e[3] = cv + dv;
+}
 
 /* the point at u along axes (c, s) on the centre line of a box whose extents on them are e (box_on) */
 static void end_point(double c, double s, const double e[4], double u, double p[2]) {
@@ -243,7 +265,7 @@ static int hidden_end_on(double c, double s, const rs_object_t *o, const double 
   double pa[2], pb[2];
   end_point(c, s, e, e[0], pa); /* the end of smaller u */
   end_point(c, s, e, e[1], pb); /* of larger u */
-  const double cross = pa[0] * pb[1] - pa[1] * pb[0], norm = hypot(pa[0], pa[1]) * hypot(pb[0], pb[1]);
+  const double cross = pa[0] * pb[1] - pa[1] * pb[0], norm = norm2(pa[0], pa[1]) * norm2(pb[0], pb[1]);
   if (!(norm > 0) || !(fabs(cross) > sin_min * norm)) return 0; /* ends within asin(sin_min) of one line of sight */
   const bool larger_first = cross > 0; /* counter-clockwise: the smaller azimuth */
   return (h == RS_OBJ_HIDDEN_START) == larger_first ? 1 : -1;
@@ -259,7 +281,7 @@ static double reach_at(const rs_tracker_t *tr, double top) {
 }
 
 /* how near the sensor the nearest corner of a box len x wid centred at (x, y) can be (m) */
-static double near_edge(double x, double y, double len, double wid) { return hypot(x, y) - 0.5 * hypot(len, wid); }
+static double near_edge(double x, double y, double len, double wid) { return norm2(x, y) - 0.5 * norm2(len, wid); }
 
 /* how near the sensor the lowest beam reaches track t's top (m; 0: everywhere, or not known). The
  * top is midway between its objects' returns' top and the row above them (top), not the returns' top
@@ -289,7 +311,7 @@ static double seg_near(double ax, double ay, double bx, double by) {
   const double dx = bx - ax, dy = by - ay, d2 = dx * dx + dy * dy;
   double u = d2 > 0 ? -(ax * dx + ay * dy) / d2 : 0.0;
   u = u < 0 ? 0 : u > 1 ? 1 : u;
-  return hypot(ax + u * dx, ay + u * dy);
+  return norm2(ax + u * dx, ay + u * dy);
 }
 static double blind_reach(const rs_tracker_t *tr, const rs_track_t *t) { return reach_at(tr, (double)t->z_min + (double)t->height); }
 
@@ -320,13 +342,13 @@ static double blind_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_t
   const double dt = y->t_birth - o->t_update;
   if (!(dt > 0) || dt > cf->blind_s || !at_blind_edge(tr, o)) return -1.0;
   const double rb = blind_reach(tr, o);
-  if (hypot(y->px0, y->py0) > rb + BLIND_BIRTH_M) return -1.0;
-  const double ax = o->last_z[0], ay = o->last_z[1], dx = y->px0 - ax, dy = y->py0 - ay, d = hypot(dx, dy);
+  if (norm2(y->px0, y->py0) > rb + BLIND_BIRTH_M) return -1.0;
+  const double ax = o->last_z[0], ay = o->last_z[1], dx = y->px0 - ax, dy = y->py0 - ay, d = norm2(dx, dy);
   if (d < 2.0 || d > 0.5 * cf->max_speed * dt + 5.0) return -1.0;
-  const double vx = y->x[2], vy = y->x[3], v = hypot(vx, vy);
+  const double vx = y->x[2], vy = y->x[3], v = norm2(vx, vy);
   if (v < 1.0) return -1.0;
   const double cosv = (vx * dx + vy * dy) / (v * d);
-  const double vo = hypot(o->x[2], o->x[3]);
+  const double vo = norm2(o->x[2], o->x[3]);
   if (cosv >= BLIND_COS && !(vo > 2.0 && o->x[2] * dx + o->x[3] * dy < BLIND_COS * vo * d))
     return seg_near(ax, ay, y->px0, y->py0) < rb + BLIND_WAY_M ? 1.0 - cosv : -1.0;
   /* the turn: s along o's line and r back along y's to p */
@@ -369,7 +391,7 @@ static bool below_beam_view(const rs_tracker_t *tr, const rs_track_t *t, const r
   for (int i = 0; i < BB_NU; i++)
     for (int j = 0; j < BB_NV; j++) {
       const double u = len * ((double)i / (BB_NU - 1) - 0.5), v = wid * ((double)j / (BB_NV - 1) - 0.5);
-      if (hypot(pcx + u * c - v * s, pcy + u * s + v * c) < rb) continue;
+      if (norm2(pcx + u * c - v * s, pcy + u * s + v * c) < rb) continue;
       seen++;
       umin = fmin(umin, u);
       umax = fmax(umax, u);
@@ -403,7 +425,7 @@ static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_objec
   if (t == NULL || t->hits == 0) return;
   const double c = t->hcos, s = t->hsin;
   double e[4];
-  box_on_axes(t, o, e);
+  box_on_axes(tr, t, o, e);
   const double ext_u = e[1] - e[0], ext_v = e[3] - e[2];
   const int hidden = tr->cfg.hidden_anchor ? hidden_end(t, o, e) : 0;
   const double miss_u = fmin(MAX_SHIFT, fmax(0.0, 0.5 * ((double)t->length - ext_u)));
@@ -434,10 +456,10 @@ static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_objec
  * turn rate under SEEN_ACROSS_TURN): at most seen_across_m (a cluster of the
  * next lane's vehicle, or of it and this one together, is not this one) */
 static bool off_lane(const rs_track_cfg_t *cf, const rs_track_t *t, double dx, double dy, double unseen) {
-  if (!size_known(t) || hypot(t->x[2], t->x[3]) <= 2.0) return false;
+  if (!size_known(t) || norm2(t->x[2], t->x[3]) <= 2.0) return false;
   const double across = fabs(-dx * t->hsin + dy * t->hcos);
   if (unseen <= 0.5)
-    return cf->seen_across_m > 0 && across > cf->seen_across_m && hypot(t->x[0], t->x[1]) < SEEN_ACROSS_RANGE_M &&
+    return cf->seen_across_m > 0 && across > cf->seen_across_m && norm2(t->x[0], t->x[1]) < SEEN_ACROSS_RANGE_M &&
            fabs(rs_track_turn_rate(t)) < SEEN_ACROSS_TURN;
   return cf->reacq_across_m > 0 && across > cf->reacq_across_m + 0.5 * t->width + 0.5 * (unseen - 0.5);
 }
@@ -717,8 +739,10 @@ static void imm_step(rs_track_t *t, const double z[2], double r, double tk, cons
 
 static void set_heading(rs_track_t *t, float h) {
   t->heading = h;
-  t->hcos = cosf(h);
-  t->hsin = sinf(h);
+  t->hcd = cos((double)h);
+  t->hsd = sin((double)h);
+  t->hcos = (float)t->hcd;
+  t->hsin = (float)t->hsd;
 }
 
 static double obj_time(const rs_object_t *o, double t_frame) {
@@ -996,7 +1020,7 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
     rs_track_t *t = &tr->list.track[i];
     if (rs_track_held(t) || t->object >= 0 || t->blind_kept) continue;
     if ((t->state != RS_TRACK_TENTATIVE) != confirmed_round) continue;
-    const double sp = hypot(t->x[2], t->x[3]);
+    const double sp = norm2(t->x[2], t->x[3]);
     const double radius = cf->gate_m + sp * 0.15 + MAX_SHIFT;
     const long g0x = (long)floor((t->x[0] - radius) / GRID), g1x = (long)floor((t->x[0] + radius) / GRID);
     const long g0y = (long)floor((t->x[1] - radius) / GRID), g1y = (long)floor((t->x[1] + radius) / GRID);
@@ -1017,7 +1041,7 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
           if (d > (unseen > 0.5 ? fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (unseen - 0.5)) : cf->gate_m)) continue;
           if (off_lane(cf, t, dx, dy, unseen)) continue;
           const double dtu = tk - t->t_z; /* the speed the pairing implies, from the last measurement */
-          if (dtu > 0.02 && hypot(z[0] - t->last_z[0], z[1] - t->last_z[1]) / dtu > cf->max_speed) continue;
+          if (dtu > 0.02 && norm2(z[0] - t->last_z[0], z[1] - t->last_z[1]) / dtu > cf->max_speed) continue;
           const double s00 = S[0] + sd * sd, s01 = S[1], s11 = S[2] + sd * sd, det = s00 * s11 - s01 * s01;
           if (!(det > 0)) continue;
           const double m2 = (dx * dx * s11 - 2 * dx * dy * s01 + dy * dy * s00) / det;
@@ -1032,7 +1056,8 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
           /* and how unlike the track's last object it is: a track keeps its object, not a fragment beside it */
           /* (beyond what counting noise explains: 3 sd of the smaller count) */
           const double lo = o->points < t->points ? o->points : t->points, hi = o->points < t->points ? t->points : o->points;
-          const double unlike = lo > 0 ? fmax(0.0, log(hi / lo) - log(1.0 + 3.0 / sqrt(lo))) : 0.0;
+          const double ratio = lo > 0 ? hi / lo / (1.0 + 3.0 / sqrt(lo)) : 1.0; /* (one log, none when alike) */
+          const double unlike = ratio > 1.0 ? log(ratio) : 0.0;
           const float cost = (float)(m2 + log(det) + cf->size_weight * fmin(unlike, 4.0));
           /* keep the best EDGES_PER_TRACK, by cost then object order */
           int at = nb;
@@ -1069,14 +1094,14 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
 #define UPRIGHT_SPREAD_M 0.1
 static bool still_fast(const rs_track_cfg_t *cf, const rs_track_t *t) {
   if (t->misses != 0 || !(cf->confirm_still_spread > 0)) return false;
-  const double spread = cf->confirm_still_spread + 0.005 * hypot(t->px0, t->py0);
+  const double spread = cf->confirm_still_spread + 0.005 * norm2(t->px0, t->py0);
   int need = cf->confirm_still_points;
   const bool walker = walker_sized(t) && t->hits >= (uint32_t)cf->confirm_hits + 1;
   if (walker && cf->confirm_walker_points > 0 && cf->confirm_walker_points < need) need = cf->confirm_walker_points;
   if (walker && cf->confirm_upright_points > 0 && cf->confirm_upright_points < need && t->height >= UPRIGHT_M &&
       t->spread <= fmin(spread, UPRIGHT_SPREAD_M))
     need = cf->confirm_upright_points;
-  const double r = hypot(t->x[0], t->x[1]), r0 = cf->confirm_still_range;
+  const double r = norm2(t->x[0], t->x[1]), r0 = cf->confirm_still_range;
   uint32_t bar = (uint32_t)need;
   if (r0 > 0 && r > r0) bar = (uint32_t)fmin(fmax(RS_TRACK_STILL_POINTS_MIN, ceil(need * (r0 / r) * (r0 / r))), need);
   return t->points >= bar && t->spread <= spread;
@@ -1156,7 +1181,7 @@ static void ref_meas(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o
   zi[0] = z[0];
   zi[1] = z[1];
   if (first) {
-    const double r = hypot(o->sensor.obb_center[0], o->sensor.obb_center[1]);
+    const double r = norm2(o->sensor.obb_center[0], o->sensor.obb_center[1]);
     t->ref_near = false;
     t->ref_dir[0] = t->ref_dir[1] = 0.0;
     if (!(tr->cfg.near_ref_m > 0) || !(r > 0)) return;
@@ -1167,7 +1192,7 @@ static void ref_meas(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o
   const bool young = tk - t->t_birth < tr->cfg.near_ref_s && (first || tk - t->imm.t <= IMM_RESTART_S);
   double p[2];
   near_side(t, o, p);
-  const bool near = young && hypot(p[0], p[1]) > tr->cfg.near_ref_m && !near_hidden(o, t->ref_dir);
+  const bool near = young && norm2(p[0], p[1]) > tr->cfg.near_ref_m && !near_hidden(o, t->ref_dir);
   if (!first && near != t->ref_near) /* the estimator's positions are the other point's: moved by the offset */
     for (int j = 0; j < 2; j++)
       for (int a = 0; a < 2; a++) t->imm.x[j][a][0] += near ? p[a] - z[a] : z[a] - p[a];
@@ -1210,7 +1235,7 @@ static bool circle_cut(const rs_tracker_t *tr, const rs_object_t *o) {
   const double h = o->sensor.obb_heading;
   double e[4]; /* the box on its own axes: the sensor's distance to it */
   box_on(o, h, cos(h), sin(h), e);
-  return hypot(fmax(0.0, fmax(e[0], -e[1])), fmax(0.0, fmax(e[2], -e[3]))) <= rb + WHOLE_CUT_M;
+  return norm2(fmax(0.0, fmax(e[0], -e[1])), fmax(0.0, fmax(e[2], -e[3]))) <= rb + WHOLE_CUT_M;
 }
 /* circle_whole: track t, born cut by the circle, takes o, the whole box of it moving out: turned onto its axis */
 static bool made_whole(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o) {
@@ -1218,7 +1243,7 @@ static bool made_whole(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t 
   if (!tr->cfg.circle_whole || !t->cut || t->made_whole || t->hits < 2 || o->sensor.obb_length < WHOLE_LEN_M ||
       o->sensor.obb_width < WHOLE_WID_M)
     return false;
-  const double v = hypot(t->x[2], t->x[3]);
+  const double v = norm2(t->x[2], t->x[3]);
   if (!(v > 1.0) || t->x[0] * t->x[2] + t->x[1] * t->x[3] <= 0.0) return false; /* moving out, away from the sensor */
   double c = cos(o->sensor.obb_heading), s = sin(o->sensor.obb_heading), vu = (t->x[2] * c + t->x[3] * s) / v;
   if (vu < 0) c = -c, s = -s, vu = -vu; /* the axis's way the track moves */
@@ -1270,7 +1295,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   t->last_z[0] = z[0];
   t->last_z[1] = z[1];
   t->t_z = tk;
-  if (t->hits > 0) t->spread = fmax(t->spread, hypot(z[0] - t->px0, z[1] - t->py0));
+  if (t->hits > 0) t->spread = fmax(t->spread, norm2(z[0] - t->px0, z[1] - t->py0));
   predict(tr, t, tk);
   if (whole) whole_again(tr, t);
   const double sdu = update_sd(tr, sd, misfit);
@@ -1311,7 +1336,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   t->hits++;
   t->t_update = tk;
   t->points = o->points;
-  const double sp = hypot(t->x[2], t->x[3]);
+  const double sp = norm2(t->x[2], t->x[3]);
   if (sp > 1.0 && t->hits >= 2) {
     set_heading(t, (float)atan2(t->x[3], t->x[2]));
   } else if (first) {
@@ -1319,7 +1344,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   }
   if (sp > 2.0 && t->hits >= 3) { /* the heading is the motion's: how wide it is across it */
     double e[4];
-    box_on_axes(t, o, e);
+    box_on_axes(tr, t, o, e);
     t->across = t->across == 0.0f ? (float)(e[3] - e[2]) : t->across + 0.2f * ((float)(e[3] - e[2]) - t->across);
   }
 }
@@ -1330,7 +1355,7 @@ static void report_speed(const rs_tracker_t *tr, rs_track_t *t) {
   const bool imm = tr->cfg.speed_imm && !walker_sized(t);
   for (int a = 0; a < 2; a++) /* the models' velocities, weighed */
     t->vel[a] = imm ? t->imm.mu[0] * t->imm.x[0][a][1] + t->imm.mu[1] * t->imm.x[1][a][1] : t->x[2 + a];
-  const double sp = hypot(t->vel[0], t->vel[1]), sdv = sqrt(0.5 * (t->P[2][2] + t->P[3][3]));
+  const double sp = norm2(t->vel[0], t->vel[1]), sdv = sqrt(0.5 * (t->P[2][2] + t->P[3][3]));
   const double floor_v = fmax(tr->cfg.still_speed, fmin(sdv, 1.0)); /* within one sd of 0 (at most 1 m/s) */
   t->speed = (float)(sp < floor_v ? 0.0 : sp);
 }
@@ -1370,7 +1395,7 @@ static void stitch(rs_tracker_t *tr, const rs_object_list_t *objs, uint32_t nobj
   const int32_t k = y->object;
   if (copy) {
     predict(tr, o, y->t_state);
-    o->distance += hypot(y->x[0] - o->prev[0], y->x[1] - o->prev[1]);
+    o->distance += norm2(y->x[0] - o->prev[0], y->x[1] - o->prev[1]);
     memcpy(o->x, y->x, sizeof o->x);
     o->imm = y->imm;
     for (int a = 0; a < 4; a++)
@@ -1382,11 +1407,11 @@ static void stitch(rs_tracker_t *tr, const rs_object_list_t *objs, uint32_t nobj
     o->t_z = y->t_z;
     o->points = y->points;
     o->hits += y->hits;
-    if (hypot(o->x[2], o->x[3]) > 1.0) set_heading(o, y->heading);
+    if (norm2(o->x[2], o->x[3]) > 1.0) set_heading(o, y->heading);
   } else {
     const double ox = o->x[0], oy = o->x[1];
     take(tr, o, &objs->obj[k], tr->obj_t[k]);
-    o->distance += hypot(o->x[0] - ox, o->x[1] - oy);
+    o->distance += norm2(o->x[0] - ox, o->x[1] - oy);
     o->hits += y->hits - 1;
   }
   for (int c = 0; c < RS_CLASS_COUNT; c++) o->class_votes[c] += y->class_votes[c]; /* what y saw of it */
@@ -1408,8 +1433,8 @@ static void stitch(rs_tracker_t *tr, const rs_object_list_t *objs, uint32_t nobj
 static int twin_of(rs_tracker_t *tr, const rs_track_t *t, double t_frame) {
   const rs_track_list_t *L = &tr->list;
   if (t->state != RS_TRACK_CONFIRMED && t->state != RS_TRACK_COASTING) return -1;
-  const double vt = hypot(t->x[2], t->x[3]);
-  if (vt < DUP_BOX_V || t_frame - t->t_update > TWIN_SEEN_S || hypot(t->x[0], t->x[1]) > TWIN_RANGE_M) return -1;
+  const double vt = norm2(t->x[2], t->x[3]);
+  if (vt < DUP_BOX_V || t_frame - t->t_update > TWIN_SEEN_S || norm2(t->x[0], t->x[1]) > TWIN_RANGE_M) return -1;
   const double dtt = fmax(0.0, t_frame - t->t_state);
   const double tx = t->x[0] + t->x[2] * dtt, ty = t->x[1] + t->x[3] * dtt;
   const uint32_t nn = tracks_near(tr, tx, ty, 12.0); /* half a bus each */
@@ -1418,8 +1443,8 @@ static int twin_of(rs_tracker_t *tr, const rs_track_t *t, double t_frame) {
     const rs_track_t *o = &L->track[j];
     if (o == t || o->id == 0 || o->id > t->id) continue;
     if ((o->state != RS_TRACK_CONFIRMED && o->state != RS_TRACK_COASTING) || t_frame - o->t_update > TWIN_SEEN_S) continue;
-    const double vo = hypot(o->x[2], o->x[3]);
-    if (vo < DUP_BOX_V || hypot(o->x[2] - t->x[2], o->x[3] - t->x[3]) > TWIN_DV ||
+    const double vo = norm2(o->x[2], o->x[3]);
+    if (vo < DUP_BOX_V || norm2(o->x[2] - t->x[2], o->x[3] - t->x[3]) > TWIN_DV ||
         o->x[2] * t->x[2] + o->x[3] * t->x[3] < TWIN_COS * vo * vt)
       continue;
     const double dto = fmax(0.0, t_frame - o->t_state);
@@ -1466,6 +1491,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   if (t_frame < tr->last_t) t_frame = tr->last_t; /* time never runs back */
   tr->last_t = t_frame;
   for (int b = 0; b < GRID_BUCKETS; b++) tr->grid_head[b] = -1;
+  tr->obj_base = objs->obj;
+  tr->obj_n = nobj;
   for (uint32_t k = 0; k < nobj; k++) {
     const rs_object_t *o = &objs->obj[k];
     tr->taken_by[k] = -1;
@@ -1473,6 +1500,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     L->object_track[k] = 0;
     tr->obj_t[k] = obj_time(o, t_frame);
     if (tr->obj_t[k] < t_frame - 1.0 || tr->obj_t[k] > t_frame + 1.0) tr->obj_t[k] = t_frame;
+    tr->obj_cs[k][0] = cos(o->sensor.obb_heading);
+    tr->obj_cs[k][1] = sin(o->sensor.obb_heading);
     if (o->points == 0) continue;
     tr->obj_cell[k][0] = (long)floor(o->sensor.obb_center[0] / GRID);
     tr->obj_cell[k][1] = (long)floor(o->sensor.obb_center[1] / GRID);
@@ -1490,7 +1519,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   for (uint32_t k = 0; k < nobj; k++) {
     const rs_object_t *o = &objs->obj[k];
     if (o->points == 0 || o->sensor.obb_length < 0.8f) continue;
-    const double oc = cos(o->sensor.obb_heading), os = sin(o->sensor.obb_heading);
+    const double oc = tr->obj_cs[k][0], os = tr->obj_cs[k][1];
     int in = 0;
     double first[2] = {0, 0};
     float first_len = 0.0f;
@@ -1509,7 +1538,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       if (!in_box(o, oc, os, p[0], p[1], 0.3)) continue;
       /* apart: two objects side by side (pedestrians 0.7 m, cars in a queue 6 m) */
       if (in == 0) first[0] = p[0], first[1] = p[1], first_len = t->length;
-      else if (hypot(p[0] - first[0], p[1] - first[1]) >= 0.25 * (first_len + t->length) + 0.4) apart = true;
+      else if (norm2(p[0] - first[0], p[1] - first[1]) >= 0.25 * (first_len + t->length) + 0.4) apart = true;
       if (t->points > most_points) most_points = t->points;
       was_held += t->was_held;
       in++;
@@ -1570,21 +1599,27 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   uint32_t nunseen = 0; /* the coasting and lost tracks not held, in index order */
   for (uint32_t j = 0; j < L->count; j++) {
     const rs_track_t *o = &L->track[j];
-    if (unseen(o) && !o->blind_kept) tr->near[nunseen++] = (uint16_t)j;
+    if (unseen(o) && !o->blind_kept) {
+      tr->near_pos[nunseen][0] = tr->tpos[j][0];
+      tr->near_pos[nunseen][1] = tr->tpos[j][1];
+      tr->near[nunseen++] = (uint16_t)j;
+    }
   }
+  const double gr2 = gr * gr;
   for (uint32_t i = 0; i < L->count && nunseen > 0; i++) {
     rs_track_t *y = &L->track[i];
     if (y->object < 0 || y->id == 0) continue;
     int best = -1;
     double best_m2 = cf->gate_chi2;
     for (uint32_t q = 0; q < nunseen; q++) {
+      /* far from its position at the frame's time: out of every gate below (at most 2 gate_m from its
+       * prediction at y's time, which is within 0.15 s x max_speed of it); tested first, on the
+       * candidates' positions side by side (near_pos), before any track is read */
+      const double gx = y->x[0] - tr->near_pos[q][0], gy = y->x[1] - tr->near_pos[q][1];
+      if (gx * gx + gy * gy > gr2) continue;
       const uint32_t j = tr->near[q];
       const rs_track_t *o = &L->track[j];
       if (j == i || o->id == 0 || o->object >= 0) continue; /* (stitched this frame) */
-      /* far from its position at the frame's time: out of every gate below (at most 2 gate_m from its
-       * prediction at y's time, which is within 0.15 s x max_speed of it) */
-      const double gx = y->x[0] - tr->tpos[j][0], gy = y->x[1] - tr->tpos[j][1];
-      if (gx * gx + gy * gy > gr * gr) continue;
       if (walker_like(cf, o) && vehicle_sized(y->length, y->width)) continue; /* a walker is not a vehicle */
       if (walker_reacq(cf, o, y->t_state - o->t_update, y->length, y->width, y->points)) continue;
       double p[2], S[3];
@@ -1695,7 +1730,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
         const double lmax = fmax(o->length, t->length), lmin = fmin(o->length, t->length);
         const double dx = o->x[0] - px, dy = o->x[1] - py, r = fmax(0.5, 0.35 * o->length);
         dup = dx * dx + dy * dy <= r * r && lmin >= 0.5 * lmax - 0.5;
-        if (!dup && cf->dup_box && o->length >= DUP_BOX_M && hypot(o->x[2], o->x[3]) >= DUP_BOX_V && move_alike(o, t))
+        if (!dup && cf->dup_box && o->length >= DUP_BOX_M && norm2(o->x[2], o->x[3]) >= DUP_BOX_V && move_alike(o, t))
           dup = in_track_box(tr, o, px, py);
       }
     }
@@ -1718,7 +1753,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     const double since = t_frame - t->t_update;
     bool ends = false;
     if (t->state == RS_TRACK_TENTATIVE) {
-      const double moved = hypot(t->x[0] - t->px0, t->x[1] - t->py0);
+      const double moved = norm2(t->x[0] - t->px0, t->x[1] - t->py0);
       if (!updated && since > cf->tentative_miss_s) {
         ends = true;
       } else if (updated && t->hits >= (uint32_t)cf->confirm_hits &&
@@ -1742,7 +1777,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       continue;
     }
     report_speed(tr, t);
-    t->distance += hypot(t->x[0] - t->prev[0], t->x[1] - t->prev[1]); /* path, coasting included */
+    t->distance += norm2(t->x[0] - t->prev[0], t->x[1] - t->prev[1]); /* path, coasting included */
     t->prev[0] = t->x[0];
     t->prev[1] = t->x[1];
     if (updated || rs_track_held(t)) t->distance_seen = t->distance;
@@ -1801,6 +1836,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     else tr->n.hold_overflow++;
   }
   if (tr->have_pose) site_states(tr);
+  tr->obj_base = NULL; /* (the caller's list: not kept past the frame) */
+  tr->obj_n = 0;
 }
 
 uint32_t rs_track_owner(const rs_tracker_t *tr, uint32_t k, double x, double y) {

@@ -291,6 +291,7 @@ typedef struct {
   float full_length, full_width;      /* the largest smoothed box, falling 0.05 (0.02) m an update */
   float heading;             /* radians from +X, counter-clockwise, (-pi, pi] */
   float hcos, hsin;          /* its cosine and sine */
+  double hcd, hsd;           /* the same in double (box_on_axes) */
   float speed;               /* reported (0 when still) */
   float max_speed, sum_speed;
   uint32_t speed_n;
@@ -365,6 +366,9 @@ typedef struct {
   int32_t taken_by[RS_OBJ_MAX];        /* object -> track index, -1 */
   uint8_t shared[RS_OBJ_MAX];          /* object box holds >= 2 confirmed predictions */
   double obj_t[RS_OBJ_MAX];
+  double obj_cs[RS_OBJ_MAX][2];        /* cosine and sine of the object's box heading */
+  const rs_object_t *obj_base;         /* the frame's objects (obj_cs's), obj_n of them */
+  uint32_t obj_n;
   long obj_cell[RS_OBJ_MAX][2];        /* the grid cell of the object's box centre */
   uint16_t comp[RS_TRACK_MAX + RS_OBJ_MAX];
   uint16_t gt[RS_TRACK_GROUP_MAX], go[RS_TRACK_GROUP_MAX];
@@ -385,6 +389,7 @@ typedef struct {
   double rot[9], trans[3];             /* sensor -> site (rs_pose_t's convention) */
   uint16_t near[RS_TRACK_MAX];         /* scratch: tracks_near's result, and the stitching's and the blind link's
                                           candidate lists in their passes */
+  double near_pos[RS_TRACK_MAX][2];    /* scratch: the stitching's candidates' tpos, in near's order */
   /* per object of the last frame: the held tracks (list indices) its returns are divided between */
   uint32_t hold_objects;               /* objects of the last frame */
   uint8_t hold_n[RS_OBJ_MAX];
