@@ -61,10 +61,12 @@ row() { # tag label
   local tag=$1 label=$2
   $bin/roadscand --pcap "$out/$tag.pcap" --fast --background "$out/$tag.bg" --no-publish --quiet ${extra:-} \
     --labels-out out/tracking/$tag${sfx:-}-labels.csv --tracks-out out/tracking/$tag${sfx:-}-tracks.csv \
-    --counts-out out/tracking/$tag${sfx:-}-counts.csv "${lines[@]}" 2>/dev/null
+    --counts-out out/tracking/$tag${sfx:-}-counts.csv --crossings-out out/tracking/$tag${sfx:-}-crossings.csv \
+    "${lines[@]}" 2>/dev/null
   $bin/roadscan-eval --tracking "$out/$tag.pcap" "$out/$tag-truth.csv" out/tracking/$tag${sfx:-}-labels.csv --json \
     --truth-states "$out/$tag-states.csv" --tracks out/tracking/$tag${sfx:-}-tracks.csv \
-    --counts out/tracking/$tag${sfx:-}-counts.csv "${lines[@]}" > out/tracking/$tag${sfx:-}.json 2>/dev/null
+    --counts out/tracking/$tag${sfx:-}-counts.csv --crossings out/tracking/$tag${sfx:-}-crossings.csv "${lines[@]}" \
+    > out/tracking/$tag${sfx:-}.json 2>/dev/null
   python3 - "$label" out/tracking/$tag${sfx:-}.json <<'PY'
 import json, sys
 label, path = sys.argv[1:3]
@@ -81,12 +83,16 @@ print(f"| {label} | {pct(j['mota'])} | {pct(j['idf1'])} | {pct(j['motp_iou'])} |
       + ", ".join(f"{k[6:].replace('_', ' ')} {v['counted']}/{v['true']}" for k, v in j.items()
                   if k.startswith('count_') and (v['true'] or v['counted'])) + " | "
       + f"{j['zone_junction_entered']['counted']}/{j['zone_junction_entered']['true']} in, "
-      + f"{j['zone_junction_exited']['counted']}/{j['zone_junction_exited']['true']} out |")
+      + f"{j['zone_junction_exited']['counted']}/{j['zone_junction_exited']['true']} out | "
+      + f"{num(j['spot_speed_rmse_vehicles_seen'])} ({j['spot_speed_samples_vehicles_seen']}), "
+      + f"{num(j['spot_speed_rmse_vehicles'])} ({j['spot_speed_samples_vehicles']}); "
+      + f"{num(j['spot_speed_rmse_vehicles_listed'])} / {num(j['track_speed_at_crossing_rmse_vehicles'])} "
+      + f"({j['track_speed_at_crossing_samples_vehicles']}) |")
 PY
 }
 header() { # the tables' head
-  echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks | speed RMSE | position RMSE | confirmed in 0.3 s | class count error | crossings | per line | junction |"
-  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+  echo "| capture | MOTA | IDF1 | MOTP | id switches | fragmentations | misses | false positives | true instances | MT / PT / ML | tracks | speed RMSE | position RMSE | confirmed in 0.3 s | class count error | crossings | per line | junction | speed at the lines |"
+  echo "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 }
 if [ "${1:-}" = "--turns" ]; then
   out=out/turns
@@ -174,7 +180,11 @@ fi
   echo "direction. Class count error: the sum over lines, directions and classes of |counted - true| over the"
   echo "true crossings (the simulator's van and truck are van/truck). Junction: entries into and exits from the"
   echo "14 m square where the roads cross (\`--count-zone\` in this script), counted / true (each road user's"
-  echo "centre moving in or out from one true state to the next)."
+  echo "centre moving in or out from one true state to the next). Speed at the lines: the spot speeds of"
+  echo "\`--crossings-out\` (each crossing counted, matched to a true one of its line and way within 1.5 s and"
+  echo "2.5 m along it; \`roadscan-eval --crossings\`) against the true speed at the crossing, vehicles, RMSE"
+  echo "(m/s) and crossings: those seen crossing, all; then where the track was listed confirmed at the"
+  echo "crossing, the spot speed's and the track's own reported speed's RMSE on those same crossings."
   echo
   header
 } > "$doc"

@@ -9,7 +9,9 @@
  * a lost track taken up again past a line; unseen crossings (a track
  * followed on its prediction, held until it is seen again or ends); the band
  * (a car standing on a line, a track running on over it as its car stops);
- * a walker crossing back (counted each way once, a car's track once). */
+ * a walker crossing back (counted each way once, a car's track once); the
+ * crossing events (time, place, class, how, the spot speed around the
+ * crossing; none for a crossing taken back; a full pool counted). */
 #include "roadscan/perception/count.h"
 #include "roadscan/util/error.h"
 #include "testutil.h"
@@ -743,6 +745,145 @@ START_TEST(t_walker_back) {
 }
 END_TEST
 
+/* ---- crossing events (count.h) ---- */
+static rs_count_event_t evs[512];
+static uint32_t nevs;
+static void take_events(void) {
+  for (uint32_t k = 0; k < cnt.nevents && nevs < 512; k++) evs[nevs++] = cnt.events[k];
+}
+static void frame(double t) {
+  rs_count_frame(&cnt, &tl, t);
+  take_events();
+}
+
+/* on a fresh counter of lines l (tallied when found), track id from x0 towards -x at 8 m/s for
+ * frames at 10 Hz from t0: the events */
+static uint32_t straight(const char *const *l, uint32_t id, double x0, int frames, double t0) {
+  setup(l, 1, NULL, 60);
+  nevs = 0;
+  for (int f = 0; f < frames; f++) {
+    tl.count = 0;
+    one(id, RS_TRACK_CONFIRMED, RS_CLASS_CAR, x0 - 0.8 * f, 1.0);
+    frame(t0 + 0.1 * f);
+  }
+  return nevs;
+}
+
+/* A car speeding up at 1.5 m/s^2 from 2 m/s towards -x crosses "gate 0 -5 0 5" 1 m along -y of
+ * its middle (y = 1: 6 m from A), its track reporting a speed 1 m/s behind (a filter's lag): the
+ * event comes when the crossing is tallied (the class delay, 2 s), with the time it crossed, the
+ * place along the line, its class, and the speed over the 2 s around the crossing: the true speed
+ * there within 0.1 m/s (the window is centred on the crossing within a frame), not the track's. */
+START_TEST(t_crossing_events) {
+  static const char *const l[] = {"gate 0 -5 0 5"}; /* forward: towards -x */
+  setup(l, 1, NULL, 60);
+  cnt.class_delay_s = 2.0;
+  nevs = 0;
+  const double x0 = 12.0, v0 = 2.0, a = 1.5; /* x = x0 - v0 t - a t^2 / 2: at 0 when t = 2.4 s */
+  const double tc = (-v0 + sqrt(v0 * v0 + 2.0 * a * x0)) / a, vc = v0 + a * tc;
+  for (int f = 0; f < 60; f++) {
+    const double t = 0.1 * f;
+    tl.count = 0;
+    one(4, RS_TRACK_CONFIRMED, RS_CLASS_CAR, x0 - v0 * t - 0.5 * a * t * t, 1.0);
+    sized(4.5f);
+    tl.track[0].speed = (float)(v0 + a * t - 1.0);
+    frame(200.0 + t);
+    if (200.0 + t < 200.0 + tc + 1.9) ck_assert_uint_eq(nevs, 0); /* not before it is tallied */
+  }
+  ck_assert_uint_eq(cnt.crossings, 1);
+  ck_assert_uint_eq(nevs, 1);
+  ck_assert_uint_eq(evs[0].track, 4);
+  ck_assert_int_eq(evs[0].line, 0);
+  ck_assert_int_eq(evs[0].dir, 1);
+  ck_assert_int_eq(evs[0].cls, RS_CLASS_CAR);
+  ck_assert_int_eq(evs[0].how, RS_CROSS_SEEN);
+  ck_assert_double_eq_tol(evs[0].t, 200.0 + tc, 0.01);
+  ck_assert_double_eq_tol(evs[0].at, 6.0, 0.01);
+  ck_assert_double_eq_tol(evs[0].speed, vc, 0.1);
+  ck_assert_str_eq(rs_count_how_name(RS_CROSS_SEEN), "seen");
+
+  /* tallied sooner (the class delay 0): the window ends at the crossing's frame, the speed over
+   * the second before it; with under 0.3 s of it (a track first seen at the line), unknown */
+  ck_assert_uint_eq(straight(l, 5, 10.0, 30, 300.0), 1);
+  ck_assert_double_eq_tol(evs[0].speed, 8.0, 0.01);
+  ck_assert_uint_eq(straight(l, 6, 0.9, 5, 400.0), 1);
+  ck_assert_float_eq(evs[0].speed, -1.0f);
+
+  /* a hidden crossing (first seen 6 m past the line, 8 m/s): the time its path was run back to, and
+   * the speed its track reports when it is tallied */
+  setup(l, 1, NULL, 60);
+  nevs = 0;
+  tl.count = 0;
+  frame(50.0);
+  for (int f = 0; f < 6; f++) {
+    tl.count = 0;
+    one(7, f < 3 ? RS_TRACK_TENTATIVE : RS_TRACK_CONFIRMED, RS_CLASS_CAR, -6.0 - 0.8 * f, 3.0);
+    tl.track[0].speed = 7.5f;
+    frame(51.0 + 0.1 * f);
+  }
+  ck_assert_uint_eq(nevs, 1);
+  ck_assert_int_eq(evs[0].how, RS_CROSS_HIDDEN);
+  ck_assert_double_eq_tol(evs[0].t, 50.25, 0.01);
+  ck_assert_float_eq(evs[0].speed, 7.5f);
+
+  /* on a prediction (seen until x = 2.4, predicted over the line at t = 101.0, never seen again):
+   * tallied when it leaves the list, the positions on its prediction giving the speed */
+  setup(l, 1, NULL, 60);
+  hidden_car(1, 20, 8.0, -8.0, 7, 24, -1, 0);
+  ck_assert_uint_eq(cnt.nevents, 1);
+  ck_assert_int_eq(cnt.events[0].how, RS_CROSS_UNSEEN);
+  ck_assert_double_eq_tol(cnt.events[0].t, 101.0, 0.01);
+  ck_assert_double_eq_tol(cnt.events[0].speed, 8.0, 0.01);
+
+  /* taken back (the band: a track over the line, seen back before its crossing is tallied): no
+   * event for it; the drive over later is one */
+  setup(l, 1, NULL, 60);
+  cnt.class_delay_s = 2.0;
+  nevs = 0;
+  double t = 80.0;
+  for (int f = 0; f <= 36; f++, t += 0.1) {
+    tl.count = 0;
+    one(8, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 2.2 - 0.1 * f, -2.0);
+    sized(4.5f);
+    frame(t);
+  }
+  for (int g = 0; g < 80; g++, t += 0.1) {
+    tl.count = 0;
+    one(8, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 0.6, -2.0);
+    sized(4.5f);
+    frame(t);
+  }
+  const double t_over = t;
+  for (int g = 0; g < 40; g++, t += 0.1) {
+    tl.count = 0;
+    one(8, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 0.6 - 0.2 * g, -2.0);
+    sized(4.5f);
+    frame(t);
+  }
+  ck_assert_uint_eq(cnt.back_undone, 1);
+  ck_assert_uint_eq(cnt.crossings, 1);
+  ck_assert_uint_eq(nevs, 1);
+  ck_assert_double_gt(evs[0].t, t_over);
+  ck_assert_uint_eq(cnt.nopen, 0);
+
+  /* 300 tracks crossing in one frame: all counted; the waiting pool holds RS_COUNT_OPEN_MAX, the rest's
+   * events are lost and counted */
+  static const char *const wide[] = {"wide 0 -500 0 500"};
+  setup(wide, 1, NULL, 60);
+  cnt.class_delay_s = 2.0;
+  nevs = 0;
+  for (int f = 0; f < 30; f++) {
+    tl.count = 0;
+    for (int k = 0; k < 300; k++) one((uint32_t)k + 1, RS_TRACK_CONFIRMED, RS_CLASS_CAR, f == 0 ? 1.0 : -1.0 - 0.1 * f, k);
+    frame(500.0 + 0.1 * f);
+  }
+  ck_assert_uint_eq(cnt.crossings, 300);
+  ck_assert_uint_eq(nevs, RS_COUNT_OPEN_MAX);
+  ck_assert_uint_eq(cnt.events_lost, 300 - RS_COUNT_OPEN_MAX);
+  ck_assert_uint_eq(cnt.nopen, 0);
+}
+END_TEST
+
 START_TEST(t_bad_lines) {
   rs_count_line_t line;
   char err[RS_ERRMSG_SIZE];
@@ -807,6 +948,7 @@ int main(void) {
   tcase_add_test(tc, t_unseen_crossings);
   tcase_add_test(tc, t_band);
   tcase_add_test(tc, t_walker_back);
+  tcase_add_test(tc, t_crossing_events);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

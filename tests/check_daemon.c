@@ -690,8 +690,11 @@ START_TEST(t_tracks_outputs) {
   /* counts: a CSV per closed interval, the summary's totals */
   char cf[600];
   snprintf(cf, sizeof cf, "%s", tu_tmp("trk-counts.csv"));
+  char xf[600];
+  snprintf(xf, sizeof xf, "%s", tu_tmp("trk-crossings.csv"));
   snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s --no-publish --count-line \"east 31.5 4.5 31.5 18.5\" "
-           "--count-line \"west -8.5 4.5 -8.5 18.5\" --count-interval 1 --counts-out %s", cap, model, cf);
+           "--count-line \"west -8.5 4.5 -8.5 18.5\" --count-line \"mid 25 4.5 25 18.5\" --count-interval 1 --counts-out %s "
+           "--crossings-out %s", cap, model, cf, xf);
   ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
   ck_assert_ptr_nonnull(strstr(out, "counts ("));
   ck_assert_ptr_nonnull(strstr(out, "east forward"));
@@ -700,10 +703,47 @@ START_TEST(t_tracks_outputs) {
   ck_assert_ptr_nonnull(fgets(line, sizeof line, f));
   ck_assert_str_eq(line, "t_start,t_end,line,direction,class,count\n");
   int all_rows = 0;
-  while (fgets(line, sizeof line, f)) all_rows += strstr(line, ",all,") != NULL;
+  long counted = 0;
+  while (fgets(line, sizeof line, f)) {
+    const char *sum_at = strstr(line, ",all,");
+    all_rows += sum_at != NULL;
+    if (sum_at) counted += strtol(sum_at + 5, NULL, 10);
+  }
   fclose(f);
-  ck_assert_int_ge(all_rows, 4 * 3); /* 2 lines x 2 directions x >= 3 intervals of 1 s */
-  ck_assert_int_eq(all_rows % 4, 0);
+  ck_assert_int_ge(all_rows, 6 * 3); /* 3 lines x 2 directions x >= 3 intervals of 1 s */
+  ck_assert_int_eq(all_rows % 6, 0);
+  /* crossings: one line per crossing counted, each with its line, way, place, class, track, speed, how
+   * (two cars cross "mid" in the capture's first 2 s, tallied at its end: the class delay) */
+  f = fopen(xf, "r");
+  ck_assert_ptr_nonnull(f);
+  ck_assert_ptr_nonnull(fgets(line, sizeof line, f));
+  ck_assert_str_eq(line, "t,line,direction,at,class,track,speed,how\n");
+  long events = 0, with_speed = 0;
+  while (fgets(line, sizeof line, f)) {
+    double t, at;
+    char name[16], dir[16], cls[16], rest[64];
+    unsigned id;
+    ck_assert_msg(sscanf(line, "%lf,%15[^,],%15[^,],%lf,%15[^,],%u,%63s", &t, name, dir, &at, cls, &id, rest) == 7, "%s",
+                  line);
+    ck_assert_msg(strcmp(name, "east") == 0 || strcmp(name, "west") == 0 || strcmp(name, "mid") == 0, "%s", line);
+    ck_assert_msg(strcmp(dir, "forward") == 0 || strcmp(dir, "backward") == 0, "%s", line);
+    ck_assert_msg(at >= 0.0 && at <= 14.0, "%s", line); /* along the 14 m lines */
+    ck_assert_msg(strstr(rest, ",seen") || strstr(rest, ",hidden") || strstr(rest, ",unseen"), "%s", line);
+    with_speed += rest[0] != ',';
+    events++;
+  }
+  fclose(f);
+  ck_assert_int_gt(counted, 0);
+  ck_assert_int_eq(events, counted);
+  ck_assert_int_gt(with_speed, 0);
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --background %s --count-zone \"z 0 0 4 0 4 4\" --crossings-out %s", cap,
+           model, xf);
+  ck_assert_int_eq(tu_exec(cmd, &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "--crossings-out needs a --count-line"));
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s --no-publish --count-line \"east 31.5 4.5 31.5 18.5\" "
+           "--crossings-out /nonexistent-dir/x.csv", cap, model);
+  ck_assert_int_ne(tu_exec(cmd, &out), 0);
+  ck_assert_msg(strstr(out, "--crossings-out /nonexistent-dir/x.csv: cannot write") != NULL, "%s", out);
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --count-line \"a 1 2 3\"", &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "not NAME X1 Y1 X2 Y2"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --count-line \"a 0 0 1 1\" --count-same 11", &out), 2);

@@ -638,6 +638,8 @@ START_TEST(t_truth_crossings) {
   ck_assert_int_ge(bwd, 3);
   /* roadscan-eval scores counts with the file or with the states: the same true counts */
   const char *pred = tu_tmp("xing-pred.csv"), *tracks = tu_tmp("xing-tracks.csv"), *counts = tu_tmp("xing-counts.csv");
+  char events[512];
+  snprintf(events, sizeof events, "%s.events", counts); /* (not tu_tmp: its ring of eight paths is in use) */
   char lineargs[600];
   snprintf(lineargs, sizeof lineargs,
            "--count-line '%s' --count-line '%s' --count-line '%s' --count-line '%s' --count-zone '%s' "
@@ -645,15 +647,61 @@ START_TEST(t_truth_crossings) {
            lines[0], lines[1], lines[2], lines[3], zone);
   snprintf(cmd, sizeof cmd,
            "./roadscand --pcap %s --fast --no-publish --quiet --learn-seconds 5 --relearn --learn-out %s.bg "
-           "--labels-out %s --tracks-out %s --counts-out %s %s",
-           pcap, pcap, pred, tracks, counts, lineargs);
+           "--labels-out %s --tracks-out %s --counts-out %s --crossings-out %s %s",
+           pcap, pcap, pred, tracks, counts, events, lineargs);
   ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
   char a[8192], b[8192];
-  snprintf(cmd, sizeof cmd, "./roadscan-eval %s %s %s --tracking --json --truth-states %s --tracks %s --counts %s %s",
-           pcap, labels, pred, states, tracks, counts, lineargs);
+  snprintf(cmd, sizeof cmd,
+           "./roadscan-eval %s %s %s --tracking --json --truth-states %s --tracks %s --counts %s --crossings %s %s", pcap,
+           labels, pred, states, tracks, counts, events, lineargs);
   ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
   snprintf(a, sizeof a, "%s", out);
   ck_assert_msg(strstr(a, "\"count_east_forward\": {\"counted\": ") != NULL, "%s", a);
+  /* the crossings: as many as counted on the lines, matched to true ones at most once each, their spot
+   * speeds scored */
+  unsigned counted_all = 0;
+  for (int k = 0; k < 4; k++)
+    for (int d = 0; d < 2; d++) {
+      char key[400];
+      snprintf(key, sizeof key, "\"count_%s_%s\": {\"counted\": ", l[k].name, d ? "backward" : "forward");
+      const char *at = strstr(a, key);
+      ck_assert_msg(at != NULL, "%s", a);
+      counted_all += (unsigned)strtoul(at + strlen(key), NULL, 10);
+    }
+  const char *ce = strstr(a, "\"crossing_events\": "), *cm = strstr(a, "\"crossing_events_matched\": ");
+  ck_assert_msg(ce != NULL && cm != NULL, "%s", a);
+  const unsigned n_events = (unsigned)strtoul(ce + strlen("\"crossing_events\": "), NULL, 10);
+  const unsigned n_matched = (unsigned)strtoul(cm + strlen("\"crossing_events_matched\": "), NULL, 10);
+  ck_assert_uint_eq(n_events, counted_all);
+  ck_assert_uint_ge(n_matched, 1);
+  ck_assert_uint_le(n_matched, n_events);
+  ck_assert_uint_le(n_matched, (unsigned)n_expect);
+  ck_assert_msg(strstr(a, "\"spot_speed_rmse_vehicles\": null") == NULL, "%s", a);
+  /* a crossings file that is not roadscand's, or with a bad speed or an unknown line: refused, by line */
+  static const char *const bad_events[][2] = {
+      {"t,line\n", "not a roadscand --crossings-out file"},
+      {"t,line,direction,at,class,track,speed,how\n1,east,forward,3,car,1,fast,seen\n", ":2: bad speed 'fast'"},
+      {"t,line,direction,at,class,track,speed,how\n1,east,forward,3,car,1,,seen\n1,nowhere,forward,3,car,1,2,seen\n",
+       ":3: line 'nowhere' is not a --count-line"},
+      {"t,line,direction,at,class,track,speed,how\n1,east,forward,3,car,1\n", ":2: bad line"}};
+  char be[512];
+  snprintf(be, sizeof be, "%s.bad-events", counts);
+  for (size_t i = 0; i < sizeof bad_events / sizeof bad_events[0]; i++) {
+    FILE *bf = fopen(be, "w");
+    ck_assert_ptr_nonnull(bf);
+    fputs(bad_events[i][0], bf);
+    fclose(bf);
+    char bcmd[2048];
+    snprintf(bcmd, sizeof bcmd, "./roadscan-eval %s %s %s --tracking --truth-states %s --tracks %s --counts %s --crossings %s %s",
+             pcap, labels, pred, states, tracks, counts, be, lineargs);
+    ck_assert_int_eq(tu_exec(bcmd, &out), 1);
+    ck_assert_msg(strstr(out, bad_events[i][1]) != NULL, "%s", out);
+  }
+  char ucmd[2048];
+  snprintf(ucmd, sizeof ucmd, "./roadscan-eval %s %s %s --tracking --truth-states %s --tracks %s --crossings %s", pcap,
+           labels, pred, states, tracks, events);
+  ck_assert_int_eq(tu_exec(ucmd, &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "--crossings goes with --counts"));
   /* the zone: the true entries and exits those of the states, the counted ones roadscand's */
   ck_assert_int_ge(z_entered, 3);
   unsigned zc = 0, zt = 0;

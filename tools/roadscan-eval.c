@@ -305,6 +305,7 @@ static int cmp_dbl(const void *a, const void *b) {
 typedef struct {
   bool json, diagnose, tracking;
   const char *objects_path, *model_path, *leaks_path, *dump_path, *states_path, *tracks_path, *counts_path, *crossings_path;
+  const char *events_path; /* --crossings: roadscand --crossings-out */
   rs_count_lines_t lines; /* --count-line */
   rs_count_zones_t zones; /* --count-zone */
 } settings_t;
@@ -324,18 +325,28 @@ static int class_index(const char *name) {
   return -1;
 }
 
-static int load_counts(const char *path) {
+/* path opened for reading, its first line the header (prefix: starting with it); NULL with sp.err naming
+ * the option and what the file should have been */
+static FILE *open_in(const char *path, const char *option, const char *header, bool prefix, const char *what) {
   FILE *f = fopen(path, "r");
   if (!f) {
-    snprintf(sp.err, sizeof sp.err, "--counts %s: cannot read", path);
-    return -1;
+    snprintf(sp.err, sizeof sp.err, "%s %s: cannot read", option, path);
+    return NULL;
   }
   char line[512];
-  if (!fgets(line, sizeof line, f) || strncmp(line, "t_start,t_end,line,direction,class,count", 40) != 0) {
-    snprintf(sp.err, sizeof sp.err, "--counts %s: not a roadscand --counts-out file", path);
+  const size_t n = strlen(header);
+  if (!fgets(line, sizeof line, f) || strncmp(line, header, n) != 0 || (!prefix && strcmp(line + n, "\n") != 0)) {
+    snprintf(sp.err, sizeof sp.err, "%s %s: not a %s file", option, path, what);
     fclose(f);
-    return -1;
+    return NULL;
   }
+  return f;
+}
+
+static int load_counts(const char *path) {
+  FILE *f = open_in(path, "--counts", "t_start,t_end,line,direction,class,count", true, "roadscand --counts-out");
+  if (!f) return -1;
+  char line[512];
   long ln = 1;
   while (fgets(line, sizeof line, f)) {
     ln++;
@@ -383,17 +394,9 @@ static int load_counts(const char *path) {
 /* roadscan-sim --truth-crossings: the true crossings it wrote (the same rule as below, from its own
  * states); rows of lines not given with --count-line are refused */
 static int load_crossings(const char *path) {
-  FILE *f = fopen(path, "r");
-  if (!f) {
-    snprintf(sp.err, sizeof sp.err, "--truth-crossings %s: cannot read", path);
-    return -1;
-  }
+  FILE *f = open_in(path, "--truth-crossings", "t,id,class,line,direction", false, "roadscan-sim --truth-crossings");
+  if (!f) return -1;
   char line[512];
-  if (!fgets(line, sizeof line, f) || strcmp(line, "t,id,class,line,direction\n") != 0) {
-    snprintf(sp.err, sizeof sp.err, "--truth-crossings %s: not a roadscan-sim --truth-crossings file", path);
-    fclose(f);
-    return -1;
-  }
   long ln = 1;
   while (fgets(line, sizeof line, f)) {
     ln++;
@@ -433,6 +436,222 @@ static void true_crossings(void) {
         break;
       }
   }
+}
+
+/* ---- --crossings: each crossing counted (roadscand --crossings-out) against a true one ---- */
+static json_t *jnum(double v);
+typedef struct {
+  double t, speed;   /* when, and the speed then (the states' interpolated) */
+  double at;         /* where along the line (m from its A end) */
+  int line, dir;     /* dir 1 forward, -1 backward */
+  bool vehicle, used;
+  uint8_t cls;
+} tx_t;
+typedef struct {
+  double t, speed;   /* speed < 0: unknown */
+  double at;
+  int line, dir, cls, how;
+  uint32_t track;
+  long match;        /* index into the true ones, -1 */
+} ev_t;
+static tx_t *tx;
+static size_t ntx;
+static ev_t *evs;
+static size_t nev;
+
+/* the true crossings with their times and speeds: every road user once per line, its first crossing (as
+ * true_crossings counts them) */
+static int true_events(void) {
+  size_t cap = 0;
+  for (uint32_t id = 0; id <= sp.max_id; id++) {
+    const st_row_t *r = by_id + spans[id].first;
+    for (int l = 0; l < st.lines.n; l++)
+      for (uint32_t k = 1; k < spans[id].count; k++) {
+        const int d = rs_count_crosses(&st.lines.line[l], r[k - 1].x, r[k - 1].y, r[k].x, r[k].y);
+        if (d == 0) continue;
+        if (ntx == cap) {
+          cap = cap ? 2 * cap : 1024;
+          tx_t *n = realloc(tx, cap * sizeof *n);
+          if (!n) {
+            snprintf(sp.err, sizeof sp.err, "out of memory");
+            return -1;
+          }
+          tx = n;
+        }
+        /* where along the step it met the line: the share of the step on the line's near side */
+        const rs_count_line_t *ln = &st.lines.line[l];
+        const double d0 = (ln->bx - ln->ax) * (r[k - 1].y - ln->ay) - (ln->by - ln->ay) * (r[k - 1].x - ln->ax);
+        const double d1 = (ln->bx - ln->ax) * (r[k].y - ln->ay) - (ln->by - ln->ay) * (r[k].x - ln->ax);
+        const double u = d0 != d1 ? d0 / (d0 - d1) : 0.0;
+        const double s0 = hypot(r[k - 1].vx, r[k - 1].vy), s1 = hypot(r[k].vx, r[k].vy);
+        const double mx = r[k - 1].x + u * (r[k].x - r[k - 1].x) - ln->ax, my = r[k - 1].y + u * (r[k].y - r[k - 1].y) - ln->ay;
+        const double at = (mx * (ln->bx - ln->ax) + my * (ln->by - ln->ay)) / hypot(ln->bx - ln->ax, ln->by - ln->ay);
+        tx[ntx++] = (tx_t){r[k - 1].t + u * (r[k].t - r[k - 1].t), s0 + u * (s1 - s0), at, l, d, r[0].vehicle, false,
+                           r[0].cls};
+        break;
+      }
+  }
+  return 0;
+}
+
+static int load_events(const char *path) {
+  FILE *f = open_in(path, "--crossings", "t,line,direction,at,class,track,speed,how", false, "roadscand --crossings-out");
+  if (!f) return -1;
+  char line[512];
+  size_t cap = 0;
+  long ln = 1;
+  while (fgets(line, sizeof line, f)) {
+    ln++;
+    /* eight fields; the speed's may be empty */
+    char *fld[8];
+    int nf = 0;
+    line[strcspn(line, "\r\n")] = '\0';
+    for (char *q = line; nf < 8; q++) {
+      fld[nf++] = q;
+      q = strchr(q, ',');
+      if (q == NULL) break;
+      *q = '\0';
+    }
+    char *end = NULL;
+    char *end2 = NULL;
+    double t = nf == 8 ? strtod(fld[0], &end) : NAN, speed = -1.0, at = nf == 8 ? strtod(fld[3], &end2) : NAN;
+    const unsigned long track = nf == 8 ? strtoul(fld[5], NULL, 10) : 0;
+    if (nf != 8 || *end != '\0' || *end2 != '\0' || !isfinite(t) || !isfinite(at) || strchr(fld[7], ',')) {
+      snprintf(sp.err, sizeof sp.err, "--crossings %s:%ld: bad line", path, ln);
+      fclose(f);
+      return -1;
+    }
+    if (fld[6][0]) {
+      speed = strtod(fld[6], &end);
+      if (*end != '\0' || !(speed >= 0 && speed < 1000)) {
+        snprintf(sp.err, sizeof sp.err, "--crossings %s:%ld: bad speed '%.32s'", path, ln, fld[6]);
+        fclose(f);
+        return -1;
+      }
+    }
+    const char *name = fld[1], *dir = fld[2], *cls = fld[4], *how = fld[7];
+    int l = 0;
+    while (l < st.lines.n && strcmp(st.lines.line[l].name, name) != 0) l++;
+    const int k = class_index(cls), h = strcmp(how, "seen") == 0 ? 0 : strcmp(how, "hidden") == 0 ? 1 : strcmp(how, "unseen") == 0 ? 2 : -1;
+    if (l == st.lines.n || k < 0 || h < 0 || (strcmp(dir, "forward") != 0 && strcmp(dir, "backward") != 0)) {
+      snprintf(sp.err, sizeof sp.err, "--crossings %s:%ld: line '%s' is not a --count-line, or class, direction or how "
+                                      "unknown", path, ln, name);
+      fclose(f);
+      return -1;
+    }
+    if (nev == cap) {
+      cap = cap ? 2 * cap : 1024;
+      ev_t *n = realloc(evs, cap * sizeof *n);
+      if (!n) {
+        snprintf(sp.err, sizeof sp.err, "out of memory");
+        fclose(f);
+        return -1;
+      }
+      evs = n;
+    }
+    evs[nev++] = (ev_t){t, speed, at, l, strcmp(dir, "forward") == 0 ? 1 : -1, k, h, (uint32_t)track, -1};
+  }
+  fclose(f);
+  return 0;
+}
+
+#define EVENT_DT 1.5 /* s: a crossing counted and a true one of the line and direction this close in time ... */
+#define EVENT_DS 2.5 /* m: ... and along the line (a lane's width less a margin) may match */
+typedef struct {
+  double dt;
+  uint32_t e, x;
+} pair_t;
+static int cmp_pair(const void *a, const void *b) {
+  const pair_t *p = a, *q = b;
+  if (p->dt != q->dt) return p->dt < q->dt ? -1 : 1;
+  if (p->e != q->e) return p->e < q->e ? -1 : 1;
+  return (p->x > q->x) - (p->x < q->x);
+}
+
+/* the track's reported speed at its confirmed row nearest in time to t (within 0.2 s), -1 none */
+static double track_speed_at(uint32_t id, double t) {
+  double best = 0.2, v = -1.0;
+  for (size_t i = 0; i < sp.nt; i++) {
+    if ((uint32_t)(sp.trk[i].key & 0xffffffffu) != id || !sp.trk[i].confirmed) continue;
+    if (fabs(sp.trk[i].t - t) <= best) {
+      best = fabs(sp.trk[i].t - t);
+      v = sp.trk[i].speed;
+    }
+  }
+  return v;
+}
+
+/* events matched to true crossings (the nearest in time first), then the figures */
+static void print_events(FILE *out, json_t *json) {
+  size_t np = 0;
+  pair_t *pr = NULL;
+  for (size_t e = 0; e < nev; e++)
+    for (size_t x = 0; x < ntx; x++) {
+      if (evs[e].line != tx[x].line || evs[e].dir != tx[x].dir || fabs(evs[e].t - tx[x].t) > EVENT_DT ||
+          fabs(evs[e].at - tx[x].at) > EVENT_DS)
+        continue;
+      pair_t *n = (np & (np - 1)) == 0 ? realloc(pr, (np ? 2 * np : 1) * sizeof *n) : pr;
+      if (!n) break;
+      pr = n;
+      pr[np++] = (pair_t){fabs(evs[e].t - tx[x].t), (uint32_t)e, (uint32_t)x};
+    }
+  if (np) qsort(pr, np, sizeof *pr, cmp_pair);
+  size_t matched = 0, n_sp = 0, n_trk = 0, same_cls = 0, n_all = 0, n_seen = 0;
+  double se = 0, bias = 0, se_trk = 0, se_same = 0, se_t = 0, se_all = 0, se_seen = 0;
+  for (size_t k = 0; k < np; k++) {
+    ev_t *e = &evs[pr[k].e];
+    tx_t *x = &tx[pr[k].x];
+    if (e->match >= 0 || x->used) continue;
+    e->match = (long)pr[k].x;
+    x->used = true;
+    matched++;
+    se_t += (e->t - x->t) * (e->t - x->t);
+    same_cls += e->cls == x->cls;
+    if (e->speed < 0) continue;
+    se_all += (e->speed - x->speed) * (e->speed - x->speed);
+    n_all++;
+    if (!x->vehicle) continue;
+    const double d2 = (e->speed - x->speed) * (e->speed - x->speed);
+    se += d2;
+    bias += e->speed - x->speed;
+    n_sp++;
+    if (e->how == 0) {
+      se_seen += d2;
+      n_seen++;
+    }
+    const double v = track_speed_at(e->track, e->t); /* the track was listed confirmed then: the same rows */
+    if (v >= 0) {
+      se_trk += (v - x->speed) * (v - x->speed);
+      se_same += d2;
+      n_trk++;
+    }
+  }
+  free(pr);
+  const double rmse = n_sp ? sqrt(se / (double)n_sp) : NAN, mb = n_sp ? bias / (double)n_sp : NAN;
+  const double rmse_trk = n_trk ? sqrt(se_trk / (double)n_trk) : NAN, rmse_all = n_all ? sqrt(se_all / (double)n_all) : NAN;
+  const double rmse_same = n_trk ? sqrt(se_same / (double)n_trk) : NAN, rmse_seen = n_seen ? sqrt(se_seen / (double)n_seen) : NAN;
+  const double trms = matched ? sqrt(se_t / (double)matched) : NAN, agree = matched ? (double)same_cls / (double)matched : NAN;
+  if (json) {
+    json_object_set_new(json, "crossing_events", json_integer((json_int_t)nev));
+    json_object_set_new(json, "crossing_events_matched", json_integer((json_int_t)matched));
+    json_object_set_new(json, "crossing_time_rmse_s", jnum(trms));
+    json_object_set_new(json, "crossing_class_agreement", jnum(agree));
+    json_object_set_new(json, "spot_speed_rmse_vehicles", jnum(rmse));
+    json_object_set_new(json, "spot_speed_bias_vehicles", jnum(mb));
+    json_object_set_new(json, "spot_speed_samples_vehicles", json_integer((json_int_t)n_sp));
+    json_object_set_new(json, "spot_speed_rmse_all", jnum(rmse_all));
+    json_object_set_new(json, "spot_speed_rmse_vehicles_seen", jnum(rmse_seen));
+    json_object_set_new(json, "spot_speed_samples_vehicles_seen", json_integer((json_int_t)n_seen));
+    json_object_set_new(json, "spot_speed_rmse_vehicles_listed", jnum(rmse_same));
+    json_object_set_new(json, "track_speed_at_crossing_rmse_vehicles", jnum(rmse_trk));
+    json_object_set_new(json, "track_speed_at_crossing_samples_vehicles", json_integer((json_int_t)n_trk));
+    return;
+  }
+  fprintf(out, "  crossings: %zu counted, %zu matched to a true one (same line and way, within %.1f s and %.1f m; time "
+               "RMSE %.3f s; class the same %.1f %%)\n", nev, matched, EVENT_DT, EVENT_DS, trms, 100.0 * agree);
+  fprintf(out, "  spot speed at the lines, vehicles: RMSE %.3f m/s (bias %+.3f, %zu crossings; seen crossing %.3f, %zu; "
+               "all road users %.3f); where the track was listed confirmed at the crossing: spot %.3f, the track's own "
+               "speed then %.3f m/s (%zu)\n", rmse, mb, n_sp, rmse_seen, n_seen, rmse_all, rmse_same, rmse_trk, n_trk);
 }
 
 /* every road user's entries into and exits from each zone, its centre moving from outside to inside
@@ -832,6 +1051,12 @@ static const rs_opt_t table[] = {
      .fn = rs_count_opt_zone, .flags = RS_OPT_REPEAT,
      .help = "a counting zone, as roadscand's (sensor frame): with --counts, its entries and exits counted against "
              "the true ones (each road user's centre moving in or out, from one state to the next)"},
+    RS_OPT_STR_("crossings", "E", T, events_path,
+                "with --counts: roadscand --crossings-out of the same run: each crossing counted matched to a true "
+                "one of its line and direction (the nearest in time, within 1.5 s and 2.5 m along the line, each "
+                "once), the spot speed's "
+                "error at the lines (vehicles: RMSE, bias) against the speed the track itself reported there, "
+                "the crossing time's error and the share of the same class"),
     RS_OPT_STR_("truth-crossings", "X", T, crossings_path,
                 "with --counts: the true crossings roadscan-sim wrote (--truth-crossings, the same lines) instead "
                 "of those derived here from --truth-states (the same rule: the two agree)"),
@@ -882,6 +1107,10 @@ int main(int argc, char **argv) {
              *states_path = st.states_path, *tracks_path = st.tracks_path, *counts_path = st.counts_path;
   if ((counts_path || st.lines.n || st.zones.n) && !(counts_path && (st.lines.n || st.zones.n) && states_path)) {
     fprintf(stderr, "roadscan-eval: --counts and --count-line (or --count-zone) go together, with --truth-states\n");
+    return 2;
+  }
+  if (st.events_path && !counts_path) {
+    fprintf(stderr, "roadscan-eval: --crossings goes with --counts\n");
     return 2;
   }
   if (st.crossings_path && !counts_path) {
@@ -982,6 +1211,10 @@ int main(int argc, char **argv) {
           true_crossings();
         }
         true_zone_events();
+        if (st.events_path && (true_events() != 0 || load_events(st.events_path) != 0)) {
+          fprintf(stderr, "roadscan-eval: %s\n", sp.err);
+          return 1;
+        }
       }
     }
   }
@@ -1024,6 +1257,7 @@ int main(int argc, char **argv) {
       if (counts_path) {
         print_counts(stdout, j);
         print_zones(stdout, j);
+        if (st.events_path) print_events(stdout, j);
       }
       char *t = j ? json_dumps(j, RS_EVAL_JSON_FLAGS) : NULL;
       json_decref(j);
@@ -1042,6 +1276,7 @@ int main(int argc, char **argv) {
       if (counts_path) {
         print_counts(stdout, NULL);
         print_zones(stdout, NULL);
+        if (st.events_path) print_events(stdout, NULL);
       }
     }
     rs_mot_free(mot);

@@ -275,6 +275,10 @@ static const rs_opt_t table[] = {
       "a crossing is tallied S seconds after it, under the track's class then (its class settles as it comes "
       "near; 0 = at once)"),
     S("counts-out", "FILE", cfg.counts_out, "CSV t_start,t_end,line,direction,class,count per closed interval"),
+    S("crossings-out", "FILE", cfg.crossings_out,
+      "CSV t,line,direction,at,class,track,speed,how: one line per crossing counted, where along the line (m "
+      "from its first end), the spot speed over 2 s around it (m/s, empty when unknown) and how it was found "
+      "(seen, hidden, unseen)"),
     RS_OPT_HEAD("lcm", "LCM: per frame an object list, a track list and a statistics message; an event per "
                        "track that ends"),
     {.type = RS_OPT_STR, .name = "lcm-url", .arg = "URL", .off = offsetof(T, pub.url),
@@ -493,9 +497,10 @@ int main(int argc, char **argv) {
     }
   }
   if (cfg->tracks_out && cfg->tracker == NULL) return bad("--tracks-out needs tracking (clustering, no --no-tracking)");
-  if ((st.lines.n > 0 || st.zones.n > 0 || cfg->counts_out) && cfg->tracker == NULL)
+  if ((st.lines.n > 0 || st.zones.n > 0 || cfg->counts_out || cfg->crossings_out) && cfg->tracker == NULL)
     return bad("counting needs tracking (clustering, no --no-tracking)");
   if (cfg->counts_out && st.lines.n == 0 && st.zones.n == 0) return bad("--counts-out needs a --count-line or --count-zone");
+  if (cfg->crossings_out && st.lines.n == 0) return bad("--crossings-out needs a --count-line");
   if (st.lines.n > 0 || st.zones.n > 0) {
     if (rs_count_init(&counter, st.lines.line, st.lines.n, have_pose ? &st.pose : NULL, st.count_interval, err,
                       sizeof err) != RS_OK ||

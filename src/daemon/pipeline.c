@@ -18,6 +18,8 @@
 
 const char *rs_pipeline_counts_header(void) { return "t_start,t_end,line,direction,class,count"; }
 
+const char *rs_pipeline_crossings_header(void) { return "t,line,direction,at,class,track,speed,how"; }
+
 const char *rs_pipeline_tracks_header(void) {
   return "frame,t,track,state,class,x,y,z,vx,vy,speed,heading,length,width,height,points,hits,misses,age,"
          "cov_xx,cov_xy,cov_yy,site_x,site_y,site_z,site_vx,site_vy,site_heading";
@@ -97,7 +99,9 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
   }
   /* last, so that no failure above leaves them allocated */
   if ((cfg->tracks_out && !open_csv(p, &p->tracks_out, cfg->tracks_out, "--tracks-out", rs_pipeline_tracks_header())) ||
-      (cfg->counts_out && !open_csv(p, &p->counts_out, cfg->counts_out, "--counts-out", rs_pipeline_counts_header()))) {
+      (cfg->counts_out && !open_csv(p, &p->counts_out, cfg->counts_out, "--counts-out", rs_pipeline_counts_header())) ||
+      (cfg->crossings_out &&
+       !open_csv(p, &p->crossings_out, cfg->crossings_out, "--crossings-out", rs_pipeline_crossings_header()))) {
     rs_pipeline_deinit(p); /* a failed init releases what it had: the caller does not deinit */
     return RS_E_IO;
   }
@@ -406,10 +410,21 @@ static void write_counts(FILE *f, const rs_counter_t *c, const rs_count_interval
   }
 }
 
-static void count_sinks(rs_pipeline_t *p, const rs_count_interval_t *iv) {
-  if (iv == NULL) return;
-  if (p->cfg.publish) rs_publish_counts(p->cfg.publish, p->cfg.counter, iv, rs_publish_utime());
-  if (p->counts_out) write_counts(p->counts_out, p->cfg.counter, iv);
+/* sink: the crossings tallied with a frame, one line each (speed empty when unknown) */
+static void write_crossings(FILE *f, const rs_counter_t *c, const rs_count_event_t *e, uint32_t n) {
+  for (uint32_t k = 0; k < n; k++) {
+    fprintf(f, "%.3f,%s,%s,%.2f,%s,%u,", e[k].t, c->lines[e[k].line].name, e[k].dir > 0 ? "forward" : "backward",
+            (double)e[k].at, rs_class_name((rs_class_t)e[k].cls), e[k].track);
+    if (e[k].speed >= 0.0f) fprintf(f, "%.2f", (double)e[k].speed);
+    fprintf(f, ",%s\n", rs_count_how_name((rs_cross_how_t)e[k].how));
+  }
+}
+
+static void count_sinks(rs_pipeline_t *p, const rs_proc_report_t *r) {
+  if (p->crossings_out && r->ncrossings) write_crossings(p->crossings_out, p->cfg.counter, r->crossings, r->ncrossings);
+  if (r->counts == NULL) return;
+  if (p->cfg.publish) rs_publish_counts(p->cfg.publish, p->cfg.counter, r->counts, rs_publish_utime());
+  if (p->counts_out) write_counts(p->counts_out, p->cfg.counter, r->counts);
 }
 
 /* sink: one line of the frames CSV */
@@ -449,7 +464,7 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
     if (r.tracks) rs_publish_tracks(p->cfg.publish, &s->meta, r.tracks, rs_publish_utime());
   }
   if (p->tracks_out && r.tracks) write_tracks(p->tracks_out, s, r.tracks);
-  count_sinks(p, r.counts);
+  count_sinks(p, &r);
   if (p->labels_open) {
     if (r.tracks) {
       track_labels(p, &r);
@@ -500,11 +515,15 @@ static void *proc_main(void *arg) {
   }
   rs_proc_report_t end;
   rs_proc_finish(&p->proc, &end); /* the last counting interval */
-  count_sinks(p, end.counts);
+  count_sinks(p, &end);
   if (p->cfg.frames_out) fflush(p->cfg.frames_out);
   if (p->counts_out && (fflush(p->counts_out) != 0 || ferror(p->counts_out))) {
     p->input_status = RS_E_IO;
     snprintf(p->input_err, sizeof p->input_err, "--counts-out %s: write failed", p->cfg.counts_out);
+  }
+  if (p->crossings_out && (fflush(p->crossings_out) != 0 || ferror(p->crossings_out))) {
+    p->input_status = RS_E_IO;
+    snprintf(p->input_err, sizeof p->input_err, "--crossings-out %s: write failed", p->cfg.crossings_out);
   }
   if (p->tracks_out && (fflush(p->tracks_out) != 0 || ferror(p->tracks_out))) {
     p->input_status = RS_E_IO;
@@ -545,6 +564,8 @@ void rs_pipeline_deinit(rs_pipeline_t *p) {
   p->tracks_out = NULL;
   if (p->counts_out) fclose(p->counts_out);
   p->counts_out = NULL;
+  if (p->crossings_out) fclose(p->crossings_out);
+  p->crossings_out = NULL;
   free(p->label_buf);
   p->label_buf = NULL;
   if (p->labels_open) rs_labels_finish(&p->labels);
@@ -679,6 +700,9 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
               (unsigned long long)c->back_undone, (unsigned long long)c->walked_back);
     if (c->pending)
       fprintf(out, "; %llu more found, tallied once their class settles (--count-class-delay)", (unsigned long long)c->pending);
+    if (c->events_lost)
+      fprintf(out, "; %llu crossings without an event (--crossings-out: more than %d waiting or %d in a frame)",
+              (unsigned long long)c->events_lost, RS_COUNT_OPEN_MAX, RS_COUNT_EVENTS_MAX);
     fprintf(out, "\n");
   }
   if (p->cfg.publish) {

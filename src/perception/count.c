@@ -264,7 +264,7 @@ static void note_side(rs_counter_t *c, uint32_t i, int l, int side) {
 /* the seen track of slot i at (x, y): its sides of the lines updated; the
  * direction it crossed line l in (it is past the band on the side other than
  * the one it was last seen clear on, along the line's segment), or 0 */
-static int band_cross(rs_counter_t *c, uint32_t i, int l, double x, double y, double *s) {
+static int band_cross(rs_counter_t *c, uint32_t i, int l, double x, double y, double *s, double *u_step) {
   const uint16_t bit = (uint16_t)(1u << l);
   const int side = side_of(c, l, x, y);
   if (side == 0) return 0;
@@ -274,8 +274,13 @@ static int band_cross(rs_counter_t *c, uint32_t i, int l, double x, double y, do
   /* where: the last step's meeting with the line when it met it, else the track's place along it */
   const rs_count_line_t *ln = &c->lines[l];
   double u;
-  if (crosses(ln, c->slot[i].x, c->slot[i].y, x, y) != 0) meet(ln, c->slot[i].x, c->slot[i].y, x, y, &u, s);
-  else *s = along(ln, x, y);
+  *u_step = -1.0;
+  if (crosses(ln, c->slot[i].x, c->slot[i].y, x, y) != 0) {
+    meet(ln, c->slot[i].x, c->slot[i].y, x, y, &u, s);
+    *u_step = u;
+  } else {
+    *s = along(ln, x, y);
+  }
   return *s >= 0.0 && *s <= line_len(ln) ? side : 0;
 }
 
@@ -373,13 +378,130 @@ static uint8_t zones_at(const rs_counter_t *c, double x, double y) {
 
 static uint32_t hash_id(uint32_t id) { return (id * 2654435761u) & (RS_COUNT_SLOTS - 1); }
 
+const char *rs_count_how_name(rs_cross_how_t h) {
+  return h == RS_CROSS_HIDDEN ? "hidden" : h == RS_CROSS_UNSEEN ? "unseen" : "seen";
+}
+
+/* ---- crossing events (count.h) ---- */
+
+/* slot i's trail: (t, x, y) added when RS_COUNT_TRAIL_DT or more after its newest */
+static void trail_add(rs_counter_t *c, uint32_t i, double t, double x, double y) {
+  const float rt = (float)(t - c->slot[i].t0);
+  uint8_t h = c->slot[i].trail_head;
+  if (c->slot[i].trail_n > 0) {
+    if (rt - c->slot[i].trail_t[h] < (float)RS_COUNT_TRAIL_DT) return;
+    h = (uint8_t)((h + 1) % RS_COUNT_TRAIL);
+  }
+  c->slot[i].trail_t[h] = rt;
+  c->slot[i].trail_x[h] = (float)x;
+  c->slot[i].trail_y[h] = (float)y;
+  c->slot[i].trail_head = h;
+  if (c->slot[i].trail_n < RS_COUNT_TRAIL) c->slot[i].trail_n++;
+}
+
+/* slot i's newest trail position at or before time tb (its oldest when all are later) */
+static void trail_at(const rs_counter_t *c, uint32_t i, double tb, double *t, float *x, float *y) {
+  const float rt = (float)(tb - c->slot[i].t0);
+  int h = c->slot[i].trail_head;
+  for (int k = 0; k + 1 < c->slot[i].trail_n && c->slot[i].trail_t[h] > rt; k++) h = (h + RS_COUNT_TRAIL - 1) % RS_COUNT_TRAIL;
+  *t = c->slot[i].t0 + (double)c->slot[i].trail_t[h];
+  *x = c->slot[i].trail_x[h];
+  *y = c->slot[i].trail_y[h];
+}
+
+/* when slot i's track crossed line l: in the trail's newest step whose ends lie on either side of it
+ * (with the band it may have crossed a step or two before it is counted), else t */
+static double trail_cross_time(const rs_counter_t *c, uint32_t i, int l, double t) {
+  const rs_count_line_t *ln = &c->lines[l];
+  int h = c->slot[i].trail_head;
+  double dh = cross(ln->ax, ln->ay, ln->bx, ln->by, c->slot[i].trail_x[h], c->slot[i].trail_y[h]);
+  for (int k = 0; k + 1 < c->slot[i].trail_n; k++) {
+    const int g = (h + RS_COUNT_TRAIL - 1) % RS_COUNT_TRAIL;
+    const double dg = cross(ln->ax, ln->ay, ln->bx, ln->by, c->slot[i].trail_x[g], c->slot[i].trail_y[g]);
+    if ((dg > 0) != (dh > 0)) {
+      const double u = dg != dh ? dg / (dg - dh) : 0.0;
+      return c->slot[i].t0 + (double)c->slot[i].trail_t[g] + u * (double)(c->slot[i].trail_t[h] - c->slot[i].trail_t[g]);
+    }
+    h = g;
+    dh = dg;
+  }
+  return t;
+}
+
+/* slot i's crossing of line l, crossed at time tc and place `at`: its event's wait begins */
+static void open_add(rs_counter_t *c, uint32_t i, int l, rs_cross_how_t how, double tc, double at) {
+  if (c->nopen >= RS_COUNT_OPEN_MAX) return; /* its event will be lost (events_lost) */
+  const uint32_t k = c->nopen++;
+  c->open[k].id = c->slot[i].id;
+  c->open[k].line = (uint8_t)l;
+  c->open[k].how = (uint8_t)how;
+  c->open[k].after = false;
+  c->open[k].t = tc;
+  c->open[k].at = (float)at;
+  trail_at(c, i, tc - RS_COUNT_SPOT_S, &c->open[k].tb, &c->open[k].xb, &c->open[k].yb);
+  c->open[k].due = tc + RS_COUNT_SPOT_S;
+}
+
+static int open_find(const rs_counter_t *c, uint32_t id, int l) {
+  for (uint32_t k = 0; k < c->nopen; k++)
+    if (c->open[k].id == id && c->open[k].line == l) return (int)k;
+  return -1;
+}
+
+/* track id's crossing of line l taken back: no event */
+static void open_drop(rs_counter_t *c, uint32_t id, int l) {
+  const int k = open_find(c, id, l);
+  if (k >= 0) c->open[k] = c->open[--c->nopen];
+}
+
+/* slot i at (x, y) at time t: the position after each of its open crossings once RS_COUNT_SPOT_S past it */
+static void open_after(rs_counter_t *c, uint32_t i, double t, double x, double y) {
+  for (uint32_t k = 0; k < c->nopen; k++) {
+    if (c->open[k].id != c->slot[i].id || c->open[k].after || t < c->open[k].due) continue;
+    c->open[k].after = true;
+    c->open[k].ta = t;
+    c->open[k].xa = (float)x;
+    c->open[k].ya = (float)y;
+  }
+}
+
+/* slot i's crossing of line l in direction dir tallied under class cls: its event */
+static void open_event(rs_counter_t *c, uint32_t i, int l, int dir, unsigned cls) {
+  const int k = open_find(c, c->slot[i].id, l);
+  if (k < 0 || c->nevents >= RS_COUNT_EVENTS_MAX) {
+    c->events_lost++;
+    if (k >= 0) c->open[k] = c->open[--c->nopen];
+    return;
+  }
+  rs_count_event_t *e = &c->events[c->nevents++];
+  e->t = c->open[k].t;
+  e->track = c->slot[i].id;
+  e->line = (uint8_t)l;
+  e->dir = (int8_t)(dir > 0 ? 1 : -1);
+  e->cls = (uint8_t)cls;
+  e->how = c->open[k].how;
+  e->at = c->open[k].at;
+  if (c->open[k].how == RS_CROSS_HIDDEN) {
+    e->speed = c->slot[i].speed; /* what the track reports now */
+  } else { /* before and after, or the last position when tallied sooner */
+    const bool after = c->open[k].after;
+    const double ta = after ? c->open[k].ta : c->slot[i].t_xy, dt = ta - c->open[k].tb;
+    const double dx = (after ? c->open[k].xa : c->slot[i].x) - c->open[k].xb;
+    const double dy = (after ? c->open[k].ya : c->slot[i].y) - c->open[k].yb;
+    e->speed = dt >= 0.3 ? (float)(hypot(dx, dy) / dt) : -1.0f;
+  }
+  c->open[k] = c->open[--c->nopen];
+}
+
 /* slot i's pending crossings, tallied under its class (those on a
  * prediction only when `all`: the track has ended) */
 static void tally_pending(rs_counter_t *c, uint32_t i, bool all) {
   for (int l = 0; l < c->nlines && c->slot[i].pending; l++) {
     const uint16_t bit = (uint16_t)(1u << l);
     if (!(c->slot[i].pending & bit) || (!all && (c->slot[i].predicted & bit))) continue;
-    tally(c, l, (c->slot[i].pending_fwd & bit) ? 1 : -1, c->slot[i].cls);
+    const int dir = (c->slot[i].pending_fwd & bit) ? 1 : -1;
+    tally(c, l, dir, c->slot[i].cls);
+    open_event(c, i, l, dir, c->slot[i].cls);
     c->slot[i].pending &= (uint16_t)~bit;
     c->slot[i].pending_fwd &= (uint16_t)~bit;
     c->slot[i].predicted &= (uint16_t)~bit;
@@ -415,9 +537,11 @@ static void unseen_crossings(rs_counter_t *c, uint32_t i, const rs_track_t *tr, 
     if (dir > 0) c->slot[i].pending_fwd |= bit;
     c->pending++;
     c->unseen++;
+    open_add(c, i, l, RS_CROSS_UNSEEN, trail_cross_time(c, i, l, t), s);
   }
   c->slot[i].x = x;
   c->slot[i].y = y;
+  c->slot[i].t_xy = t;
 }
 
 static void close_interval(rs_counter_t *c, double t_end) {
@@ -457,6 +581,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
     closed = true;
   }
   c->frame_no++;
+  c->nevents = 0;
   if (c->t_first < 0) c->t_first = t;
   uint32_t occupancy[RS_COUNT_ZONES] = {0};
   const uint32_t n = tl->count < RS_TRACK_MAX ? tl->count : RS_TRACK_MAX;
@@ -488,6 +613,8 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       c->slot[i].t0 = t;
       c->slot[i].x0 = x;
       c->slot[i].y0 = y;
+      c->slot[i].t_xy = t;
+      c->slot[i].trail_n = c->slot[i].trail_head = 0;
       c->slot[i].confirmed = false;
       c->slot[i].born = tr->state == RS_TRACK_TENTATIVE;
       c->slot[i].side_known = c->slot[i].side_left = 0;
@@ -498,6 +625,9 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       }
     }
     c->slot[i].frame = c->frame_no;
+    trail_add(c, i, t, x, y);
+    c->slot[i].speed = tr->speed;
+    if (c->slot[i].pending) open_after(c, i, t, x, y);
     if (tr->state == RS_TRACK_CONFIRMED) c->slot[i].cls = (uint8_t)((unsigned)tr->cls < RS_CLASS_COUNT ? tr->cls : 0);
     if (c->slot[i].pending && t >= c->slot[i].t_tally) tally_pending(c, i, false);
     if (tr->state != RS_TRACK_CONFIRMED) { /* tentative, or coasting (lost) on a prediction */
@@ -521,15 +651,17 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
         c->unseen--;
         c->unseen_undone++;
         unremember(c, l, tr->id);
+        open_drop(c, tr->id, l);
         undone |= bit;
       }
     }
     for (int l = 0; l < c->nlines; l++) {
       const double px = c->slot[i].x, py = c->slot[i].y;
-      double u, s = 0;
+      double u = -1.0, s = 0, tc = t;
       int dir = 0;
+      rs_cross_how_t how = RS_CROSS_SEEN;
       if (c->band_m > 0) {
-        dir = band_cross(c, i, l, x, y, &s); /* (the sides kept current on every line) */
+        dir = band_cross(c, i, l, x, y, &s, &u); /* (the sides kept current on every line) */
         const uint16_t bit = (uint16_t)(1u << l);
         if (dir != 0 && (c->slot[i].pending & bit) && !(undone & bit) &&
             (dir > 0) != ((c->slot[i].pending_fwd & bit) != 0)) { /* back before its crossing was tallied */
@@ -546,6 +678,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
           c->pending--;
           c->back_undone++;
           unremember(c, l, tr->id);
+          open_drop(c, tr->id, l);
           continue;
         }
         if ((c->slot[i].counted | undone) & bit) {
@@ -558,6 +691,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
         dir = crosses(&c->lines[l], px, py, x, y);
         if (dir != 0) meet(&c->lines[l], px, py, x, y, &u, &s);
       }
+      if (dir != 0) tc = trail_cross_time(c, i, l, t);
       if (dir != 0) {
         if (vehicle && c->same_s > 0 && counted_near(c, l, t, s, dir, c->same_s, tr->id)) {
           c->same_dup++;
@@ -566,15 +700,15 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
         }
         remember(c, l, t, s, dir, tr->id, vehicle);
       } else if (first_confirmed || (c->slot[i].born && t - c->slot[i].t0 <= c->hidden_window_s)) {
-        double tc = 0, sc = 0;
-        dir = hidden_crossing(c, l, c->slot[i].t0, c->slot[i].x0, c->slot[i].y0, t, x, y, &tc, &sc);
+        dir = hidden_crossing(c, l, c->slot[i].t0, c->slot[i].x0, c->slot[i].y0, t, x, y, &tc, &s);
         if (dir == 0) continue;
-        if (counted_near(c, l, tc, sc, dir, HIDDEN_DT, 0)) {
+        how = RS_CROSS_HIDDEN;
+        if (counted_near(c, l, tc, s, dir, HIDDEN_DT, 0)) {
           c->hidden_dup++;
           mark_counted(c, i, (uint16_t)(1u << l), dir); /* its vehicle's: not checked again */
           continue;
         }
-        remember(c, l, tc, sc, dir, tr->id, vehicle);
+        remember(c, l, tc, s, dir, tr->id, vehicle);
         c->hidden++;
       }
       if (dir == 0) continue;
@@ -584,10 +718,12 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       c->slot[i].pending |= bit;
       if (dir > 0) c->slot[i].pending_fwd |= bit;
       c->pending++;
+      open_add(c, i, l, how, tc, s);
     }
     if (c->slot[i].pending && t >= c->slot[i].t_tally) tally_pending(c, i, false);
     c->slot[i].x = x;
     c->slot[i].y = y;
+    c->slot[i].t_xy = t;
     /* zones: the change since its last confirmed frame (or where it was first seen) */
     const uint8_t now = zones_at(c, x, y), was = c->slot[i].inside;
     const unsigned cls = (unsigned)tr->cls < RS_CLASS_COUNT ? (unsigned)tr->cls : 0;
@@ -623,6 +759,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
 }
 
 bool rs_count_flush(rs_counter_t *c, double t) {
+  c->nevents = 0;
   for (uint32_t i = 0; i < RS_COUNT_SLOTS; i++)
     if (c->slot[i].id != 0 && c->slot[i].pending) tally_pending(c, i, true);
   if (c->cur.t_start < 0) return false;

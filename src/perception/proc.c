@@ -219,6 +219,8 @@ void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_pro
         p->last_t = s->meta.t_last;
         if (p->cfg.counter) {
           if (rs_count_frame(p->cfg.counter, r->tracks, s->meta.t_last)) r->counts = &p->cfg.counter->closed;
+          r->crossings = p->cfg.counter->events;
+          r->ncrossings = p->cfg.counter->nevents;
           t = stage_end(p, r, RS_STAGE_COUNTING, t);
         }
       }
@@ -245,5 +247,9 @@ void rs_proc_finish(rs_proc_t *p, rs_proc_report_t *r) {
   r->divided_cell = p->divided_cell;
   r->divided_track = p->divided_track;
   if (p->cfg.counter && rs_count_flush(p->cfg.counter, p->last_t)) r->counts = &p->cfg.counter->closed;
+  if (p->cfg.counter) {
+    r->crossings = p->cfg.counter->events;
+    r->ncrossings = p->cfg.counter->nevents;
+  }
   if (p->bgu_on) rs_bgu_finish(&p->bgu, p->last_t, RS_PROC_FINISH_LEARN_S); /* a first model under way */
 }

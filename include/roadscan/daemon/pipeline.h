@@ -60,6 +60,7 @@ typedef struct {
   const char *tracks_out;      /* optional CSV, one line per track per frame */
   rs_counter_t *counter;       /* optional with tracker: counting lines (rs_count_init done) */
   const char *counts_out;      /* optional CSV, the counts of every closed interval */
+  const char *crossings_out;   /* optional CSV, one line per crossing tallied (count.h's events) */
   bool labels_confirmed_only;  /* with a tracker: only confirmed tracks' returns are objects in labels_out */
   rs_publish_t *publish;       /* optional: LCM publisher (rs_publish_init done) */
   double budget_ms;            /* per-frame processing budget; 0 = the frame period */
@@ -109,6 +110,7 @@ typedef struct {
   uint32_t label_map[RS_OBJ_MAX]; /* cluster k -> the label written (tracks) */
   FILE *tracks_out;            /* the --tracks-out sink */
   FILE *counts_out;            /* the --counts-out sink */
+  FILE *crossings_out;         /* the --crossings-out sink */
 } rs_pipeline_t;
 
 /* Opens the source; slots: nslots (3..RS_RING_MAX_SLOTS) caller-owned slots.
@@ -126,6 +128,7 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out);
 const char *rs_pipeline_csv_header(void);
 /* The counts CSV header (one line, no newline). */
 const char *rs_pipeline_counts_header(void);
+const char *rs_pipeline_crossings_header(void);
 /* The tracks CSV header (one line, no newline). */
 const char *rs_pipeline_tracks_header(void);
 

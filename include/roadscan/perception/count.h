@@ -93,6 +93,30 @@
  * track crossing back is not counted (it took another vehicle's place, or
  * its centre wandered).
  *
+ * Crossing events: each crossing tallied is also one event in `events` of
+ * the frame that tallied it (nevents of them; rs_count_flush's too): when it
+ * crossed (the step's share of the frame interval), which line and way,
+ * where along it (the crossing's place, as the second-track check has it),
+ * the track's id, its class (the tally's), how it was found (seen, hidden:
+ * run back, unseen: on a prediction) and its spot speed. The spot speed is
+ * the distance between the track's positions about RS_COUNT_SPOT_S before
+ * and after the crossing over the time between them: the class delay has
+ * them both by the time the crossing is tallied, and a mean over a window
+ * centred on the crossing is the speed at it for a vehicle speeding up or
+ * braking evenly (the filter's velocity lags it). The position before comes
+ * from a trail of the track's last positions (RS_COUNT_TRAIL, at least
+ * RS_COUNT_TRAIL_DT apart), the one after is taken at the first frame
+ * RS_COUNT_SPOT_S after the crossing (or the last one, when the crossing is
+ * tallied sooner: it ended, or a shorter class delay); under 0.3 s apart,
+ * the speed is unknown (-1). A hidden crossing was before the track was
+ * seen: its speed is the one the track reports when the crossing is
+ * tallied (the mean velocity its path was run back at comes from a partial
+ * first box, and so do positions just after it was found: on the rush
+ * captures 2.4 and 2.7 m/s RMSE, the track's later speed 1.6). What an event needs until it is
+ * tallied waits in a pool of RS_COUNT_OPEN_MAX (full: the crossing is still
+ * counted, its event is not: `events_lost`); more than RS_COUNT_EVENTS_MAX
+ * in one frame are counted in `events_lost` too.
+ *
  * Per-track memory (last position, lines already counted, zones inside) lives
  * in a fixed table keyed by track id; a track no longer in the list is forgotten. */
 #ifndef ROADSCAN_COUNT_H
@@ -118,10 +142,20 @@
 #define RS_COUNT_BAND_M 0.3               /* default band_m */
 #define RS_COUNT_VEHICLE_M 2.5            /* a track this long (its full length) or longer is a vehicle's (same_s) */
 #define RS_COUNT_UNSEEN_MIN_HITS 5        /* an unseen track of fewer hits is not followed (a flicker confirmed on 3) */
+#define RS_COUNT_TRAIL 16                 /* positions kept per track (spot speeds) ... */
+#define RS_COUNT_TRAIL_MS 95              /* ... at least this far apart (ms): 1.4 s at any frame rate */
+#define RS_COUNT_SPOT_MS 1000             /* a spot speed's window: this long before and after the crossing (ms) */
+#define RS_COUNT_TRAIL_DT (RS_COUNT_TRAIL_MS / 1000.0)
+#define RS_COUNT_SPOT_S (RS_COUNT_SPOT_MS / 1000.0)
+#define RS_COUNT_OPEN_MAX 256             /* crossings found and not yet tallied, waiting for their events */
+#define RS_COUNT_EVENTS_MAX 256           /* crossing events of one frame */
 
 _Static_assert(RS_COUNT_LINES <= 16, "lines counted per track fit in a uint16_t mask");
 _Static_assert(RS_COUNT_ZONES <= 8, "zones a track is inside fit in a uint8_t mask");
 _Static_assert((RS_COUNT_SLOTS & (RS_COUNT_SLOTS - 1)) == 0, "slots: a power of two");
+_Static_assert((RS_COUNT_TRAIL - 1) * RS_COUNT_TRAIL_MS > RS_COUNT_SPOT_MS + 200, "the trail reaches a spot window back");
+_Static_assert(RS_COUNT_TRAIL <= 255, "trail indices fit in a byte");
+_Static_assert(RS_COUNT_OPEN_MAX <= 65535 && RS_COUNT_EVENTS_MAX <= 65535, "pool and events indexed by 16 bits");
 
 typedef struct {
   char name[RS_COUNT_NAME];
@@ -149,6 +183,20 @@ typedef struct {
   rs_count_tally_t line[RS_COUNT_LINES];
   rs_zone_tally_t zone[RS_COUNT_ZONES];
 } rs_count_interval_t;
+
+typedef enum { RS_CROSS_SEEN = 0, RS_CROSS_HIDDEN = 1, RS_CROSS_UNSEEN = 2 } rs_cross_how_t;
+const char *rs_count_how_name(rs_cross_how_t h); /* "seen", "hidden", "unseen" */
+
+typedef struct {
+  double t;                              /* when it crossed (capture time, s) */
+  uint32_t track;                        /* the track's id */
+  uint8_t line;                          /* index into lines[] */
+  int8_t dir;                            /* 1 forward, -1 backward */
+  uint8_t cls;                           /* rs_class_t, the tally's */
+  uint8_t how;                           /* rs_cross_how_t */
+  float speed;                           /* spot speed (m/s), -1 unknown */
+  float at;                              /* where along the line (m from its A end) */
+} rs_count_event_t;
 
 typedef struct {
   int nlines;
@@ -186,6 +234,20 @@ typedef struct {
   uint64_t walked_back;                  /* of the crossings, a walker's track's second, back over a line after
                                             its first was tallied (band_m) */
   uint64_t pending;                      /* crossings found and not yet tallied (their class is settling) */
+  rs_count_event_t events[RS_COUNT_EVENTS_MAX]; /* the crossings tallied this frame (or by rs_count_flush) */
+  uint32_t nevents;
+  uint64_t events_lost;                  /* crossings tallied without an event (pool or frame full) */
+  struct {                               /* what a found crossing's event needs until it is tallied */
+    uint32_t id;                         /* the track's (0: free) */
+    uint8_t line, how;
+    bool after;                          /* the position after has been taken */
+    double t;                            /* when it crossed */
+    double tb, ta;                       /* the positions' times before and after it */
+    double due;                          /* the position after is taken at the first frame this late */
+    float xb, yb, xa, ya;
+    float at;                            /* where along the line */
+  } open[RS_COUNT_OPEN_MAX];
+  uint32_t nopen;                        /* entries in use are the first nopen */
   double t_first;                        /* the run's first frame (s) */
   struct {
     double t, s;                         /* when, and where along the line (m from A) */
@@ -210,6 +272,11 @@ typedef struct {
     double x0, y0;                       /* where (site frame) */
     uint32_t frame;                      /* last frame it was seen (low 32 bits) */
     double x, y;                         /* last position, site frame */
+    double t_xy;                         /* ... at this time */
+    float speed;                         /* the speed the track reported then */
+    float trail_t[RS_COUNT_TRAIL];       /* its last positions (time after t0, site frame), a ring */
+    float trail_x[RS_COUNT_TRAIL], trail_y[RS_COUNT_TRAIL];
+    uint8_t trail_n, trail_head;         /* entries, the newest's index */
   } slot[RS_COUNT_SLOTS];
   uint32_t frame_no;
 } rs_counter_t;

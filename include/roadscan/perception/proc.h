@@ -70,6 +70,8 @@ typedef struct {
   const rs_object_list_t *objects;   /* never NULL: an empty list when no stage made one */
   const rs_track_list_t *tracks;     /* NULL without a tracker (or before the first clustering) */
   const rs_count_interval_t *counts; /* a counting interval that closed with this frame, else NULL */
+  const rs_count_event_t *crossings; /* the crossings tallied with this frame (count.h), ncrossings of them */
+  uint32_t ncrossings;
   bool model_changed;                /* another background model was taken over before this frame */
   uint32_t filled[RS_LAYERS];        /* cells with a return, per layer */
   float min_range, max_range;        /* of the frame's returns (0 when none) */
