@@ -49,6 +49,7 @@ static struct {
 static struct {
   int n;
   long forward, backward, entered;
+  long x_forward, x_backward, x_speed; /* crossing events: each way, and with a spot speed */
 } crx;
 
 static void on_tracks(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
@@ -69,6 +70,25 @@ static void on_tracks(const lcm_recv_buf_t *rbuf, const char *channel, void *use
       }
     roadscan_counts_t_decode_cleanup(&c);
     crx.n++;
+    return;
+  }
+  if (strcmp(channel, "TRK_X") == 0) { /* a crossing event: checked as a consumer does, then decoded */
+    char why[RS_ERRMSG_SIZE];
+    ck_assert_msg(rs_lcm_check(RS_LCM_CROSSING, rbuf->data, (int)rbuf->data_size, why, sizeof why), "%s", why);
+    roadscan_crossing_t x;
+    ck_assert_int_eq(roadscan_crossing_t_decode(rbuf->data, 0, (int)rbuf->data_size, &x), (int)rbuf->data_size);
+    ck_assert(strcmp(x.line, "east") == 0 || strcmp(x.line, "west") == 0);
+    ck_assert(x.direction == 1 || x.direction == -1);
+    ck_assert(x.class_id >= 0 && x.class_id < RS_CLASS_COUNT);
+    ck_assert(x.how >= 0 && x.how <= 2);
+    ck_assert(x.speed == -1.0f || (x.speed >= 0.0f && x.speed < 60.0f));
+    ck_assert(x.at >= -0.01f && x.at <= 14.01f); /* along the 14 m lines */
+    ck_assert_int_gt(x.track_id, 0);
+    ck_assert_int_gt(x.t_cross, 1000000000000000LL); /* capture time, microseconds */
+    crx.x_forward += x.direction > 0;
+    crx.x_backward += x.direction < 0;
+    crx.x_speed += x.speed >= 0.0f;
+    roadscan_crossing_t_decode_cleanup(&x);
     return;
   }
   if (strcmp(channel, "TRK_END") == 0) {
@@ -382,6 +402,9 @@ START_TEST(t_checked_decode_survives_mutations) {
   roadscan_counts_t cm;
   ts_sample_counts(&cm, lines, zones);
   glen[RS_LCM_COUNTS] = roadscan_counts_t_encode(good[RS_LCM_COUNTS], 0, 4096, &cm);
+  roadscan_crossing_t xm;
+  ts_sample_crossing(&xm);
+  glen[RS_LCM_CROSSING] = roadscan_crossing_t_encode(good[RS_LCM_CROSSING], 0, 4096, &xm);
   rs_publish_deinit(&pub);
   char why[RS_ERRMSG_SIZE];
   uint64_t rng = 0x9e3779b97f4a7c15ull;
@@ -438,6 +461,13 @@ START_TEST(t_checked_decode_survives_mutations) {
         for (int l = 0; l < d.num_lines; l++) ck_assert_ptr_nonnull(memchr(d.lines[l].name, 0, 4097));
         for (int z = 0; z < d.num_zones; z++) ck_assert_ptr_nonnull(memchr(d.zones[z].name, 0, 4097));
         roadscan_counts_t_decode_cleanup(&d);
+        break;
+      }
+      case RS_LCM_CROSSING: {
+        roadscan_crossing_t d;
+        ck_assert_int_eq(roadscan_crossing_t_decode(heap, 0, len, &d), len);
+        ck_assert_ptr_nonnull(memchr(d.line, 0, 4097));
+        roadscan_crossing_t_decode_cleanup(&d);
         break;
       }
       }
@@ -527,6 +557,14 @@ START_TEST(t_listener_rejects_garbage) {
   int clen = roadscan_counts_t_encode(buf, 0, (int)sizeof buf, &cm);
   lcm_eventlog_event_t cnv = {n++, 1700000000000013LL, 15, clen, (char *)RS_PUB_DEFAULT_COUNTS, buf};
   ck_assert_int_eq(lcm_eventlog_write_event(log, &cnv), 0);
+  /* a crossing event, then the same cut inside its line's name */
+  roadscan_crossing_t xm;
+  ts_sample_crossing(&xm);
+  int xlen = roadscan_crossing_t_encode(buf, 0, (int)sizeof buf, &xm);
+  lcm_eventlog_event_t xev = {n++, 1700000000000014LL, 18, xlen, (char *)RS_PUB_DEFAULT_CROSSINGS, buf};
+  ck_assert_int_eq(lcm_eventlog_write_event(log, &xev), 0);
+  lcm_eventlog_event_t xcut = {n++, 1700000000000015LL, 18, 8 + 8 + 10 + 6, (char *)RS_PUB_DEFAULT_CROSSINGS, buf};
+  ck_assert_int_eq(lcm_eventlog_write_event(log, &xcut), 0);
   lcm_eventlog_destroy(log);
   rs_publish_deinit(&pub);
   char cmd[1024];
@@ -547,6 +585,20 @@ START_TEST(t_listener_rejects_garbage) {
   ck_assert_ptr_nonnull(strstr(out, "track     7 confirmed"));
   ck_assert_ptr_nonnull(strstr(out, "line east forward 2, backward 0"));
   ck_assert_ptr_nonnull(strstr(out, "is not a roadscan track list (the message ends inside a field"));
+  /* with --crossings: the event printed, the cut one refused; as JSON, its document */
+  snprintf(cmd, sizeof cmd, "./roadscan-listen --log %s --crossings", path);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_msg(strstr(out, "counts 0, crossings 1") != NULL, "%s", out);
+  ck_assert_msg(strstr(out, "north crossing 1700000000.123 s: line east forward at 3.5 m, track 42 class 3, 9.25 m/s") !=
+                    NULL, "%s", out);
+  ck_assert_msg(strstr(out, "a message of 32 bytes is not a roadscan crossing (a string longer than the message") != NULL,
+                "%s", out);
+  snprintf(cmd, sizeof cmd, "./roadscan-listen --log %s --crossings --json", path);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_msg(strstr(out, "\"schema\":\"roadscan.crossings/1\",\"sensor_id\":\"north\"") != NULL, "%s", out);
+  ck_assert_msg(strstr(out, "\"line\":\"east\",\"t_cross_us\":1700000000123456,\"direction\":\"forward\",\"at_m\":3.5,"
+                            "\"class\":\"car\",\"track_id\":42,\"speed_mps\":9.25,\"how\":\"seen\"") != NULL,
+                "%s", out);
 }
 END_TEST
 
@@ -575,7 +627,7 @@ START_TEST(t_pipeline_end_to_end) {
   lcm_subscription_t *sub = lcm_subscribe(lcm, "OBJ", on_raw, NULL);
   lcm_subscription_t *tsub = lcm_subscribe(lcm, "TRK.*", on_tracks, NULL);
   rs_publish_cfg_t pcfg = {.channel = "OBJ", .stats_channel = "", .tracks_channel = "TRK", .track_ends_channel = "TRK_END",
-                           .counts_channel = "TRK_CNT", .lcm = lcm};
+                           .counts_channel = "TRK_CNT", .crossings_channel = "TRK_X", .lcm = lcm};
   /* the site's roads, in the sensor frame (the intersection's centre is at 11.5, 11.5) */
   rs_count_line_t lines[2];
   char lerr[RS_ERRMSG_SIZE];
@@ -677,6 +729,12 @@ START_TEST(t_pipeline_end_to_end) {
     }
   ck_assert_int_eq(crx.forward, fwd);
   ck_assert_int_eq(crx.backward, bwd);
+  /* one crossing event per crossing counted, each way */
+  ck_assert_int_eq(crx.x_forward, fwd);
+  ck_assert_int_eq(crx.x_backward, bwd);
+  ck_assert_int_eq(crx.x_forward + crx.x_backward, (long)pub.crossings);
+  ck_assert_int_gt(fwd + bwd, 0);
+  ck_assert_int_gt(crx.x_speed, 0);
   long entered = 0;
   for (int k = 0; k < RS_CLASS_COUNT; k++) entered += counter.zone_total[0].entered[k];
   ck_assert_int_eq(crx.entered, entered);

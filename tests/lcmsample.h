@@ -1,11 +1,12 @@
 /* lcmsample.h - a counts message with both of its variable-length parts (two
- * lines and a zone), built the same way by the hostile-message tests
+ * lines and a zone), and a crossing event, built the same way by the hostile-message tests
  * (check_lcm) and the fuzz seeds (fuzz/seeds.c): the caller owns the storage
  * the message points into. */
 #ifndef ROADSCAN_TESTS_LCMSAMPLE_H
 #define ROADSCAN_TESTS_LCMSAMPLE_H
 
 #include "roadscan_counts_t.h"
+#include "roadscan_crossing_t.h"
 
 #include <string.h>
 
@@ -24,6 +25,19 @@ static inline void ts_sample_counts(roadscan_counts_t *cm, roadscan_count_line_t
   cm->lines = lines;
   cm->num_zones = 1;
   cm->zones = zones;
+}
+
+/* a crossing event with its strings */
+static inline void ts_sample_crossing(roadscan_crossing_t *x) {
+  memset(x, 0, sizeof *x);
+  x->sensor_id = "north";
+  x->line = "east";
+  x->t_cross = 1700000000123456LL;
+  x->direction = 1;
+  x->at = 3.5f;
+  x->class_id = 3;
+  x->track_id = 42;
+  x->speed = 9.25f;
 }
 
 #endif

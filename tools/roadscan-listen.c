@@ -31,7 +31,7 @@ static void on_signal(int sig) {
 static struct {
   bool json, stats, quiet;
   long count, delay_ms;
-  uint64_t lists, stats_msgs, malformed, gaps, objects, track_lists, track_ends, counts;
+  uint64_t lists, stats_msgs, malformed, gaps, objects, track_lists, track_ends, counts, crossings;
   double t0, t_last;
   struct {
     char id[RS_PUB_NAME_MAX];
@@ -218,6 +218,31 @@ static void on_tracks(const lcm_recv_buf_t *rbuf, const char *channel, void *use
   roadscan_track_list_t_decode_cleanup(&m);
 }
 
+/* crossing events (--crossings): checked, decoded, printed */
+static void on_crossing(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
+  (void)user;
+  char why[RS_ERRMSG_SIZE] = "it does not decode";
+  if (!rs_lcm_check(RS_LCM_CROSSING, rbuf->data, (int)rbuf->data_size, why, sizeof why)) {
+    L.malformed++;
+    fprintf(stderr, "roadscan-listen: %s: a message of %u bytes is not a roadscan crossing (%s); ignored\n", channel,
+            rbuf->data_size, why);
+    return;
+  }
+  roadscan_crossing_t x;
+  if (roadscan_crossing_t_decode(rbuf->data, 0, (int)rbuf->data_size, &x) < 0) return;
+  L.crossings++;
+  if (!L.quiet) {
+    if (L.json)
+      emit(rs_json_text_ok(x.sensor_id) && rs_json_text_ok(x.line) ? rs_json_crossing(&x) : NULL, channel);
+    else
+      printf("%s crossing %.3f s: line %s %s at %.1f m, track %d class %d, %.2f m/s (how %d)\n", x.sensor_id,
+             (double)x.t_cross * 1e-6, x.line, x.direction > 0 ? "forward" : "backward", (double)x.at, x.track_id,
+             x.class_id, (double)x.speed, x.how);
+    fflush(stdout);
+  }
+  roadscan_crossing_t_decode_cleanup(&x);
+}
+
 static void on_counts(const lcm_recv_buf_t *rbuf, const char *channel, void *user) {
   (void)user;
   char why[RS_ERRMSG_SIZE] = "it does not decode";
@@ -263,7 +288,7 @@ static void on_counts(const lcm_recv_buf_t *rbuf, const char *channel, void *use
 
 /* Everything the options set. */
 typedef struct {
-  const char *url, *channel, *stats, *log, *tracks, *counts;
+  const char *url, *channel, *stats, *log, *tracks, *counts, *crossings;
   double timeout;
   int count, delay_ms;
   bool json, quiet;
@@ -285,6 +310,9 @@ static const rs_opt_t table[] = {
     {.type = RS_OPT_STR, .name = "counts", .arg = "NAME", .off = offsetof(T, counts),
      .implied = RS_PUB_DEFAULT_COUNTS, .def = "off; NAME: " RS_PUB_DEFAULT_COUNTS,
      .help = "also print the counts per interval"},
+    {.type = RS_OPT_STR, .name = "crossings", .arg = "NAME", .off = offsetof(T, crossings),
+     .implied = RS_PUB_DEFAULT_CROSSINGS, .def = "off; NAME: " RS_PUB_DEFAULT_CROSSINGS,
+     .help = "also print each crossing counted (its spot speed, class, track)"},
     RS_OPT_FLAG_("json", T, json, "one JSON object per line and message"),
     {.type = RS_OPT_INT, .name = "count", .arg = "N", .off = offsetof(T, count), .lo = 1, .hi = 1000000000,
      .def = "no limit", .help = "exit after N object lists"},
@@ -345,6 +373,7 @@ int main(int argc, char **argv) {
   lcm_subscription_t *esub =
       tracks ? lcm_subscribe(lcm, ends_channel[0] ? ends_channel : RS_PUB_DEFAULT_TRACK_ENDS, on_tracks, NULL) : NULL;
   lcm_subscription_t *csub = counts ? lcm_subscribe(lcm, counts, on_counts, NULL) : NULL;
+  lcm_subscription_t *xsub = st.crossings ? lcm_subscribe(lcm, st.crossings, on_crossing, NULL) : NULL;
   /* subscribed: from here on nothing published is missed (scripts wait for this line
    * before they start a publisher) */
   if (!log && !L.quiet) {
@@ -371,12 +400,15 @@ int main(int argc, char **argv) {
   if (tsub) lcm_unsubscribe(lcm, tsub);
   if (esub) lcm_unsubscribe(lcm, esub);
   if (csub) lcm_unsubscribe(lcm, csub);
+  if (xsub) lcm_unsubscribe(lcm, xsub);
   lcm_destroy(lcm);
   double rate = L.lists > 1 && L.t_last > L.t0 ? (double)(L.lists - 1) / (L.t_last - L.t0) : 0.0;
   fprintf(stderr,
           "roadscan-listen: lists %" PRIu64 ", objects %" PRIu64 ", gaps %" PRIu64 ", stats %" PRIu64
-          ", malformed %" PRIu64 ", rate %.2f/s; track lists %" PRIu64 ", track ends %" PRIu64 ", counts %" PRIu64 "\n",
-          L.lists, L.objects, L.gaps, L.stats_msgs, L.malformed, rate, L.track_lists, L.track_ends, L.counts);
+          ", malformed %" PRIu64 ", rate %.2f/s; track lists %" PRIu64 ", track ends %" PRIu64 ", counts %" PRIu64
+          ", crossings %" PRIu64 "\n",
+          L.lists, L.objects, L.gaps, L.stats_msgs, L.malformed, rate, L.track_lists, L.track_ends, L.counts,
+          L.crossings);
   return L.lists > 0 ? 0 : 1;
 bad:
   fprintf(stderr, "roadscan-listen: %s\n", err);

@@ -289,6 +289,8 @@ static const rs_opt_t table[] = {
     S("tracks-channel", "NAME", pub.tracks_channel, "track lists ('none' = not sent)"),
     S("track-ends-channel", "NAME", pub.track_ends_channel, "ended tracks ('none' = not sent)"),
     S("counts-channel", "NAME", pub.counts_channel, "counts per interval ('none' = not sent)"),
+    S("crossings-channel", "NAME", pub.crossings_channel,
+      "one message per crossing counted, with its spot speed, as --crossings-out ('none' = not sent)"),
     S("sensor-id", "ID", pub.sensor_id, "sensor_id field of every message"),
     I("max-datagram", "N", pub.max_datagram, RS_PUB_DATAGRAM_MIN, RS_PUB_DATAGRAM_MAX,
       "bytes of one LCM datagram; sets the object cap"),
@@ -377,6 +379,7 @@ int main(int argc, char **argv) {
                               .tracks_channel = RS_PUB_DEFAULT_TRACKS,
                               .track_ends_channel = RS_PUB_DEFAULT_TRACK_ENDS,
                               .counts_channel = RS_PUB_DEFAULT_COUNTS,
+                              .crossings_channel = RS_PUB_DEFAULT_CROSSINGS,
                               .sensor_id = "roadscan",
                               .max_datagram = RS_PUB_DATAGRAM_MAX};
   char err[RS_ERRMSG_SIZE];
@@ -394,6 +397,7 @@ int main(int argc, char **argv) {
   st.pub.tracks_channel = channel_or_off(st.pub.tracks_channel);
   st.pub.track_ends_channel = channel_or_off(st.pub.track_ends_channel);
   st.pub.counts_channel = channel_or_off(st.pub.counts_channel);
+  st.pub.crossings_channel = channel_or_off(st.pub.crossings_channel);
   const bool speed_set = rs_opts_given(&opts, "speed") > 0, have_pose = rs_opts_given(&opts, "pose") > 0;
   if (st.use_syslog) rs_log_open("roadscand", true);
   const char *allow_env = getenv("ROADSCAN_ALLOW_ROOT");

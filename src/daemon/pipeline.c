@@ -422,6 +422,8 @@ static void write_crossings(FILE *f, const rs_counter_t *c, const rs_count_event
 
 static void count_sinks(rs_pipeline_t *p, const rs_proc_report_t *r) {
   if (p->crossings_out && r->ncrossings) write_crossings(p->crossings_out, p->cfg.counter, r->crossings, r->ncrossings);
+  if (p->cfg.publish && r->ncrossings)
+    rs_publish_crossings(p->cfg.publish, p->cfg.counter, r->crossings, r->ncrossings, rs_publish_utime());
   if (r->counts == NULL) return;
   if (p->cfg.publish) rs_publish_counts(p->cfg.publish, p->cfg.counter, r->counts, rs_publish_utime());
   if (p->counts_out) write_counts(p->counts_out, p->cfg.counter, r->counts);
@@ -716,6 +718,10 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
               (unsigned long long)pub->track_lists, pub->tracks_channel[0] ? pub->tracks_channel : "(none)",
               (unsigned long long)pub->truncated_track_lists, pub->track_cap, (unsigned long long)pub->track_ends,
               pub->ends_channel[0] ? pub->ends_channel : "(none)");
+    if (p->cfg.counter && p->cfg.counter->nlines)
+      fprintf(out, "  lcm: %llu counts on %s, %llu crossings on %s\n", (unsigned long long)pub->counts,
+              pub->counts_channel[0] ? pub->counts_channel : "(none)", (unsigned long long)pub->crossings,
+              pub->crossings_channel[0] ? pub->crossings_channel : "(none)");
   }
   fprintf(out, "  deadline: %llu of %llu frames over budget (",
           (unsigned long long)p->overruns, (unsigned long long)pr->n.frames);

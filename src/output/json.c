@@ -120,6 +120,18 @@ json_t *rs_json_counts(const roadscan_counts_t *c) {
   return j;
 }
 
+static const char *const how_names[3] = {"seen", "hidden", "unseen"};
+
+json_t *rs_json_crossing(const roadscan_crossing_t *x) {
+  json_t *j = header("crossings", x->sensor_id, x->utime);
+  json_object_update_new(j, json_pack("{s:s, s:I, s:s, s:o, s:s, s:i, s:o, s:s}", "line", x->line, "t_cross_us",
+                                      (json_int_t)x->t_cross, "direction", x->direction > 0 ? "forward" : "backward",
+                                      "at_m", real(x->at), "class", name_of(class_names, 6, x->class_id), "track_id",
+                                      x->track_id, "speed_mps", x->speed >= 0.0f ? real(x->speed) : json_null(), "how",
+                                      name_of(how_names, 3, x->how)));
+  return j;
+}
+
 json_t *rs_json_stats(const roadscan_frame_stats_t *s) {
   json_t *j = header("stats", s->sensor_id, s->utime);
   json_t *stage = json_pack("{s:o, s:o, s:o, s:o, s:o, s:o}", "background_ms", real(s->background_us * 1e-3),

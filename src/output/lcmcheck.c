@@ -9,6 +9,7 @@
 #include <roadscan_count_line_t.h>
 #include <roadscan_count_zone_t.h>
 #include <roadscan_counts_t.h>
+#include <roadscan_crossing_t.h>
 #include <roadscan_frame_stats_t.h>
 #include <roadscan_object_list_t.h>
 #include <roadscan_object_t.h>
@@ -132,6 +133,14 @@ static int tail_track_end(void) {
   return roadscan_track_end_t_encoded_size(&z) - 8 - 8 - 5;
 }
 
+static int tail_crossing(void) {
+  roadscan_crossing_t z;
+  memset(&z, 0, sizeof z);
+  z.sensor_id = (char *)"";
+  z.line = (char *)"";
+  return roadscan_crossing_t_encoded_size(&z) - 8 - 8 - 5 - 5;
+}
+
 bool rs_lcm_check(rs_lcm_type_t type, const void *data, int len, char *err, size_t n) {
   rd_t r = {data, len, 0, err, n, true};
   if (data == NULL || len < 0) return fail(&r, "no message");
@@ -198,12 +207,19 @@ bool rs_lcm_check(rs_lcm_type_t type, const void *data, int len, char *err, size
     }
     return done(&r);
   }
+  case RS_LCM_CROSSING:
+    if (!fingerprint(&r, __roadscan_crossing_t_get_hash())) return false;
+    skip(&r, 8);
+    str(&r); /* sensor_id */
+    str(&r); /* line */
+    skip(&r, tail_crossing());
+    return done(&r);
   default: return fail(&r, "unknown type");
   }
 }
 
 const char *rs_lcm_type_name(rs_lcm_type_t type) {
   static const char *const names[RS_LCM_TYPES] = {"object_list_t", "frame_stats_t", "track_list_t", "track_end_t",
-                                                  "counts_t"};
+                                                  "counts_t", "crossing_t"};
   return (unsigned)type < RS_LCM_TYPES ? names[type] : "?";
 }

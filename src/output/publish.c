@@ -120,6 +120,10 @@ int rs_publish_init(rs_publish_t *p, const rs_publish_cfg_t *cfg) {
   const char *cch = cfg->counts_channel ? cfg->counts_channel : RS_PUB_DEFAULT_COUNTS;
   if (cch[0] && !copy_name(p->counts_channel, sizeof p->counts_channel, cch, "counts channel", p->err, sizeof p->err))
     return RS_E_INVAL;
+  const char *xch = cfg->crossings_channel ? cfg->crossings_channel : RS_PUB_DEFAULT_CROSSINGS;
+  if (xch[0] &&
+      !copy_name(p->crossings_channel, sizeof p->crossings_channel, xch, "crossings channel", p->err, sizeof p->err))
+    return RS_E_INVAL;
   const char *ech = cfg->track_ends_channel ? cfg->track_ends_channel : RS_PUB_DEFAULT_TRACK_ENDS;
   if (ech[0] && !copy_name(p->ends_channel, sizeof p->ends_channel, ech, "track ends channel", p->err, sizeof p->err))
     return RS_E_INVAL;
@@ -373,6 +377,32 @@ int rs_publish_tracks(rs_publish_t *p, const rs_frame_meta_t *m, const rs_track_
       rc = RS_E_LCM;
     } else {
       p->track_ends++;
+    }
+  }
+  return rc;
+}
+
+int rs_publish_crossings(rs_publish_t *p, const rs_counter_t *c, const rs_count_event_t *ev, uint32_t n, int64_t utime) {
+  int rc = RS_OK;
+  for (uint32_t k = 0; k < n && p->crossings_channel[0]; k++) {
+    roadscan_crossing_t m;
+    memset(&m, 0, sizeof m);
+    m.utime = utime;
+    m.sensor_id = p->sensor_id;
+    m.line = (char *)c->lines[ev[k].line].name;
+    m.t_cross = usec(ev[k].t);
+    m.direction = ev[k].dir;
+    m.at = ev[k].at;
+    m.class_id = (int8_t)ev[k].cls;
+    m.track_id = (int32_t)ev[k].track;
+    m.speed = ev[k].speed;
+    m.how = (int8_t)ev[k].how;
+    const int len = roadscan_crossing_t_encode(p->buf, 0, (int)sizeof p->buf, &m);
+    if (len < 0 || lcm_publish(p->lcm, p->crossings_channel, p->buf, (unsigned)len) != 0) {
+      p->errors++;
+      rc = RS_E_LCM;
+    } else {
+      p->crossings++;
     }
   }
   return rc;

@@ -9,6 +9,7 @@
 #include "roadscan/output/lcmcheck.h"
 
 #include <roadscan_counts_t.h>
+#include <roadscan_crossing_t.h>
 #include <roadscan_frame_stats_t.h>
 #include <roadscan_object_list_t.h>
 #include <roadscan_track_end_t.h>
@@ -39,6 +40,9 @@ static json_t *as_json_c(const roadscan_counts_t *m) {
   for (int i = 0; i < m->num_zones && ok; i++) ok = rs_json_text_ok(m->zones[i].name);
   return ok ? rs_json_counts(m) : NULL;
 }
+static json_t *as_json_x(const roadscan_crossing_t *m) {
+  return rs_json_text_ok(m->sensor_id) && rs_json_text_ok(m->line) ? rs_json_crossing(m) : NULL;
+}
 
 #define DECODE(T, buf, len, conv)                                                        \
   do {                                                                                   \
@@ -64,6 +68,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
     case RS_LCM_TRACK_LIST: DECODE(roadscan_track_list_t, msg, len, as_json_t); break;
     case RS_LCM_TRACK_END: DECODE(roadscan_track_end_t, msg, len, as_json_e); break;
     case RS_LCM_COUNTS: DECODE(roadscan_counts_t, msg, len, as_json_c); break;
+    case RS_LCM_CROSSING: DECODE(roadscan_crossing_t, msg, len, as_json_x); break;
     default: break;
     }
   }

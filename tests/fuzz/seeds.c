@@ -129,6 +129,11 @@ static void lcm_seeds(void) {
   sel = RS_LCM_COUNTS;
   n = roadscan_counts_t_encode(buf, 0, sizeof buf, &cm);
   put("lcm", "counts", &sel, 1, buf, (size_t)n);
+  roadscan_crossing_t xm;
+  ts_sample_crossing(&xm);
+  sel = RS_LCM_CROSSING;
+  n = roadscan_crossing_t_encode(buf, 0, sizeof buf, &xm);
+  put("lcm", "crossing", &sel, 1, buf, (size_t)n);
   rs_publish_deinit(&pub);
 }
 

@@ -12,6 +12,7 @@
 
 #include <jansson.h>
 #include <roadscan_counts_t.h>
+#include <roadscan_crossing_t.h>
 #include <roadscan_frame_stats_t.h>
 #include <roadscan_object_list_t.h>
 #include <roadscan_track_end_t.h>
@@ -26,6 +27,7 @@ json_t *rs_json_objects(const roadscan_object_list_t *l);
 json_t *rs_json_tracks(const roadscan_track_list_t *l);
 json_t *rs_json_track_end(const roadscan_track_end_t *e);
 json_t *rs_json_counts(const roadscan_counts_t *c);
+json_t *rs_json_crossing(const roadscan_crossing_t *x);
 json_t *rs_json_stats(const roadscan_frame_stats_t *s);
 /* true when s is valid UTF-8 (a JSON string can hold it) */
 bool rs_json_text_ok(const char *s);

@@ -22,6 +22,7 @@ typedef enum {
   RS_LCM_TRACK_LIST,
   RS_LCM_TRACK_END,
   RS_LCM_COUNTS,
+  RS_LCM_CROSSING,
   RS_LCM_TYPES
 } rs_lcm_type_t;
 

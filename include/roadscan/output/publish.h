@@ -19,6 +19,7 @@
 
 #include <lcm/lcm.h>
 #include <roadscan_counts_t.h>
+#include <roadscan_crossing_t.h>
 #include <roadscan_frame_stats_t.h>
 #include <roadscan_object_list_t.h>
 #include <roadscan_track_end_t.h>
@@ -32,6 +33,7 @@
 #define RS_PUB_DEFAULT_TRACKS "ROADSCAN_TRACKS"
 #define RS_PUB_DEFAULT_TRACK_ENDS "ROADSCAN_TRACK_ENDS"
 #define RS_PUB_DEFAULT_COUNTS "ROADSCAN_COUNTS"
+#define RS_PUB_DEFAULT_CROSSINGS "ROADSCAN_CROSSINGS"
 #define RS_PUB_DATAGRAM_MAX 65499 /* LCM's single-datagram limit on Linux: channel + NUL + payload */
 #define RS_PUB_DATAGRAM_MIN 1400
 #define RS_PUB_MAX_OBJECTS 512    /* >= what fits in RS_PUB_DATAGRAM_MAX (checked at init) */
@@ -44,6 +46,7 @@ typedef struct {
   const char *tracks_channel;     /* NULL: RS_PUB_DEFAULT_TRACKS; "" = no track lists */
   const char *track_ends_channel; /* NULL: RS_PUB_DEFAULT_TRACK_ENDS; "" = no end events */
   const char *counts_channel;     /* NULL: RS_PUB_DEFAULT_COUNTS; "" = no counts */
+  const char *crossings_channel;  /* NULL: RS_PUB_DEFAULT_CROSSINGS; "" = no crossing events */
   const char *sensor_id;     /* NULL: "roadscan" */
   int max_datagram;          /* 0: RS_PUB_DATAGRAM_MAX */
   lcm_t *lcm;                /* optional: publish on this instance (not destroyed) */
@@ -52,13 +55,14 @@ typedef struct {
 typedef struct {
   char url[512], channel[RS_PUB_NAME_MAX], stats_channel[RS_PUB_NAME_MAX], sensor_id[RS_PUB_NAME_MAX];
   char tracks_channel[RS_PUB_NAME_MAX], ends_channel[RS_PUB_NAME_MAX], counts_channel[RS_PUB_NAME_MAX];
+  char crossings_channel[RS_PUB_NAME_MAX];
   int max_datagram;
   lcm_t *lcm;
   bool own_lcm;
   uint32_t cap;                 /* objects per list */
   uint32_t track_cap;           /* tracks per list */
   uint64_t lists, stats, truncated_lists, objects_dropped, errors;
-  uint64_t track_lists, track_ends, truncated_track_lists, counts;
+  uint64_t track_lists, track_ends, truncated_track_lists, counts, crossings;
   roadscan_count_line_t count_wire[RS_COUNT_LINES];
   roadscan_count_zone_t zone_wire[RS_COUNT_ZONES];
   uint16_t track_order[RS_TRACK_MAX];
@@ -85,6 +89,8 @@ void rs_publish_fill_tracks(rs_publish_t *p, const rs_frame_meta_t *m, const rs_
                             roadscan_track_list_t *msg);
 /* The counts of every line over a closed interval. */
 int rs_publish_counts(rs_publish_t *p, const rs_counter_t *c, const rs_count_interval_t *iv, int64_t utime);
+/* One message per crossing event (count.h) of a frame. */
+int rs_publish_crossings(rs_publish_t *p, const rs_counter_t *c, const rs_count_event_t *ev, uint32_t n, int64_t utime);
 /* The track list of a frame, then one message per track that ended. */
 int rs_publish_tracks(rs_publish_t *p, const rs_frame_meta_t *m, const rs_track_list_t *tl, int64_t utime);
 
