@@ -35,7 +35,7 @@ try:
 except ImportError:
     jsonschema = None
 
-KINDS = ("objects", "tracks", "track_ends", "counts", "stats")
+KINDS = ("objects", "tracks", "track_ends", "counts", "stats", "crossings")
 
 
 class Broker:
@@ -102,13 +102,39 @@ def bridge(bindir, log, port, speed, extra=()):
                             stderr=subprocess.PIPE, text=True)
 
 
+def inject_crossing(log, builddir):
+    """a crossing event written into the middle of the daemon's log (the synthetic scene has no traffic
+    to cross its line); 1, or 0 without PyPI's lcm"""
+    try:
+        import lcm
+        sys.path.insert(0, f"{builddir}/python")
+        from roadscan import crossing_t
+    except ImportError:
+        print("bridge: no PyPI lcm here: no crossing event written into the log, none checked")
+        return 0
+    events = [(e.timestamp, e.channel, e.data) for e in lcm.EventLog(log, "r")]
+    x = crossing_t()
+    x.utime, x.sensor_id, x.line, x.t_cross = events[0][0], "roadscan", "l", 1700000000500000
+    x.direction, x.at, x.class_id, x.track_id, x.speed, x.how = 1, 12.5, 3, 7, 8.5, 0
+    out = lcm.EventLog(log + ".tmp", "w", overwrite=True)
+    for i, (ts, ch, data) in enumerate(events):
+        out.write_event(ts, ch, data)
+        if i == len(events) // 2:
+            out.write_event(ts, "ROADSCAN_CROSSINGS", x.encode())
+    out.close()
+    os.replace(log + ".tmp", log)
+    return 1
+
+
 def distinct(msgs, kind):
     """(frame or time key) of each distinct message of a kind (QoS 1: duplicates may come)"""
     keys = set()
     for topic, payload in msgs:
         if topic.endswith("/" + kind):
             m = json.loads(payload)
-            keys.add(m.get("frame_seq", m["published_us"]))
+            # per frame; else when it was published and what it is about (one frame's track ends and
+            # crossings share a publication time)
+            keys.add(m.get("frame_seq", (m["published_us"], m.get("id"), m.get("track_id"), m.get("line"))))
     return keys
 
 
@@ -142,6 +168,7 @@ def main():
                         f"file://{log}?mode=w"], env=env, capture_output=True, text=True)
     if d.returncode != 0:
         fail(f"roadscand: {d.stderr}")
+    injected = inject_crossing(log, os.path.dirname(bindir))
     # the frames whose lists the daemon published (a paced run may drop one on a loaded machine)
     lst = subprocess.run([f"{bindir}/roadscan-listen", "--log", log, "--json"], capture_output=True, text=True)
     all_frames = {json.loads(l)["frame_seq"] for l in lst.stdout.splitlines() if '"roadscan.objects/1"' in l}
@@ -167,6 +194,18 @@ def main():
                 fail(f"{kind}: frames {sorted(all_frames - distinct(msgs, kind))} missing")
         if not distinct(msgs, "counts"):
             fail("no counts")
+        # one crossing message per crossing counted (the counts' sums, once per interval)
+        counted, seen_iv = 0, set()
+        for topic, payload in msgs:
+            if topic.endswith("/counts"):
+                m = json.loads(payload)
+                if m["t_start_us"] in seen_iv:
+                    continue
+                seen_iv.add(m["t_start_us"])
+                counted += sum(sum(ln[w].values()) for ln in m["lines"] for w in ("forward", "backward"))
+        if len(distinct(msgs, "crossings")) != counted + injected:
+            fail(f"{len(distinct(msgs, 'crossings'))} crossing messages for {counted} crossings counted and "
+                 f"{injected} written into the log")
         n = 0
         for topic, payload in msgs:
             kind = topic.rsplit("/", 1)[1]
@@ -186,7 +225,8 @@ def main():
             except jsonschema.ValidationError as e:
                 fail(f"{topic}: {e.message} at {list(e.absolute_path)}")
             n += 1
-        print(f"bridge: 1. {n} messages of {frames} frames received, every one valid against the schema")
+        print(f"bridge: 1. {n} messages of {frames} frames received ({len(distinct(msgs, 'crossings'))} crossings), "
+              "every one valid against the schema")
 
         # 2. the broker restarted while the bridge runs at the sensor's pace: nothing lost
         sub = Subscriber(tmp, port, "sub2")
@@ -225,7 +265,7 @@ def main():
             fail(f"the bridge ended with {b.returncode}: {err}")
         dropped = int(re.search(r"dropped (\d+) \(buffer full\)", err).group(1))
         received = re.search(r"received (\d+) object lists, (\d+) track lists, (\d+) track ends, (\d+) counts, "
-                             r"(\d+) statistics", err)
+                             r"(\d+) statistics, (\d+) crossings", err)
         sent_total = sum(int(x) for x in received.groups())
         wait_for(lambda: sum(len(distinct(sub.messages(), k)) for k in KINDS) >= sent_total - dropped, 60,
                  "the messages that fitted the buffer")

@@ -7,7 +7,7 @@
  * the generated decoder sees it (lcmcheck.h), turns it into JSON with one
  * library (jansson; the schema, with the unit of every field, is
  * docs/bridge-schema.json) and publishes it to
- *     PREFIX/SITE/SENSOR_ID/{objects,tracks,track_ends,counts,stats}
+ *     PREFIX/SITE/SENSOR_ID/{objects,tracks,track_ends,counts,stats,crossings}
  * (libmosquitto, QoS 1 by default). A retained PREFIX/SITE/bridge/status says
  * "online", and the broker says "offline" (the will) when the bridge goes.
  *
@@ -34,6 +34,7 @@
 #include <mosquitto.h>
 #include <pthread.h>
 #include <roadscan_counts_t.h>
+#include <roadscan_crossing_t.h>
 #include <roadscan_frame_stats_t.h>
 #include <roadscan_object_list_t.h>
 #include <roadscan_track_end_t.h>
@@ -49,10 +50,10 @@
 #define RS_BRIDGE_QUEUE_MAX 1000000 /* --buffer's upper bound */
 #define RS_BRIDGE_INFLIGHT 64       /* messages sent and not yet acknowledged */
 
-enum { K_OBJECTS, K_TRACKS, K_TRACK_ENDS, K_COUNTS, K_STATS, K_KINDS };
-static const char *const kind_name[K_KINDS] = {"objects", "tracks", "track_ends", "counts", "stats"};
+enum { K_OBJECTS, K_TRACKS, K_TRACK_ENDS, K_COUNTS, K_STATS, K_CROSSINGS, K_KINDS };
+static const char *const kind_name[K_KINDS] = {"objects", "tracks", "track_ends", "counts", "stats", "crossings"};
 static const rs_lcm_type_t kind_type[K_KINDS] = {RS_LCM_OBJECT_LIST, RS_LCM_TRACK_LIST, RS_LCM_TRACK_END,
-                                                 RS_LCM_COUNTS, RS_LCM_FRAME_STATS};
+                                                 RS_LCM_COUNTS, RS_LCM_FRAME_STATS, RS_LCM_CROSSING};
 
 typedef struct {
   char *topic, *payload; /* heap: the queue owns them */
@@ -240,6 +241,7 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel, void *us
     roadscan_track_end_t e;
     roadscan_counts_t c;
     roadscan_frame_stats_t s;
+    roadscan_crossing_t x;
   } m;
   memset(&m, 0, sizeof m);
   const void *d = rbuf->data;
@@ -269,6 +271,11 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel, void *us
     for (int i = 0; i < m.c.num_zones && text; i++) text = utf8(m.c.zones[i].name);
     j = text ? rs_json_counts(&m.c) : NULL;
     break;
+  case K_CROSSINGS:
+    if (roadscan_crossing_t_decode(d, 0, n, &m.x) < 0) return;
+    text = utf8(m.x.sensor_id) && utf8(m.x.line);
+    j = text ? rs_json_crossing(&m.x) : NULL;
+    break;
   default:
     if (roadscan_frame_stats_t_decode(d, 0, n, &m.s) < 0) return;
     text = utf8(m.s.sensor_id);
@@ -287,6 +294,7 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel, void *us
   case K_TRACKS: roadscan_track_list_t_decode_cleanup(&m.t); break;
   case K_TRACK_ENDS: roadscan_track_end_t_decode_cleanup(&m.e); break;
   case K_COUNTS: roadscan_counts_t_decode_cleanup(&m.c); break;
+  case K_CROSSINGS: roadscan_crossing_t_decode_cleanup(&m.x); break;
   default: roadscan_frame_stats_t_decode_cleanup(&m.s); break;
   }
   char *t = payload ? strdup(topic) : NULL;
@@ -325,6 +333,7 @@ static const rs_opt_t table[] = {
     RS_OPT_STR_("track-ends-channel", "NAME", T, ch[K_TRACK_ENDS], "ended tracks ('none' = not bridged)"),
     RS_OPT_STR_("counts-channel", "NAME", T, ch[K_COUNTS], "counts ('none' = not bridged)"),
     RS_OPT_STR_("stats-channel", "NAME", T, ch[K_STATS], "statistics ('none' = not bridged)"),
+    RS_OPT_STR_("crossings-channel", "NAME", T, ch[K_CROSSINGS], "crossing events ('none' = not bridged)"),
     RS_OPT_HEAD("mqtt", "MQTT: the broker"),
     RS_OPT_STR_("broker", "HOST:PORT", T, broker, "the broker"),
     RS_OPT_STR_("site", "NAME", T, site, "the site: topics PREFIX/SITE/SENSOR_ID/KIND"),
@@ -343,8 +352,8 @@ static const rs_opts_spec_t spec = {
     .summary = "roadscand's object lists, tracks, counts and statistics to an MQTT broker, as JSON",
     .synopsis = "[--broker HOST:PORT] [--site NAME] [options]",
     .about = "Subscribes to the daemon's LCM channels and publishes every message as JSON (docs/bridge-schema.json, "
-             "a unit for every field) to PREFIX/SITE/SENSOR_ID/{objects,tracks,track_ends,counts,stats}, with a "
-             "retained PREFIX/SITE/bridge/status (online, or offline: the will). Messages wait in a bounded buffer "
+             "a unit for every field) to PREFIX/SITE/SENSOR_ID/{objects,tracks,track_ends,counts,stats,crossings}, "
+             "with a retained PREFIX/SITE/bridge/status (online, or offline: the will). Messages wait in a bounded buffer "
              "until the broker acknowledges them, across broker restarts (docs/operations.md). At the end it prints "
              "what it received, sent, resent and dropped.",
     .epilog = "Exit status: 0 stopped by a signal or the end of a log, 1 cannot subscribe or connect, 2 bad usage.",
@@ -366,7 +375,7 @@ int main(int argc, char **argv) {
                     .prefix = "roadscan",
                     .client_id = NULL,
                     .ch = {RS_PUB_DEFAULT_CHANNEL, RS_PUB_DEFAULT_TRACKS, RS_PUB_DEFAULT_TRACK_ENDS,
-                           RS_PUB_DEFAULT_COUNTS, RS_PUB_DEFAULT_STATS},
+                           RS_PUB_DEFAULT_COUNTS, RS_PUB_DEFAULT_STATS, RS_PUB_DEFAULT_CROSSINGS},
                     .qos = 1,
                     .buffer = 10000,
                     .buffer_mib = 64,
@@ -470,11 +479,12 @@ int main(int argc, char **argv) {
   pthread_mutex_lock(&B.mu);
   fprintf(stderr,
           "roadscan-bridge: received %llu object lists, %llu track lists, %llu track ends, %llu counts, %llu "
-          "statistics, %llu malformed; sent %llu, acknowledged %llu, %llu in flight at %llu disconnects, dropped %llu "
-          "(buffer full), %d still waiting\n",
+          "statistics, %llu crossings, %llu malformed; sent %llu, acknowledged %llu, %llu in flight at %llu "
+          "disconnects, dropped %llu (buffer full), %d still waiting\n",
           (unsigned long long)B.received[K_OBJECTS], (unsigned long long)B.received[K_TRACKS],
           (unsigned long long)B.received[K_TRACK_ENDS], (unsigned long long)B.received[K_COUNTS],
-          (unsigned long long)B.received[K_STATS], (unsigned long long)B.malformed, (unsigned long long)B.sent,
+          (unsigned long long)B.received[K_STATS], (unsigned long long)B.received[K_CROSSINGS],
+          (unsigned long long)B.malformed, (unsigned long long)B.sent,
           (unsigned long long)B.acked, (unsigned long long)B.resent, (unsigned long long)B.disconnects,
           (unsigned long long)B.dropped, B.n);
   while (B.n > 0) pop_front();
