@@ -44,6 +44,11 @@
         of the sensor (its first row) and is younger than 2.5 s (a vehicle pulling away from
         beside the pole, out of the circle below the lowest beam: circle_whole,
         docs/tracking.md) or not; per kind its rows, share of the squared error and RMSE.
+    scripts/track-errors.py spot REPORT...
+        Pooled over roadscan-eval --tracking --json reports made with --counts and --crossings (as
+        scripts/tracking.sh leaves them in out/tracking/*.json): the vehicles' spot speed RMSE at the
+        counting lines, by how each crossing was found (seen, hidden, unseen) and in all, and on the
+        crossings where the track was listed confirmed, the spot speed's against the track's own.
     scripts/track-errors.py close STATES...
         Per true-states file: how many pairs of walkers came within 0.45 m of each other (centres;
         bodies are 0.5 m wide), the states within 0.6 m, and the nearest two ever came (m): how
@@ -54,6 +59,7 @@ Off the real-time path: plain Python, no third-party module.
 """
 import bisect
 import csv
+import json
 import math
 import sys
 from collections import Counter, defaultdict
@@ -433,10 +439,30 @@ def born(*paths):
     print_split("all", sq, n)
 
 
+def spot(*paths):
+    """spot speeds at the lines pooled over roadscan-eval --json reports made with --crossings"""
+    def pooled(key, nkey):
+        n = sum(j[nkey] for j in reports)
+        se = sum((j[key] or 0.0) ** 2 * j[nkey] for j in reports)
+        return f"{math.sqrt(se / n):.3f} ({n})" if n else "n/a (0)"
+    reports = [json.load(open(p)) for p in paths]
+    for j, p in zip(reports, paths):
+        if "spot_speed_samples_vehicles" not in j:
+            sys.exit(f"{p}: not a roadscan-eval --json report made with --crossings")
+    print(f"{len(reports)} reports: {sum(j['crossing_events'] for j in reports)} crossings counted, "
+          f"{sum(j['crossing_events_matched'] for j in reports)} matched; vehicles' spot speed RMSE (crossings):")
+    print(f"  seen {pooled('spot_speed_rmse_vehicles_seen', 'spot_speed_samples_vehicles_seen')}, "
+          f"hidden {pooled('spot_speed_rmse_vehicles_hidden', 'spot_speed_samples_vehicles_hidden')}, "
+          f"unseen {pooled('spot_speed_rmse_vehicles_unseen', 'spot_speed_samples_vehicles_unseen')}, "
+          f"all {pooled('spot_speed_rmse_vehicles', 'spot_speed_samples_vehicles')}")
+    print(f"  listed at the crossing: spot {pooled('spot_speed_rmse_vehicles_listed', 'track_speed_at_crossing_samples_vehicles')}"
+          f", the track's own {pooled('track_speed_at_crossing_rmse_vehicles', 'track_speed_at_crossing_samples_vehicles')}")
+
+
 def main(argv):
     modes = {"speed": speed, "ids": ids, "close": close, "traffic": traffic, "unmatched": unmatched, "matched": matched,
-             "born": born}
-    if len(argv) < 2 or argv[0] not in modes or (argv[0] not in ("close", "traffic", "matched", "born") and len(argv) != 3):
+             "born": born, "spot": spot}
+    if len(argv) < 2 or argv[0] not in modes or (argv[0] not in ("close", "traffic", "matched", "born", "spot") and len(argv) != 3):
         sys.exit(__doc__.strip())
     modes[argv[0]](*argv[1:])
 

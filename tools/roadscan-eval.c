@@ -596,8 +596,8 @@ static void print_events(FILE *out, json_t *json) {
       pr[np++] = (pair_t){fabs(evs[e].t - tx[x].t), (uint32_t)e, (uint32_t)x};
     }
   if (np) qsort(pr, np, sizeof *pr, cmp_pair);
-  size_t matched = 0, n_sp = 0, n_trk = 0, same_cls = 0, n_all = 0, n_seen = 0;
-  double se = 0, bias = 0, se_trk = 0, se_same = 0, se_t = 0, se_all = 0, se_seen = 0;
+  size_t matched = 0, n_sp = 0, n_trk = 0, same_cls = 0, n_all = 0, n_how[3] = {0, 0, 0};
+  double se = 0, bias = 0, se_trk = 0, se_same = 0, se_t = 0, se_all = 0, se_how[3] = {0, 0, 0};
   for (size_t k = 0; k < np; k++) {
     ev_t *e = &evs[pr[k].e];
     tx_t *x = &tx[pr[k].x];
@@ -615,10 +615,8 @@ static void print_events(FILE *out, json_t *json) {
     se += d2;
     bias += e->speed - x->speed;
     n_sp++;
-    if (e->how == 0) {
-      se_seen += d2;
-      n_seen++;
-    }
+    se_how[e->how] += d2; /* (how: 0 seen, 1 hidden, 2 unseen, load_events') */
+    n_how[e->how]++;
     const double v = track_speed_at(e->track, e->t); /* the track was listed confirmed then: the same rows */
     if (v >= 0) {
       se_trk += (v - x->speed) * (v - x->speed);
@@ -629,7 +627,10 @@ static void print_events(FILE *out, json_t *json) {
   free(pr);
   const double rmse = n_sp ? sqrt(se / (double)n_sp) : NAN, mb = n_sp ? bias / (double)n_sp : NAN;
   const double rmse_trk = n_trk ? sqrt(se_trk / (double)n_trk) : NAN, rmse_all = n_all ? sqrt(se_all / (double)n_all) : NAN;
-  const double rmse_same = n_trk ? sqrt(se_same / (double)n_trk) : NAN, rmse_seen = n_seen ? sqrt(se_seen / (double)n_seen) : NAN;
+  double rmse_how[3];
+  for (int h = 0; h < 3; h++) rmse_how[h] = n_how[h] ? sqrt(se_how[h] / (double)n_how[h]) : NAN;
+  const double rmse_same = n_trk ? sqrt(se_same / (double)n_trk) : NAN, rmse_seen = rmse_how[0];
+  const size_t n_seen = n_how[0];
   const double trms = matched ? sqrt(se_t / (double)matched) : NAN, agree = matched ? (double)same_cls / (double)matched : NAN;
   if (json) {
     json_object_set_new(json, "crossing_events", json_integer((json_int_t)nev));
@@ -642,6 +643,10 @@ static void print_events(FILE *out, json_t *json) {
     json_object_set_new(json, "spot_speed_rmse_all", jnum(rmse_all));
     json_object_set_new(json, "spot_speed_rmse_vehicles_seen", jnum(rmse_seen));
     json_object_set_new(json, "spot_speed_samples_vehicles_seen", json_integer((json_int_t)n_seen));
+    json_object_set_new(json, "spot_speed_rmse_vehicles_hidden", jnum(rmse_how[1]));
+    json_object_set_new(json, "spot_speed_samples_vehicles_hidden", json_integer((json_int_t)n_how[1]));
+    json_object_set_new(json, "spot_speed_rmse_vehicles_unseen", jnum(rmse_how[2]));
+    json_object_set_new(json, "spot_speed_samples_vehicles_unseen", json_integer((json_int_t)n_how[2]));
     json_object_set_new(json, "spot_speed_rmse_vehicles_listed", jnum(rmse_same));
     json_object_set_new(json, "track_speed_at_crossing_rmse_vehicles", jnum(rmse_trk));
     json_object_set_new(json, "track_speed_at_crossing_samples_vehicles", json_integer((json_int_t)n_trk));
@@ -650,8 +655,9 @@ static void print_events(FILE *out, json_t *json) {
   fprintf(out, "  crossings: %zu counted, %zu matched to a true one (same line and way, within %.1f s and %.1f m; time "
                "RMSE %.3f s; class the same %.1f %%)\n", nev, matched, EVENT_DT, EVENT_DS, trms, 100.0 * agree);
   fprintf(out, "  spot speed at the lines, vehicles: RMSE %.3f m/s (bias %+.3f, %zu crossings; seen crossing %.3f, %zu; "
-               "all road users %.3f); where the track was listed confirmed at the crossing: spot %.3f, the track's own "
-               "speed then %.3f m/s (%zu)\n", rmse, mb, n_sp, rmse_seen, n_seen, rmse_all, rmse_same, rmse_trk, n_trk);
+               "hidden %.3f, %zu; unseen %.3f, %zu; all road users %.3f); where the track was listed confirmed at the crossing: spot %.3f, the track's own "
+               "speed then %.3f m/s (%zu)\n", rmse, mb, n_sp, rmse_seen, n_seen, rmse_how[1], n_how[1], rmse_how[2], n_how[2],
+          rmse_all, rmse_same, rmse_trk, n_trk);
 }
 
 /* every road user's entries into and exits from each zone, its centre moving from outside to inside

@@ -264,7 +264,7 @@ static void note_side(rs_counter_t *c, uint32_t i, int l, int side) {
 /* the seen track of slot i at (x, y): its sides of the lines updated; the
  * direction it crossed line l in (it is past the band on the side other than
  * the one it was last seen clear on, along the line's segment), or 0 */
-static int band_cross(rs_counter_t *c, uint32_t i, int l, double x, double y, double *s, double *u_step) {
+static int band_cross(rs_counter_t *c, uint32_t i, int l, double x, double y, double *s) {
   const uint16_t bit = (uint16_t)(1u << l);
   const int side = side_of(c, l, x, y);
   if (side == 0) return 0;
@@ -274,13 +274,8 @@ static int band_cross(rs_counter_t *c, uint32_t i, int l, double x, double y, do
   /* where: the last step's meeting with the line when it met it, else the track's place along it */
   const rs_count_line_t *ln = &c->lines[l];
   double u;
-  *u_step = -1.0;
-  if (crosses(ln, c->slot[i].x, c->slot[i].y, x, y) != 0) {
-    meet(ln, c->slot[i].x, c->slot[i].y, x, y, &u, s);
-    *u_step = u;
-  } else {
-    *s = along(ln, x, y);
-  }
+  if (crosses(ln, c->slot[i].x, c->slot[i].y, x, y) != 0) meet(ln, c->slot[i].x, c->slot[i].y, x, y, &u, s);
+  else *s = along(ln, x, y);
   return *s >= 0.0 && *s <= line_len(ln) ? side : 0;
 }
 
@@ -448,10 +443,13 @@ static int open_find(const rs_counter_t *c, uint32_t id, int l) {
   return -1;
 }
 
+/* open entry k done: the last takes its place */
+static void open_remove(rs_counter_t *c, int k) { c->open[k] = c->open[--c->nopen]; }
+
 /* track id's crossing of line l taken back: no event */
 static void open_drop(rs_counter_t *c, uint32_t id, int l) {
   const int k = open_find(c, id, l);
-  if (k >= 0) c->open[k] = c->open[--c->nopen];
+  if (k >= 0) open_remove(c, k);
 }
 
 /* slot i at (x, y) at time t: the position after each of its open crossings once RS_COUNT_SPOT_S past it */
@@ -470,7 +468,7 @@ static void open_event(rs_counter_t *c, uint32_t i, int l, int dir, unsigned cls
   const int k = open_find(c, c->slot[i].id, l);
   if (k < 0 || c->nevents >= RS_COUNT_EVENTS_MAX) {
     c->events_lost++;
-    if (k >= 0) c->open[k] = c->open[--c->nopen];
+    if (k >= 0) open_remove(c, k);
     return;
   }
   rs_count_event_t *e = &c->events[c->nevents++];
@@ -490,7 +488,7 @@ static void open_event(rs_counter_t *c, uint32_t i, int l, int dir, unsigned cls
     const double dy = (after ? c->open[k].ya : c->slot[i].y) - c->open[k].yb;
     e->speed = dt >= 0.3 ? (float)(hypot(dx, dy) / dt) : -1.0f;
   }
-  c->open[k] = c->open[--c->nopen];
+  open_remove(c, k);
 }
 
 /* slot i's pending crossings, tallied under its class (those on a
@@ -657,11 +655,11 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
     }
     for (int l = 0; l < c->nlines; l++) {
       const double px = c->slot[i].x, py = c->slot[i].y;
-      double u = -1.0, s = 0, tc = t;
+      double u, s = 0, tc = t;
       int dir = 0;
       rs_cross_how_t how = RS_CROSS_SEEN;
       if (c->band_m > 0) {
-        dir = band_cross(c, i, l, x, y, &s, &u); /* (the sides kept current on every line) */
+        dir = band_cross(c, i, l, x, y, &s); /* (the sides kept current on every line) */
         const uint16_t bit = (uint16_t)(1u << l);
         if (dir != 0 && (c->slot[i].pending & bit) && !(undone & bit) &&
             (dir > 0) != ((c->slot[i].pending_fwd & bit) != 0)) { /* back before its crossing was tallied */
@@ -691,8 +689,8 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
         dir = crosses(&c->lines[l], px, py, x, y);
         if (dir != 0) meet(&c->lines[l], px, py, x, y, &u, &s);
       }
-      if (dir != 0) tc = trail_cross_time(c, i, l, t);
       if (dir != 0) {
+        tc = trail_cross_time(c, i, l, t);
         if (vehicle && c->same_s > 0 && counted_near(c, l, t, s, dir, c->same_s, tr->id)) {
           c->same_dup++;
           mark_counted(c, i, (uint16_t)(1u << l), dir); /* its vehicle's: not checked again */

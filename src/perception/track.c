@@ -221,13 +221,17 @@ static bool size_known(const rs_track_t *t) { return t->state != RS_TRACK_TENTAT
 
 /* object o's oriented box on track t's axes (u along its heading, v across):
  * min u, max u, min v, max v */
-static void box_on(const rs_object_t *o, double h, double c, double s, double e[4]) {
-  const double dh = (double)o->sensor.obb_heading - h;
+/* (cd, sd: |cos| and |sin| of the angle between the box's heading and the axes) */
+static void box_on_cs(const rs_object_t *o, double cd, double sd, double c, double s, double e[4]) {
   const double a = 0.5 * o->sensor.obb_length, b = 0.5 * o->sensor.obb_width;
-  const double du = a * fabs(cos(dh)) + b * fabs(sin(dh)), dv = a * fabs(sin(dh)) + b * fabs(cos(dh));
+  const double du = a * cd + b * sd, dv = a * sd + b * cd;
   const double cu = o->sensor.obb_center[0] * c + o->sensor.obb_center[1] * s;
   const double cv = -o->sensor.obb_center[0] * s + o->sensor.obb_center[1] * c;
   e[0] = cu - du, e[1] = cu + du, e[2] = cv - dv, e[3] = cv + dv;
+}
+static void box_on(const rs_object_t *o, double h, double c, double s, double e[4]) {
+  const double dh = (double)o->sensor.obb_heading - h;
+  box_on_cs(o, fabs(cos(dh)), fabs(sin(dh)), c, s, e);
 }
 /* box_on on track t's axes: the cosine and sine of the angle between the two
  * headings from the track's (hcd, hsd) and the object's (obj_cs, once a frame) */
@@ -238,12 +242,7 @@ static void box_on_axes(const rs_tracker_t *tr, const rs_track_t *t, const rs_ob
     return;
   }
   const double *cs = tr->obj_cs[(at - base) / sizeof *o];
-  const double cd = fabs(cs[0] * t->hcd + cs[1] * t->hsd), sd = fabs(cs[1] * t->hcd - cs[0] * t->hsd);
-  const double a = 0.5 * o->sensor.obb_length, b = 0.5 * o->sensor.obb_width, c = t->hcos, s = t->hsin;
-  const double du = a * cd + b * sd, dv = a * sd + b * cd;
-  const double cu = o->sensor.obb_center[0] * c + o->sensor.obb_center[1] * s;
-  const double cv = -o->sensor.obb_center[0] * s + o->sensor.obb_center[1] * c;
-  e[0] = cu - du, e[1] = cu + du, e[2] = cv - dv, e[3] = cv + dv;
+  box_on_cs(o, fabs(cs[0] * t->hcd + cs[1] * t->hsd), fabs(cs[1] * t->hcd - cs[0] * t->hsd), t->hcos, t->hsin, e);
 }
 
 /* the point at u along axes (c, s) on the centre line of a box whose extents on them are e (box_on) */
