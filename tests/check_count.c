@@ -253,7 +253,7 @@ START_TEST(t_hidden_crossings) {
   setup(l, 1, NULL, 60);
   tl.count = 0;
   rs_count_frame(&cnt, &tl, 50.0);
-  drive(1, 51.0, -6.0, -8.0, 6, 3);
+  drive(1, 52.0, -6.0, -8.0, 6, 3);
   ck_assert_uint_eq(cnt.crossings, 1);
   ck_assert_uint_eq(cnt.hidden, 1);
   ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_CAR], 1);
@@ -267,7 +267,7 @@ START_TEST(t_hidden_crossings) {
   cnt.hidden_s = 0;
   tl.count = 0;
   rs_count_frame(&cnt, &tl, 50.0);
-  drive(1, 51.0, -6.0, -8.0, 6, 3);
+  drive(1, 52.0, -6.0, -8.0, 6, 3);
   ck_assert_uint_eq(cnt.crossings, 0);
 
   /* seen crossing by track 3 (x 4 -> -4 at 8 m/s, crossing at t = 60.5), lost at
@@ -485,7 +485,7 @@ static uint64_t growing(double window, uint32_t *when) {
     x += f < 5 ? 0.05 : -0.8;
     tl.count = 0;
     one(1, f < 2 ? RS_TRACK_TENTATIVE : RS_TRACK_CONFIRMED, RS_CLASS_CAR, x, 3.0);
-    rs_count_frame(&cnt, &tl, 51.0 + 0.1 * f);
+    rs_count_frame(&cnt, &tl, 53.0 + 0.1 * f);
     if (cnt.crossings == 1 && *when == 0) *when = f;
   }
   return cnt.crossings;
@@ -504,9 +504,76 @@ START_TEST(t_hidden_window) {
   for (int f = 0; f < 15; f++) {
     tl.count = 0;
     one(2, RS_TRACK_CONFIRMED, RS_CLASS_CAR, -6.0 - 0.8 * f, -2.0);
-    rs_count_frame(&cnt, &tl, 60.0 + 0.1 * f);
+    rs_count_frame(&cnt, &tl, 62.0 + 0.1 * f);
   }
   ck_assert_uint_eq(cnt.crossings, 1);
+}
+END_TEST
+
+/* The run's start. The run starts at t = 50 (an empty frame); a car first seen
+ * at 50.5, 3.2 m past the line, confirmed at 8 m/s: its path run back meets
+ * the line at 50.1, after the run's start, but with that time stretched by
+ * 1.5 (it may have been slower before: pulling away from the line) at 49.9,
+ * before it: not counted. The same car first seen at 51.0: stretched, 50.4:
+ * counted. */
+START_TEST(t_hidden_start) {
+  static const char *const l[] = {"gate 0 -5 0 5"};
+  setup(l, 1, NULL, 60);
+  tl.count = 0;
+  rs_count_frame(&cnt, &tl, 50.0);
+  drive(1, 50.5, -3.2, -8.0, 8, 3);
+  ck_assert_uint_eq(cnt.crossings, 0);
+  ck_assert_uint_eq(cnt.hidden, 0);
+  setup(l, 1, NULL, 60);
+  tl.count = 0;
+  rs_count_frame(&cnt, &tl, 50.0);
+  drive(1, 51.0, -3.2, -8.0, 8, 3);
+  ck_assert_uint_eq(cnt.crossings, 1);
+  ck_assert_uint_eq(cnt.hidden, 1);
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_CAR], 1);
+}
+END_TEST
+
+/* A standing van uncovered past the line: first seen at 52.0, 2 m past it,
+ * its box's centre moving 0.5 m a frame away from the line for 4 frames as
+ * more of it comes into view (a hidden crossing found at its first confirmed
+ * frame), then still. Its track reports speed 0 when the crossing is due (2 s
+ * later): taken back, no event. Reporting 4 m/s then: counted, one event.
+ * Tallied at once (class delay 0), there is no later look: counted. */
+static uint64_t uncovered_van(double delay, float speed, uint32_t *events) {
+  static const char *const l[] = {"gate 0 -5 0 5"};
+  setup(l, 1, NULL, 60);
+  cnt.class_delay_s = delay;
+  tl.count = 0;
+  rs_count_frame(&cnt, &tl, 50.0);
+  *events = 0;
+  for (int f = 0; f < 40; f++) {
+    tl.count = 0;
+    one(1, f < 2 ? RS_TRACK_TENTATIVE : RS_TRACK_CONFIRMED, RS_CLASS_VAN_TRUCK, -2.0 - 0.5 * (f < 4 ? f : 4), 3.0);
+    sized(6.0f);
+    tl.track[0].speed = f < 4 ? 0.0f : speed;
+    rs_count_frame(&cnt, &tl, 52.0 + 0.1 * f);
+    *events += cnt.nevents;
+  }
+  return cnt.crossings;
+}
+
+START_TEST(t_hidden_still) {
+  uint32_t events;
+  ck_assert_uint_eq(uncovered_van(2.0, 0.0f, &events), 0);
+  ck_assert_uint_eq(cnt.hidden, 0);
+  ck_assert_uint_eq(cnt.hidden_still, 1);
+  ck_assert_uint_eq(cnt.pending, 0);
+  ck_assert_uint_eq(sum(cnt.total[0].forward), 0);
+  ck_assert_uint_eq(events, 0);
+  ck_assert_uint_eq(uncovered_van(2.0, 4.0f, &events), 1);
+  ck_assert_uint_eq(cnt.hidden, 1);
+  ck_assert_uint_eq(cnt.hidden_still, 0);
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_VAN_TRUCK], 1);
+  ck_assert_uint_eq(events, 1);
+  ck_assert_uint_eq(uncovered_van(0.0, 0.0f, &events), 1);
+  ck_assert_uint_eq(cnt.hidden_still, 0);
+  ck_assert_uint_eq(events, 1);
 }
 END_TEST
 
@@ -819,11 +886,11 @@ START_TEST(t_crossing_events) {
     tl.count = 0;
     one(7, f < 3 ? RS_TRACK_TENTATIVE : RS_TRACK_CONFIRMED, RS_CLASS_CAR, -6.0 - 0.8 * f, 3.0);
     tl.track[0].speed = 7.5f;
-    frame(51.0 + 0.1 * f);
+    frame(52.0 + 0.1 * f);
   }
   ck_assert_uint_eq(nevs, 1);
   ck_assert_int_eq(evs[0].how, RS_CROSS_HIDDEN);
-  ck_assert_double_eq_tol(evs[0].t, 50.25, 0.01);
+  ck_assert_double_eq_tol(evs[0].t, 51.25, 0.01);
   ck_assert_float_eq(evs[0].speed, 7.5f);
 
   /* on a prediction (seen until x = 2.4, predicted over the line at t = 101.0, never seen again):
@@ -941,6 +1008,8 @@ int main(void) {
   tcase_add_test(tc, t_zones);
   tcase_add_test(tc, t_hidden_crossings);
   tcase_add_test(tc, t_hidden_window);
+  tcase_add_test(tc, t_hidden_start);
+  tcase_add_test(tc, t_hidden_still);
   tcase_add_test(tc, t_hidden_place);
   tcase_add_test(tc, t_class_delay);
   tcase_add_test(tc, t_lost_taken_up);

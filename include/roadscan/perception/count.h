@@ -28,7 +28,9 @@
  * seen, its path is run back from where it was first seen, at its mean
  * velocity since then (at least 1 m/s), for at most `hidden_s` seconds
  * (default 3, 0 = off): when that meets a line it was not counted on, at a
- * time after the run's first frame, it is counted as crossed there, unless a
+ * time after the run's first frame (with the time run back stretched by 1.5:
+ * a vehicle first seen soon after the run started was often pulling away
+ * from the line, slower before), it is counted as crossed there, unless a
  * crossing of that line in the same direction was counted within 1.5 s and
  * 2.5 m of it (the same vehicle, counted by the track it had before it was
  * hidden; the line is then done for this track). Where along the line: the
@@ -48,7 +50,10 @@
  * `class_delay_s` (default 2) later, under the track's class then (a car
  * seen head-on at range settles as a car once it is near): at the first frame
  * that late, when the track leaves the list, or at rs_count_flush. It lands
- * in the interval open at that moment.
+ * in the interval open at that moment. A hidden crossing whose track then
+ * reports standing still (speed 0; with a class delay of 1 s or more) is
+ * taken back (hidden_still): its travel past the line was its box growing as
+ * more of a standing vehicle came into view.
  *
  * A lost track (unpublished, kept by the tracker for re-acquisition) keeps
  * its memory: taken up again past a line, it crossed it.
@@ -212,6 +217,9 @@ typedef struct {
   uint64_t intervals, crossings, zone_events, forgotten_full;
   uint64_t hidden;                       /* of the crossings: inferred for tracks first seen past a line */
   uint64_t hidden_dup;                   /* hidden crossings not counted: the vehicle's earlier track was */
+  uint64_t hidden_still;                 /* hidden crossings taken back: the track reported standing still when
+                                            they were due to be tallied (what looked like travel was its box
+                                            growing as more of it came into view) */
   double hidden_s;                       /* how far back a track's path is run (s; 0 = off); default RS_COUNT_HIDDEN_S */
   double hidden_window_s;                /* ... at each confirmed frame this long after it was first seen (s); RS_COUNT_HIDDEN_WINDOW_S */
   bool hidden_at_track;                  /* a hidden crossing's place along the line: the track's where it is
@@ -261,6 +269,7 @@ typedef struct {
     uint16_t counted;                    /* lines this track was counted on */
     uint16_t pending, pending_fwd;       /* of those, not yet tallied; and which of them forward */
     uint16_t predicted;                  /* of the pending, crossed on a prediction (held until seen or ended) */
+    uint16_t hidden;                     /* of the pending, hidden crossings (taken back if it stands still) */
     uint16_t side_known, side_left;      /* band_m: lines it was seen clear of, and on which side (left: forward's) */
     uint16_t counted_fwd, counted_both;  /* of the counted lines, those first crossed forward; those crossed both ways */
     double t_tally;                      /* when the pending ones are tallied */
