@@ -10,6 +10,9 @@ chromium-driver, opens the page:
     the sensor saw in that frame within 60 m (the truth labels), within a
     tolerance;
   - the running counts advance;
+  - the last crossings it lists are the daemon's own (--crossings-out of the
+    same run: the same track, line, way, place, class, speed and how), newest
+    first, and those of the last seconds are marked on their lines;
   - a screenshot is written (out/web/screenshot.png in the source tree: CI
     keeps it).
 Then the server under bad clients: unknown paths, other methods, malformed
@@ -76,7 +79,8 @@ def main():
     env = dict(os.environ, ROADSCAN_ALLOW_ROOT="1")
     # paced (4x): the log's times are the frames' pace, so the page's replay shows them as they came
     d = subprocess.run([f"{bindir}/roadscand", "--pcap", cap, "--speed", "4", "--background", model, *lines,
-                        "--count-zone", ZONE, "--count-interval", "2", "--lcm-url", f"file://{log}?mode=w"], env=env,
+                        "--count-zone", ZONE, "--count-interval", "2", "--crossings-out", f"{tmp}/crossings.csv",
+                        "--lcm-url", f"file://{log}?mode=w"], env=env,
                        capture_output=True, text=True)
     if d.returncode != 0:
         fail(f"roadscand: {d.stderr}")
@@ -128,6 +132,33 @@ def main():
             first = int(drv.find_element("id", "counts-total").text)
             wait.until(lambda d: int(d.find_element("id", "counts-total").text) > first)
             later = int(drv.find_element("id", "counts-total").text)
+            # the last crossings: the daemon's own events (its --crossings-out of the same run), newest first
+            daemon, order = {}, []
+            for r in csv.DictReader(open(f"{tmp}/crossings.csv")):
+                daemon[(int(r["track"]), r["line"], r["direction"])] = r
+                order.append((int(r["track"]), r["line"], r["direction"]))
+            if not daemon:
+                fail("the daemon counted no crossing in the run: nothing to show")
+            wait.until(lambda d: int(d.find_element("id", "crossings-seen").text) >= 2)
+            shown = drv.execute_script("return state.crossings;")
+            rows = drv.find_elements("css selector", "#crossings tr")
+            if len(rows) != len(shown) + 1:
+                fail(f"{len(shown)} crossings kept but {len(rows) - 1} rows listed")
+            for c in shown:
+                r = daemon.get((c["track_id"], c["line"], c["direction"]))
+                if r is None:
+                    fail(f"the page lists a crossing the daemon did not count: {c}")
+                speed = None if r["speed"] == "" else float(r["speed"])
+                if (abs(c["at_m"] - float(r["at"])) > 0.01 or c["class"] != r["class"] or c["how"] != r["how"] or
+                        abs(c["t"] - float(r["t"])) > 0.002 or
+                        (speed is None) != (c["speed_mps"] is None) or
+                        (speed is not None and abs(c["speed_mps"] - speed) > 0.01)):
+                    fail(f"the page's crossing {c} is not the daemon's {dict(r)}")
+            # in the order the daemon tallied them (its file's), newest first
+            keys = [(c["track_id"], c["line"], c["direction"]) for c in reversed(shown)]
+            k0 = order.index(keys[0])
+            if order[k0:k0 + len(keys)] != keys:
+                fail(f"the crossings listed {keys} are not the daemon's in its order {order[k0:k0 + len(keys)]}")
             # health panel filled
             fps = drv.find_element("id", "fps").text
             if not re.match(r"^[0-9.]+ frames/s$", fps):
@@ -143,7 +174,7 @@ def main():
             if severe:
                 fail(f"console errors: {severe}")
             print(f"web: page live; (frame, confirmed tracks drawn, true objects seen) within 60 m: {checks}; counts {first} -> {later}; "
-                  f"screenshot {shot}")
+                  f"{len(shown)} last crossings listed, all the daemon's; screenshot {shot}")
         finally:
             drv.quit()
 

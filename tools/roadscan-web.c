@@ -1,7 +1,8 @@
 /* roadscan-web - a live view of the daemon in the browser.
  *
  * A separate process (the daemon stays lean): it subscribes to the LCM
- * channels (track lists, object lists, counts, statistics, track ends),
+ * channels (track lists, object lists, counts, statistics, track ends,
+ * crossing events),
  * checks every message before decoding it (lcmcheck.h), turns it into the
  * JSON of docs/bridge-schema.json (src/output/json.c) and serves
  *   /            the page (www/index.html, app.js, style.css: no build step,
@@ -44,10 +45,10 @@
 #define RS_WEB_EVENT_MAX (96 * 1024) /* one event's JSON, at most (a full track list is about 60 kB) */
 #define RS_WEB_FILE_MAX (1 << 20)  /* a static file, at most */
 
-enum { K_OBJECTS, K_TRACKS, K_TRACK_ENDS, K_COUNTS, K_STATS, K_KINDS };
-static const char *const kind_name[K_KINDS] = {"objects", "tracks", "track_ends", "counts", "stats"};
+enum { K_OBJECTS, K_TRACKS, K_TRACK_ENDS, K_COUNTS, K_STATS, K_CROSSINGS, K_KINDS };
+static const char *const kind_name[K_KINDS] = {"objects", "tracks", "track_ends", "counts", "stats", "crossings"};
 static const rs_lcm_type_t kind_type[K_KINDS] = {RS_LCM_OBJECT_LIST, RS_LCM_TRACK_LIST, RS_LCM_TRACK_END,
-                                                 RS_LCM_COUNTS, RS_LCM_FRAME_STATS};
+                                                 RS_LCM_COUNTS,      RS_LCM_FRAME_STATS, RS_LCM_CROSSING};
 
 typedef struct {
   uint64_t seq;  /* 1, 2, ... */
@@ -144,6 +145,14 @@ static void on_message(const lcm_recv_buf_t *rbuf, const char *channel, void *us
     for (int i = 0; i < m.num_zones && text; i++) text = rs_json_text_ok(m.zones[i].name);
     if (text) j = rs_json_counts(&m);
     roadscan_counts_t_decode_cleanup(&m);
+    break;
+  }
+  case K_CROSSINGS: {
+    roadscan_crossing_t m;
+    if (roadscan_crossing_t_decode(d, 0, n, &m) < 0) return;
+    text = rs_json_text_ok(m.sensor_id) && rs_json_text_ok(m.line);
+    if (text) j = rs_json_crossing(&m);
+    roadscan_crossing_t_decode_cleanup(&m);
     break;
   }
   default: {
@@ -337,6 +346,7 @@ static const rs_opt_t table[] = {
     RS_OPT_STR_("track-ends-channel", "NAME", T, ch[K_TRACK_ENDS], "ended tracks"),
     RS_OPT_STR_("counts-channel", "NAME", T, ch[K_COUNTS], "counts"),
     RS_OPT_STR_("stats-channel", "NAME", T, ch[K_STATS], "statistics"),
+    RS_OPT_STR_("crossings-channel", "NAME", T, ch[K_CROSSINGS], "crossing events ('none' = not shown)"),
     {.type = RS_OPT_FUNC, .name = "count-line", .arg = "\"NAME X1 Y1 X2 Y2\"", .off = offsetof(T, lines),
      .fn = rs_count_opt_line, .flags = RS_OPT_REPEAT, .help = "a counting line to draw (the daemon's)"},
     {.type = RS_OPT_FUNC, .name = "count-zone", .arg = "\"NAME X1 Y1 ...\"", .off = offsetof(T, zones), .fn = rs_count_opt_zone,
@@ -350,10 +360,11 @@ static const rs_opt_t table[] = {
 
 static const rs_opts_spec_t spec = {
     .prog = "roadscan-web",
-    .summary = "a live view of roadscand in the browser: tracks, counts and health",
+    .summary = "a live view of roadscand in the browser: tracks, counts, crossings and health",
     .synopsis = "[--listen ADDR:PORT] [--log FILE] [options]",
     .about = "Serves one page: a bird's-eye view of the site with the tracks (boxes, ids, classes, speeds, short "
              "trails), the counting lines and zones with their running counts by direction and class, the "
+             "last crossings (each marked on its line where it happened, with its class, spot speed and lane), the "
              "daemon's health (frame rate, drops, packets missing, stage times and their p99) and plots of "
              "speeds and counts over the last minutes. Updates reach the browser as they arrive (Server-Sent "
              "Events). The page needs nothing from the network (docs/web.md).",
@@ -388,7 +399,7 @@ int main(int argc, char **argv) {
                     .listen = "127.0.0.1:8086",
                     .www = RS_WEB_DIR,
                     .ch = {RS_PUB_DEFAULT_CHANNEL, RS_PUB_DEFAULT_TRACKS, RS_PUB_DEFAULT_TRACK_ENDS,
-                           RS_PUB_DEFAULT_COUNTS, RS_PUB_DEFAULT_STATS},
+                           RS_PUB_DEFAULT_COUNTS, RS_PUB_DEFAULT_STATS, RS_PUB_DEFAULT_CROSSINGS},
                     .max_clients = 32};
   int first;
   const int start = rs_opts_start(&opts, &spec, &st, argc, argv, &first);
@@ -475,11 +486,12 @@ int main(int argc, char **argv) {
   MHD_stop_daemon(d);
   lcm_destroy(lcm);
   fprintf(stderr,
-          "roadscan-web: %llu track lists, %llu object lists, %llu counts, %llu statistics, %llu track ends; %llu "
-          "malformed; %llu browsers served, %llu events skipped by slow ones\n",
+          "roadscan-web: %llu track lists, %llu object lists, %llu counts, %llu statistics, %llu track ends, %llu "
+          "crossings; %llu malformed; %llu browsers served, %llu events skipped by slow ones\n",
           (unsigned long long)W.received[K_TRACKS], (unsigned long long)W.received[K_OBJECTS],
           (unsigned long long)W.received[K_COUNTS], (unsigned long long)W.received[K_STATS],
-          (unsigned long long)W.received[K_TRACK_ENDS], (unsigned long long)W.malformed, (unsigned long long)W.served,
+          (unsigned long long)W.received[K_TRACK_ENDS], (unsigned long long)W.received[K_CROSSINGS],
+          (unsigned long long)W.malformed, (unsigned long long)W.served,
           (unsigned long long)W.skipped);
   for (int i = 0; i < RS_WEB_EVENTS; i++) free(W.ring[i].data);
   return 0;

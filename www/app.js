@@ -1,5 +1,5 @@
 // roadscan live view: the events of roadscan-web (/events, Server-Sent Events: the JSON documents of
-// docs/bridge-schema.json) drawn as a bird's-eye view, counts, health and plots. No library, nothing
+// docs/bridge-schema.json) drawn as a bird's-eye view, counts, crossings, health and plots. No library, nothing
 // from the network. Units: metres, metres per second, degrees, milliseconds, as the schema says.
 "use strict";
 
@@ -10,6 +10,8 @@ const STAGES = ["background_ms", "cluster_ms", "objects_ms", "tracks_ms", "publi
 const TRAIL = 40;        // positions kept per track
 const WINDOW = 600;      // frames for the p99 of stage times
 const HISTORY_S = 300;   // seconds of the plot
+const CROSSINGS_SHOWN = 12; // the last crossings listed
+const MARK_S = 4;        // seconds of sensor time a crossing stays marked on its line
 
 const view = document.getElementById("view"), ctx = view.getContext("2d");
 const plot = document.getElementById("plot"), pctx = plot.getContext("2d");
@@ -19,6 +21,9 @@ const state = {
   config: { lines: [], zones: [] },
   tracks: [], trails: new Map(), ended: 0,
   counts: new Map(),     // name -> {kind: "line"|"zone", a: {class: n}, b: {class: n}}
+  crossings: [],         // the last CROSSINGS_SHOWN crossing events, newest first
+  crossingsSeen: 0,
+  frameT: 0,             // the last track list's capture time (s)
   countsTotal: 0,
   stats: null, statsAt: 0, frameTimes: [], stageHist: new Map(),
   history: [],           // {t, speed, count}
@@ -86,6 +91,28 @@ function drawConfig() {
   }
 }
 
+// each crossing of the last MARK_S seconds: a dot where it crossed its line, in its class's colour,
+// with an arrow the way it went (forward: to the left of the line's A -> B), fading out
+function drawCrossings() {
+  ctx.font = "11px system-ui";
+  for (const c of state.crossings) {
+    const age = state.frameT - c.t;
+    const l = state.config.lines.find((k) => k.name === c.line);
+    if (!l || age > MARK_S || age < -1) continue;
+    const dx = l.b_m[0] - l.a_m[0], dy = l.b_m[1] - l.a_m[1], len = Math.hypot(dx, dy) || 1;
+    const ux = dx / len, uy = dy / len, side = c.direction === "forward" ? 1 : -1;
+    const x = l.a_m[0] + ux * c.at_m, y = l.a_m[1] + uy * c.at_m;
+    const [px, py] = toScreen(x, y), [qx, qy] = toScreen(x - uy * side * 2.5, y + ux * side * 2.5);
+    ctx.globalAlpha = Math.max(0.15, 1 - Math.max(0, age) / MARK_S);
+    ctx.strokeStyle = ctx.fillStyle = COLOURS[c.class] || COLOURS.unknown;
+    ctx.lineWidth = 2;
+    ctx.beginPath(); ctx.arc(px, py, 5, 0, 2 * Math.PI); ctx.fill();
+    ctx.beginPath(); ctx.moveTo(px, py); ctx.lineTo(qx, qy); ctx.stroke();
+    ctx.fillText(c.speed_mps === null ? "? km/h" : `${(c.speed_mps * 3.6).toFixed(0)} km/h`, qx + 4, qy);
+    ctx.globalAlpha = 1;
+  }
+}
+
 function drawTracks() {
   ctx.font = "11px system-ui";
   for (const t of state.tracks) {
@@ -124,6 +151,7 @@ function draw() {
   ctx.clearRect(0, 0, view.width, view.height);
   drawGrid();
   drawConfig();
+  drawCrossings();
   drawTracks();
   requestAnimationFrame(draw);
 }
@@ -171,6 +199,7 @@ function onTracks(m) {
   $("mean-speed").textContent = moving.length ? `${mean.toFixed(1)} m/s (${(mean * 3.6).toFixed(0)} km/h)` : "– m/s";
   history(m.t_frame_us / 1e6, mean, 0);
   $("sensor").textContent = m.sensor_id;
+  state.frameT = m.t_frame_us / 1e6;
   const ft = $("frame-time");
   ft.dataset.us = m.t_frame_us;
   ft.dataset.frame = m.frame_seq;
@@ -204,6 +233,21 @@ function onCounts(m) {
     }
   }
   $("counts").innerHTML = `<table><tr><th></th>${CLASSES.map((k) => `<th title="${k}">${k.slice(0, 4)}</th>`).join("")}<th>all</th></tr>${rows.join("")}</table>`;
+}
+
+function onCrossing(m) {
+  state.crossings.unshift({ t: m.t_cross_us / 1e6, line: m.line, direction: m.direction, at_m: m.at_m, class: m.class,
+                            track_id: m.track_id, speed_mps: m.speed_mps, how: m.how });
+  if (state.crossings.length > CROSSINGS_SHOWN) state.crossings.pop();
+  state.crossingsSeen++;
+  $("crossings-seen").textContent = state.crossingsSeen;
+  const rows = state.crossings.map((c) =>
+    `<tr><td>${new Date(c.t * 1000).toISOString().slice(11, 22)}</td><td>${escapeHtml(c.line)}</td>` +
+    `<td>${c.direction === "forward" ? "fwd" : "back"}</td><td>${c.at_m.toFixed(1)}</td>` +
+    `<td><span class="sw c${Math.max(0, CLASSES.indexOf(c.class))}"></span>${escapeHtml(c.class)}</td>` +
+    `<td>${c.speed_mps === null ? "–" : (c.speed_mps * 3.6).toFixed(0)}</td><td>${c.how}</td><td>${c.track_id}</td></tr>`);
+  $("crossings").innerHTML = `<table><tr><th>time</th><th>line</th><th>way</th><th>at m</th><th>class</th>` +
+    `<th>km/h</th><th>how</th><th>track</th></tr>${rows.join("")}</table>`;
 }
 
 function escapeHtml(s) {
@@ -313,6 +357,7 @@ async function start() {
   es.onerror = () => { $("conn").textContent = "reconnecting…"; $("conn").className = "bad"; };
   es.addEventListener("tracks", (e) => onTracks(JSON.parse(e.data)));
   es.addEventListener("counts", (e) => onCounts(JSON.parse(e.data)));
+  es.addEventListener("crossings", (e) => onCrossing(JSON.parse(e.data)));
   es.addEventListener("stats", (e) => onStats(JSON.parse(e.data)));
   es.addEventListener("track_ends", () => { state.ended++; $("ended").textContent = state.ended; });
   requestAnimationFrame(draw);
