@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <sys/un.h>
 #include <time.h>
@@ -326,6 +327,71 @@ START_TEST(t_udpm_in_netns) {
   ck_assert_int_eq(num_after(dtrunc, "?ttl=0; "), num_after(dtrunc, "lcm: ")); /* "N truncated": every list */
   ck_assert_int_gt(count_lines(slurp(F("trunc.json")), "\"truncated\":true"), 0);
 #undef F
+}
+END_TEST
+
+/* --processing-cpu, --packet-cpu, --rt-priority: the threads run where and how they are told (each says
+ * so, as the kernel has it), and the tracks are those of an unplaced run; without the privilege
+ * SCHED_FIFO needs (CAP_SYS_NICE dropped, setpriv), refused with the way out; a CPU the process may not
+ * use refused naming those it may; values out of range refused as bad usage */
+START_TEST(t_thread_placement) {
+  char cmd[4096];
+  const char *out;
+  const char *plain = tu_tmp("place-plain.csv"), *placed = tu_tmp("place-placed.csv");
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s --lcm-url memq:// --tracks-out %s", cap,
+           model, plain);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_ptr_null(strstr(out, " runs on "));
+  /* pinned: needs no privilege */
+  snprintf(cmd, sizeof cmd,
+           "./roadscand --pcap %s --fast --background %s --lcm-url memq:// --processing-cpu 0 --packet-cpu 0 "
+           "--tracks-out %s",
+           cap, model, placed);
+  ck_assert_int_eq(tu_exec(cmd, &out), 0);
+  ck_assert_ptr_nonnull(strstr(out, "the processing thread runs on CPU 0, normal scheduling"));
+  ck_assert_ptr_nonnull(strstr(out, "the packet thread runs on CPU 0, normal scheduling"));
+  ck_assert_str_eq(slurp(plain), slurp(placed));
+  /* SCHED_FIFO: the processing thread at 5, the packet thread at 6 */
+  snprintf(cmd, sizeof cmd,
+           "./roadscand --pcap %s --fast --background %s --lcm-url memq:// --processing-cpu 0 --rt-priority 5 "
+           "--tracks-out %s",
+           cap, model, placed);
+  struct rlimit rl;
+  getrlimit(RLIMIT_RTPRIO, &rl);
+  const bool may = geteuid() == 0 || rl.rlim_cur >= 6;
+  const int rc = tu_exec(cmd, &out);
+  if (may) {
+    ck_assert_msg(rc == 0, "%s", out);
+    ck_assert_ptr_nonnull(strstr(out, "the processing thread runs on CPU 0, SCHED_FIFO 5"));
+    ck_assert_ptr_nonnull(strstr(out, ", SCHED_FIFO 6"));
+    ck_assert_str_eq(slurp(plain), slurp(placed));
+  }
+  /* not permitted: refused, saying what it needs */
+  const bool setpriv = system("command -v setpriv >/dev/null 2>&1") == 0;
+  if (!may || setpriv) {
+    if (may) { /* as root: without CAP_SYS_NICE, and an RLIMIT_RTPRIO below it */
+      snprintf(cmd, sizeof cmd,
+               "setpriv --bounding-set=-sys_nice --inh-caps=-sys_nice ./roadscand --pcap %s --fast --background %s "
+               "--lcm-url memq:// --rt-priority 5",
+               cap, model);
+    }
+    if (!may || rl.rlim_cur < 5) {
+      ck_assert_int_eq(tu_exec(cmd, &out), 1);
+      ck_assert_ptr_nonnull(strstr(out, "SCHED_FIFO priority 5 is not permitted (needs CAP_SYS_NICE"));
+      ck_assert_ptr_nonnull(strstr(out, "--rt-priority 5 needs CAP_SYS_NICE or an RLIMIT_RTPRIO of 6"));
+    }
+  }
+  /* a CPU this process may not run on */
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s --lcm-url memq:// --processing-cpu 1023",
+           cap, model);
+  ck_assert_int_eq(tu_exec(cmd, &out), 1);
+  ck_assert_ptr_nonnull(strstr(out, "the processing thread: CPU 1023 is not one this process may run on (it may: "));
+  /* out of range: bad usage */
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --lcm-url memq:// --rt-priority 98", cap);
+  ck_assert_int_eq(tu_exec(cmd, &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "--rt-priority"));
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --lcm-url memq:// --packet-cpu 1024", cap);
+  ck_assert_int_eq(tu_exec(cmd, &out), 2);
 }
 END_TEST
 
@@ -799,6 +865,7 @@ int main(void) {
   tcase_add_test(tc, t_service_notify);
   tcase_add_test(tc, t_learn_once);
   tcase_add_test(tc, t_log_lines_and_budget);
+  tcase_add_test(tc, t_thread_placement);
   tcase_add_test(tc, t_udpm_in_netns);
   tcase_add_test(tc, t_install_layout);
   tcase_add_test(tc, t_live_capture_with_cap_net_raw_only);

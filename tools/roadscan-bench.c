@@ -11,6 +11,7 @@
 #include "roadscan/perception/proc.h"
 #include "roadscan/output/publish.h"
 #include "roadscan/util/opts.h"
+#include "roadscan/util/thread.h"
 #include "roadscan/util/error.h"
 #include "roadscan/frame/frame.h"
 #include "roadscan/frame/framer.h"
@@ -408,6 +409,7 @@ typedef struct {
   int repeat, tracker_n, best_of, method;
   const char *model_path, *csv_path;
   rs_model_t force;
+  int cpu, rt_priority;  /* --cpu, --rt-priority (thread.h) */
 } settings_t;
 static settings_t st;
 static rs_opts_t opts;
@@ -427,6 +429,11 @@ static const rs_opt_t table[] = {
     {.type = RS_OPT_CHOICE, .name = "cluster", .arg = "METHOD", .off = offsetof(T, method),
      .choices = "fspc|fspc-adaptive|dbscan|ccl", .help = "with --model: the daemon's clustering method"},
     RS_OPT_STR_("csv", "FILE", T, csv_path, "with --model: the per-frame rows"),
+    RS_OPT_INT_("cpu", "N", T, cpu, 0, RS_THREAD_CPU_MAX,
+                "run on CPU N only, as roadscand's --processing-cpu places its processing thread"),
+    RS_OPT_INT_("rt-priority", "P", T, rt_priority, 1, RS_THREAD_PRIO_MAX,
+                "run SCHED_FIFO at priority P, as roadscand's --rt-priority its processing thread (needs "
+                "CAP_SYS_NICE or an RLIMIT_RTPRIO of P)"),
     RS_OPT_INT_("best-of", "N", T, best_of, 1, 100,
                 "with --model: each clustering method runs N times per frame and the fastest counts (steadier "
                 "figures on a shared machine)"),
@@ -454,6 +461,13 @@ int main(int argc, char **argv) {
   int first;
   const int start = rs_opts_start(&opts, &spec, &st, argc, argv, &first);
   if (start >= 0) return start;
+  const rs_thread_cfg_t place = {.pin = rs_opts_given(&opts, "cpu") > 0, .cpu = st.cpu, .priority = st.rt_priority};
+  if (rs_thread_place(&place, "--cpu, --rt-priority", err, sizeof err) != RS_OK) goto bad;
+  if (place.pin || place.priority > 0) {
+    char d[160];
+    rs_thread_describe(pthread_self(), d, sizeof d);
+    printf("runs on %s\n", d);
+  }
   sg.best_of = st.best_of;
   sg.method = (rs_cluster_method_t)(st.method + 1); /* the choices start at fspc */
   if (st.model_path) {

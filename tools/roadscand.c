@@ -69,6 +69,7 @@ typedef struct {
   int window[2];         /* the method's, when given */
   int port, see_through, labels_confirmed;
   double shift_gate_pct;
+  int rt_priority;       /* --rt-priority: the processing thread's SCHED_FIFO priority, the packet thread's + 1 */
 } settings_t;
 static settings_t st;
 static rs_opts_t opts;
@@ -307,6 +308,13 @@ static const rs_opt_t table[] = {
     F("allow-root", allow_root,
       "run as root (refused otherwise: live capture needs only CAP_NET_RAW, a replay no privilege; the "
       "environment variable ROADSCAN_ALLOW_ROOT=1 does the same)"),
+    I("processing-cpu", "N", cfg.processing_thread.cpu, 0, RS_THREAD_CPU_MAX,
+      "run the processing thread on CPU N only (an isolated core: isolcpus=, a cpuset)"),
+    I("packet-cpu", "N", cfg.packet_thread.cpu, 0, RS_THREAD_CPU_MAX, "run the packet thread on CPU N only"),
+    I("rt-priority", "P", rt_priority, 1, RS_THREAD_PRIO_MAX - 1,
+      "schedule the processing thread SCHED_FIFO at priority P and the packet thread at P + 1 (it never waits "
+      "for the processing thread); needs CAP_SYS_NICE or an RLIMIT_RTPRIO of P + 1 (systemd: LimitRTPRIO=), "
+      "refused with a message otherwise"),
     D("stall-ms", "MS", cfg.stall_ms, 0.0, 10000.0,
       "testing: the processing thread sleeps MS per frame (overload tests: drops are counted and published, "
       "capture never waits)"),
@@ -399,6 +407,12 @@ int main(int argc, char **argv) {
   st.pub.counts_channel = channel_or_off(st.pub.counts_channel);
   st.pub.crossings_channel = channel_or_off(st.pub.crossings_channel);
   const bool speed_set = rs_opts_given(&opts, "speed") > 0, have_pose = rs_opts_given(&opts, "pose") > 0;
+  cfg->processing_thread.pin = rs_opts_given(&opts, "processing-cpu") > 0;
+  cfg->packet_thread.pin = rs_opts_given(&opts, "packet-cpu") > 0;
+  if (st.rt_priority > 0) {
+    cfg->processing_thread.priority = st.rt_priority;
+    cfg->packet_thread.priority = st.rt_priority + 1;
+  }
   if (st.use_syslog) rs_log_open("roadscand", true);
   const char *allow_env = getenv("ROADSCAN_ALLOW_ROOT");
   if (geteuid() == 0 && !st.allow_root && !(allow_env && strcmp(allow_env, "1") == 0))
@@ -555,7 +569,10 @@ int main(int argc, char **argv) {
   sigaction(SIGTERM, &sa, NULL);
   rc = rs_pipeline_start(&pipeline);
   if (rc != RS_OK) {
-    rs_log(RS_LOG_ERR, "cannot start threads: %s", rs_strerror(rc));
+    rs_log(RS_LOG_ERR, "cannot start threads: %s", pipeline.input_err[0] ? pipeline.input_err : rs_strerror(rc));
+    if (rc == RS_E_PERM)
+      rs_log(RS_LOG_ERR, "--rt-priority %d needs CAP_SYS_NICE or an RLIMIT_RTPRIO of %d (the packet thread's)",
+             st.rt_priority, st.rt_priority + 1);
     rs_pipeline_deinit(&pipeline);
     rs_publish_deinit(&publisher);
     return 1;

@@ -196,8 +196,17 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
   p->stream.rate_hint = p->assembly.rate;
 }
 
+/* a thread placed by its cfg (thread.h) says where it runs, as the kernel has it, before any work */
+static void say_placement(const rs_thread_cfg_t *c, const char *what) {
+  if (!c->pin && c->priority == 0) return;
+  char d[160];
+  rs_thread_describe(pthread_self(), d, sizeof d);
+  rs_log(RS_LOG_INFO, "%s runs on %s", what, d);
+}
+
 static void *packet_main(void *arg) {
   rs_pipeline_t *p = arg;
+  say_placement(&p->cfg.packet_thread, "the packet thread");
   p->cur = rs_ring_acquire(&p->ring, &p->stop);
   const int linktype = p->cap.linktype;
   while (!atomic_load(&p->stop) && p->cur >= 0) {
@@ -498,6 +507,7 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
 
 static void *proc_main(void *arg) {
   rs_pipeline_t *p = arg;
+  say_placement(&p->cfg.processing_thread, "the processing thread");
   for (;;) {
     feed_watchdog(p);
     int idx = rs_ring_take(&p->ring, TAKE_TIMEOUT_MS);
@@ -540,12 +550,20 @@ static void *proc_main(void *arg) {
 }
 
 int rs_pipeline_start(rs_pipeline_t *p) {
-  if (pthread_create(&p->proc_thread, NULL, proc_main, p) != 0) return RS_E_THREAD;
-  if (pthread_create(&p->pkt_thread, NULL, packet_main, p) != 0) {
+  /* both placements checked before either thread runs */
+  int rc = rs_thread_check(&p->cfg.processing_thread, "the processing thread", p->input_err, sizeof p->input_err);
+  if (rc == RS_OK) rc = rs_thread_check(&p->cfg.packet_thread, "the packet thread", p->input_err, sizeof p->input_err);
+  if (rc != RS_OK) return rc;
+  rc = rs_thread_create(&p->proc_thread, &p->cfg.processing_thread, "the processing thread", proc_main, p, p->input_err,
+                        sizeof p->input_err);
+  if (rc != RS_OK) return rc;
+  rc = rs_thread_create(&p->pkt_thread, &p->cfg.packet_thread, "the packet thread", packet_main, p, p->input_err,
+                        sizeof p->input_err);
+  if (rc != RS_OK) {
     atomic_store(&p->stop, true);
     atomic_store(&p->input_done, true);
     pthread_join(p->proc_thread, NULL);
-    return RS_E_THREAD;
+    return rc;
   }
   p->threads_started = true;
   return RS_OK;

@@ -27,6 +27,7 @@
 #include "roadscan/output/publish.h"
 #include "roadscan/frame/ring.h"
 #include "roadscan/capture/stream.h"
+#include "roadscan/util/thread.h"
 #include "roadscan/util/timing.h"
 
 #include <pthread.h>
@@ -67,6 +68,8 @@ typedef struct {
   double summary_s;            /* > 0: one log line every summary_s seconds */
   double stall_ms;             /* test hook (overload tests): the processing thread sleeps this long per frame */
   rs_notify_t *notify;         /* optional: the service manager (watchdog fed by the processing thread) */
+  rs_thread_cfg_t packet_thread, processing_thread; /* where each runs and at what priority (thread.h;
+                                                      zero: anywhere, normally scheduled) */
 } rs_pipeline_cfg_t;
 
 typedef struct {
@@ -116,6 +119,8 @@ typedef struct {
 /* Opens the source; slots: nslots (3..RS_RING_MAX_SLOTS) caller-owned slots.
  * Returns RS_OK or a negative code with p->input_err set. */
 int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *slots, int nslots);
+/* Starts both threads, each placed as its cfg says (packet_thread, processing_thread).
+ * RS_OK, or a negative code with p->input_err naming the problem (neither runs then). */
 int rs_pipeline_start(rs_pipeline_t *p);
 /* Asks both threads to stop (async-signal-safe: an atomic store). */
 void rs_pipeline_request_stop(rs_pipeline_t *p);
