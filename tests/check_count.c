@@ -350,6 +350,33 @@ START_TEST(t_hidden_place) {
 }
 END_TEST
 
+/* Beside the line, not across it. A sidewalk's short line "walk 0 -2 0 2"; a car first seen at (-1,
+ * 1.5), its boxes growing across towards its lane for 3 frames while it drives off along -x at 8 m/s: its
+ * path run back meets the line within it (1.5 - 0.125 s of its mean velocity across). Its lane at y = 3,
+ * 1 m beyond the line's end: counted, placed 5 m along; at y = 7.5, 5.5 m beyond: not counted (its
+ * lane is not on the line). */
+static uint64_t beside(double lane) {
+  static const char *const l[] = {"walk 0 -2 0 2"};
+  setup(l, 1, NULL, 60);
+  tl.count = 0;
+  rs_count_frame(&cnt, &tl, 50.0);
+  for (int f = 0; f < 8; f++) {
+    tl.count = 0;
+    one(1, f < 3 ? RS_TRACK_TENTATIVE : RS_TRACK_CONFIRMED, RS_CLASS_CAR, -1.0 - 0.8 * f,
+        1.5 + (lane - 1.5) * (f < 3 ? f : 3) / 3.0);
+    rs_count_frame(&cnt, &tl, 52.0 + 0.1 * f);
+  }
+  return cnt.crossings;
+}
+
+START_TEST(t_hidden_beside) {
+  ck_assert_uint_eq(beside(3.0), 1);
+  ck_assert_uint_eq(cnt.hidden, 1);
+  ck_assert_uint_eq(beside(7.5), 0);
+  ck_assert_uint_eq(cnt.hidden, 0);
+}
+END_TEST
+
 /* Unseen crossings. A car (20 hits) drives towards the line at x = 0 at
  * -8 m/s (forward), seen until x = 2.4 (t = 100.7), then listed coasting
  * and lost on its prediction, which crosses the line at t = 101.0. The
@@ -1010,6 +1037,7 @@ int main(void) {
   tcase_add_test(tc, t_hidden_window);
   tcase_add_test(tc, t_hidden_start);
   tcase_add_test(tc, t_hidden_still);
+  tcase_add_test(tc, t_hidden_beside);
   tcase_add_test(tc, t_hidden_place);
   tcase_add_test(tc, t_class_delay);
   tcase_add_test(tc, t_lost_taken_up);

@@ -543,6 +543,17 @@ START_TEST(t_background_tools) {
 }
 END_TEST
 
+/* a small file's text (a static buffer of 1 MiB) */
+static const char *slurp_small(const char *path) {
+  static char b[1 << 20];
+  FILE *f = fopen(path, "r");
+  ck_assert_ptr_nonnull(f);
+  const size_t n = fread(b, 1, sizeof b - 1, f);
+  b[n] = '\0';
+  fclose(f);
+  return b;
+}
+
 /* The simulator's true crossings of counting lines (--truth-crossings) are the crossings of its own
  * true states (--truth-states) under the counter's rule (once per road user and line, the step from
  * one turn's position to the next meeting the line): the same file roadscan-eval scores counts with.
@@ -677,6 +688,41 @@ START_TEST(t_truth_crossings) {
   ck_assert_uint_le(n_matched, n_events);
   ck_assert_uint_le(n_matched, (unsigned)n_expect);
   ck_assert_msg(strstr(a, "\"spot_speed_rmse_vehicles\": null") == NULL, "%s", a);
+  /* --crossings-unmatched: the counted ones no true one matched and the true ones none matched, by time;
+   * each false one is a line of the events file */
+  char um[512], ucmd0[4700];
+  snprintf(um, sizeof um, "%s.unmatched", counts);
+  snprintf(ucmd0, sizeof ucmd0, "%s --crossings-unmatched %s", cmd, um);
+  ck_assert_msg(tu_exec(ucmd0, &out) == 0, "%s", out);
+  FILE *uf = fopen(um, "r");
+  ck_assert_ptr_nonnull(uf);
+  char row[512];
+  ck_assert_ptr_nonnull(fgets(row, sizeof row, uf));
+  ck_assert_str_eq(row, "kind,t,line,direction,at,class,id,how\n");
+  unsigned n_false = 0, n_missed = 0;
+  double t_prev = 0;
+  while (fgets(row, sizeof row, uf)) {
+    char kind[16], lname[64], dir[16], cls[32], how[16] = "";
+    double t, at;
+    unsigned id;
+    const int nf = sscanf(row, "%15[^,],%lf,%63[^,],%15[^,],%lf,%31[^,],%u,%15[^\n]", kind, &t, lname, dir, &at, cls, &id, how);
+    ck_assert_msg(nf >= 7, "%s", row);
+    ck_assert_msg(t >= t_prev, "not in time order: %s", row);
+    t_prev = t;
+    if (strcmp(kind, "false") == 0) {
+      n_false++;
+      char want[256];
+      snprintf(want, sizeof want, "%.3f,%s,%s,%.2f,%s,%u,", t, lname, dir, at, cls, id);
+      ck_assert_msg(strstr(slurp_small(events), want) != NULL, "%s not in the events", want);
+    } else {
+      ck_assert_str_eq(kind, "missed");
+      ck_assert_int_eq(nf, 7); /* no how */
+      n_missed++;
+    }
+  }
+  fclose(uf);
+  ck_assert_uint_eq(n_false, n_events - n_matched);
+  ck_assert_uint_eq(n_missed, (unsigned)n_expect - n_matched);
   /* a crossings file that is not roadscand's, or with a bad speed or an unknown line: refused, by line */
   static const char *const bad_events[][2] = {
       {"t,line\n", "not a roadscand --crossings-out file"},
@@ -702,6 +748,10 @@ START_TEST(t_truth_crossings) {
            labels, pred, states, tracks, events);
   ck_assert_int_eq(tu_exec(ucmd, &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "--crossings goes with --counts"));
+  snprintf(ucmd, sizeof ucmd, "./roadscan-eval %s %s %s --tracking --truth-states %s --tracks %s --counts %s %s "
+           "--crossings-unmatched %s", pcap, labels, pred, states, tracks, counts, lineargs, um);
+  ck_assert_int_eq(tu_exec(ucmd, &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "--crossings-unmatched goes with --crossings"));
   /* the zone: the true entries and exits those of the states, the counted ones roadscand's */
   ck_assert_int_ge(z_entered, 3);
   unsigned zc = 0, zt = 0;

@@ -306,6 +306,7 @@ typedef struct {
   bool json, diagnose, tracking;
   const char *objects_path, *model_path, *leaks_path, *dump_path, *states_path, *tracks_path, *counts_path, *crossings_path;
   const char *events_path; /* --crossings: roadscand --crossings-out */
+  const char *unmatched_path; /* --crossings-unmatched: the false and missed crossings */
   rs_count_lines_t lines; /* --count-line */
   rs_count_zones_t zones; /* --count-zone */
 } settings_t;
@@ -446,6 +447,7 @@ typedef struct {
   int line, dir;     /* dir 1 forward, -1 backward */
   bool vehicle, used;
   uint8_t cls;
+  uint32_t id;       /* the road user's (the states' id) */
 } tx_t;
 typedef struct {
   double t, speed;   /* speed < 0: unknown */
@@ -487,7 +489,7 @@ static int true_events(void) {
         const double mx = r[k - 1].x + u * (r[k].x - r[k - 1].x) - ln->ax, my = r[k - 1].y + u * (r[k].y - r[k - 1].y) - ln->ay;
         const double at = (mx * (ln->bx - ln->ax) + my * (ln->by - ln->ay)) / hypot(ln->bx - ln->ax, ln->by - ln->ay);
         tx[ntx++] = (tx_t){r[k - 1].t + u * (r[k].t - r[k - 1].t), s0 + u * (s1 - s0), at, l, d, r[0].vehicle, false,
-                           r[0].cls};
+                           r[0].cls, id};
         break;
       }
   }
@@ -579,6 +581,32 @@ static double track_speed_at(uint32_t id, double t) {
     }
   }
   return v;
+}
+
+/* --crossings-unmatched: after print_events (the last use of its matches: this marks the ones written),
+ * the events no true crossing matched and the true crossings no event matched, in time order */
+static void write_unmatched(FILE *f) {
+  static const char *const how_name[3] = {"seen", "hidden", "unseen"};
+  fprintf(f, "kind,t,line,direction,at,class,id,how\n");
+  for (;;) { /* the two lists merged by time (each is in no particular order: the earliest left of each) */
+    long be = -1, bx = -1;
+    for (size_t k = 0; k < nev; k++)
+      if (evs[k].match == -1 && (be < 0 || evs[k].t < evs[be].t)) be = (long)k;
+    for (size_t k = 0; k < ntx; k++)
+      if (!tx[k].used && (bx < 0 || tx[k].t < tx[bx].t)) bx = (long)k;
+    if (be < 0 && bx < 0) break;
+    if (be >= 0 && (bx < 0 || evs[be].t <= tx[bx].t)) {
+      const ev_t *v = &evs[be];
+      fprintf(f, "false,%.3f,%s,%s,%.2f,%s,%u,%s\n", v->t, st.lines.line[v->line].name, v->dir > 0 ? "forward" : "backward",
+              v->at, rs_class_name((rs_class_t)v->cls), v->track, how_name[v->how]);
+      evs[be].match = -2; /* written */
+    } else {
+      const tx_t *v = &tx[bx];
+      fprintf(f, "missed,%.3f,%s,%s,%.2f,%s,%u,\n", v->t, st.lines.line[v->line].name, v->dir > 0 ? "forward" : "backward",
+              v->at, rs_class_name((rs_class_t)v->cls), v->id);
+      tx[bx].used = true; /* written */
+    }
+  }
 }
 
 /* events matched to true crossings (the nearest in time first), then the figures */
@@ -1063,6 +1091,10 @@ static const rs_opt_t table[] = {
                 "once), the spot speed's "
                 "error at the lines (vehicles: RMSE, bias) against the speed the track itself reported there, "
                 "the crossing time's error and the share of the same class"),
+    RS_OPT_STR_("crossings-unmatched", "FILE", T, unmatched_path,
+                "with --crossings: the crossings counted that no true one matched (false) and the true ones no "
+                "counted one matched (missed), one CSV line each, in time order: kind,t,line,direction,at,class,id,how "
+                "(id: the track, or the true road user; how: the counted crossing's, empty for a missed one)"),
     RS_OPT_STR_("truth-crossings", "X", T, crossings_path,
                 "with --counts: the true crossings roadscan-sim wrote (--truth-crossings, the same lines) instead "
                 "of those derived here from --truth-states (the same rule: the two agree)"),
@@ -1121,6 +1153,10 @@ int main(int argc, char **argv) {
   }
   if (st.crossings_path && !counts_path) {
     fprintf(stderr, "roadscan-eval: --truth-crossings goes with --counts\n");
+    return 2;
+  }
+  if (st.unmatched_path && !st.events_path) {
+    fprintf(stderr, "roadscan-eval: --crossings-unmatched goes with --crossings\n");
     return 2;
   }
   if ((states_path || tracks_path) && !(tracking && states_path && tracks_path)) {
@@ -1184,9 +1220,13 @@ int main(int argc, char **argv) {
     fprintf(stderr, "roadscan-eval: out of memory\n");
     return 1;
   }
-  FILE *dump = NULL;
+  FILE *dump = NULL, *unmatched = NULL;
   rs_mot_t *mot = NULL;
   if (tracking) {
+    if (st.unmatched_path && (unmatched = fopen(st.unmatched_path, "w")) == NULL) {
+      fprintf(stderr, "roadscan-eval: --crossings-unmatched %s: cannot write\n", st.unmatched_path);
+      return 1;
+    }
     if (dump_path && (dump = fopen(dump_path, "w")) == NULL) {
       fprintf(stderr, "roadscan-eval: --mot-dump %s: cannot write\n", dump_path);
       return 1;
@@ -1264,6 +1304,7 @@ int main(int argc, char **argv) {
         print_counts(stdout, j);
         print_zones(stdout, j);
         if (st.events_path) print_events(stdout, j);
+        if (unmatched) write_unmatched(unmatched);
       }
       char *t = j ? json_dumps(j, RS_EVAL_JSON_FLAGS) : NULL;
       json_decref(j);
@@ -1283,11 +1324,16 @@ int main(int argc, char **argv) {
         print_counts(stdout, NULL);
         print_zones(stdout, NULL);
         if (st.events_path) print_events(stdout, NULL);
+        if (unmatched) write_unmatched(unmatched);
       }
     }
     rs_mot_free(mot);
     if (dump && fclose(dump) != 0) {
       fprintf(stderr, "roadscan-eval: --mot-dump %s: write failed\n", dump_path);
+      return 1;
+    }
+    if (unmatched && fclose(unmatched) != 0) {
+      fprintf(stderr, "roadscan-eval: --crossings-unmatched %s: write failed\n", st.unmatched_path);
       return 1;
     }
   } else if (json) {

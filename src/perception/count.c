@@ -367,6 +367,9 @@ static int hidden_crossing(rs_counter_t *c, int l, double t0, double x0, double 
   *t_cross = t0 - (1.0 - u) * c->hidden_s;
   *s_cross = c->hidden_at_track ? along(&c->lines[l], x, y) : s;
   if (t0 - HIDDEN_STRETCH * (t0 - *t_cross) < c->t_first) return 0; /* maybe before the run: not a crossing of it */
+  /* its lane beside the line, not across it: the path run back met the line only because its first boxes
+   * grew across (a car in the road, its path through the end of a sidewalk's short line) */
+  if (*s_cross < -HIDDEN_DS || *s_cross > line_len(&c->lines[l]) + HIDDEN_DS) return 0;
   return dir;
 }
 

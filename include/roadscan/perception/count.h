@@ -30,7 +30,10 @@
  * (default 3, 0 = off): when that meets a line it was not counted on, at a
  * time after the run's first frame (with the time run back stretched by 1.5:
  * a vehicle first seen soon after the run started was often pulling away
- * from the line, slower before), it is counted as crossed there, unless a
+ * from the line, slower before), and the track's place along the line (below)
+ * is within 2.5 m of the line's ends (a car in the road beside a sidewalk's
+ * short line is not on it, whatever its first boxes' growth ran it back
+ * through), it is counted as crossed there, unless a
  * crossing of that line in the same direction was counted within 1.5 s and
  * 2.5 m of it (the same vehicle, counted by the track it had before it was
  * hidden; the line is then done for this track). Where along the line: the
