@@ -583,30 +583,43 @@ static double track_speed_at(uint32_t id, double t) {
   return v;
 }
 
-/* --crossings-unmatched: after print_events (the last use of its matches: this marks the ones written),
- * the events no true crossing matched and the true crossings no event matched, in time order */
-static void write_unmatched(FILE *f) {
+/* --crossings-unmatched: after print_events, the events no true crossing matched ("false") and the true
+ * crossings no event matched ("missed"), in time order; 0, or -1 out of memory */
+typedef struct {
+  double t;
+  bool missed;
+  size_t k; /* into evs, or tx when missed */
+} unmatched_t;
+static int cmp_unmatched(const void *a, const void *b) {
+  const unmatched_t *p = a, *q = b;
+  if (p->t != q->t) return p->t < q->t ? -1 : 1;
+  if (p->missed != q->missed) return p->missed ? 1 : -1;
+  return (p->k > q->k) - (p->k < q->k);
+}
+static int write_unmatched(FILE *f) {
   static const char *const how_name[3] = {"seen", "hidden", "unseen"};
+  unmatched_t *u = malloc((nev + ntx + 1) * sizeof *u);
+  if (u == NULL) return -1;
+  size_t n = 0;
+  for (size_t k = 0; k < nev; k++)
+    if (evs[k].match < 0) u[n++] = (unmatched_t){evs[k].t, false, k};
+  for (size_t k = 0; k < ntx; k++)
+    if (!tx[k].used) u[n++] = (unmatched_t){tx[k].t, true, k};
+  qsort(u, n, sizeof *u, cmp_unmatched);
   fprintf(f, "kind,t,line,direction,at,class,id,how\n");
-  for (;;) { /* the two lists merged by time (each is in no particular order: the earliest left of each) */
-    long be = -1, bx = -1;
-    for (size_t k = 0; k < nev; k++)
-      if (evs[k].match == -1 && (be < 0 || evs[k].t < evs[be].t)) be = (long)k;
-    for (size_t k = 0; k < ntx; k++)
-      if (!tx[k].used && (bx < 0 || tx[k].t < tx[bx].t)) bx = (long)k;
-    if (be < 0 && bx < 0) break;
-    if (be >= 0 && (bx < 0 || evs[be].t <= tx[bx].t)) {
-      const ev_t *v = &evs[be];
-      fprintf(f, "false,%.3f,%s,%s,%.2f,%s,%u,%s\n", v->t, st.lines.line[v->line].name, v->dir > 0 ? "forward" : "backward",
-              v->at, rs_class_name((rs_class_t)v->cls), v->track, how_name[v->how]);
-      evs[be].match = -2; /* written */
-    } else {
-      const tx_t *v = &tx[bx];
+  for (size_t i = 0; i < n; i++) {
+    if (u[i].missed) {
+      const tx_t *v = &tx[u[i].k];
       fprintf(f, "missed,%.3f,%s,%s,%.2f,%s,%u,\n", v->t, st.lines.line[v->line].name, v->dir > 0 ? "forward" : "backward",
               v->at, rs_class_name((rs_class_t)v->cls), v->id);
-      tx[bx].used = true; /* written */
+    } else {
+      const ev_t *v = &evs[u[i].k];
+      fprintf(f, "false,%.3f,%s,%s,%.2f,%s,%u,%s\n", v->t, st.lines.line[v->line].name, v->dir > 0 ? "forward" : "backward",
+              v->at, rs_class_name((rs_class_t)v->cls), v->track, how_name[v->how]);
     }
   }
+  free(u);
+  return 0;
 }
 
 /* events matched to true crossings (the nearest in time first), then the figures */
@@ -1221,6 +1234,7 @@ int main(int argc, char **argv) {
     return 1;
   }
   FILE *dump = NULL, *unmatched = NULL;
+  bool unmatched_oom = false;
   rs_mot_t *mot = NULL;
   if (tracking) {
     if (st.unmatched_path && (unmatched = fopen(st.unmatched_path, "w")) == NULL) {
@@ -1304,7 +1318,7 @@ int main(int argc, char **argv) {
         print_counts(stdout, j);
         print_zones(stdout, j);
         if (st.events_path) print_events(stdout, j);
-        if (unmatched) write_unmatched(unmatched);
+        if (unmatched && write_unmatched(unmatched) != 0) unmatched_oom = true;
       }
       char *t = j ? json_dumps(j, RS_EVAL_JSON_FLAGS) : NULL;
       json_decref(j);
@@ -1324,7 +1338,7 @@ int main(int argc, char **argv) {
         print_counts(stdout, NULL);
         print_zones(stdout, NULL);
         if (st.events_path) print_events(stdout, NULL);
-        if (unmatched) write_unmatched(unmatched);
+        if (unmatched && write_unmatched(unmatched) != 0) unmatched_oom = true;
       }
     }
     rs_mot_free(mot);
@@ -1332,8 +1346,9 @@ int main(int argc, char **argv) {
       fprintf(stderr, "roadscan-eval: --mot-dump %s: write failed\n", dump_path);
       return 1;
     }
-    if (unmatched && fclose(unmatched) != 0) {
-      fprintf(stderr, "roadscan-eval: --crossings-unmatched %s: write failed\n", st.unmatched_path);
+    if (unmatched && (fclose(unmatched) != 0 || unmatched_oom)) {
+      fprintf(stderr, "roadscan-eval: --crossings-unmatched %s: %s\n", st.unmatched_path,
+              unmatched_oom ? "out of memory" : "write failed");
       return 1;
     }
   } else if (json) {

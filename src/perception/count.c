@@ -503,7 +503,9 @@ static void open_event(rs_counter_t *c, uint32_t i, int l, int dir, unsigned cls
 
 /* A hidden crossing (found from where a track was first seen and where it
  * was at its first confirmed frame) whose track reports standing still
- * (speed 0) when it is tallied, at least HIDDEN_STILL_S later, is taken back:
+ * (speed 0) when it is tallied (class_delay_s after the track's first
+ * pending crossing was found; a delay under HIDDEN_STILL_S is no time to
+ * tell, and nothing is taken back then) is taken back:
  * what looked like travel past the line was its box growing as more of the
  * vehicle came into view (a van waiting 40 m off, uncovered as the car before
  * it moved off). Measured in docs/tracking.md (counting). */

@@ -12,9 +12,33 @@
 #include <stdio.h>
 #include <string.h>
 #include <sys/resource.h>
-#include <unistd.h>
 
 _Static_assert(RS_THREAD_CPU_MAX < CPU_SETSIZE, "a CPU number must fit a cpu_set_t");
+
+/* the CPUs of set as runs ("0-3,6"), written at buf + k (of n): the new end */
+static size_t cpu_runs(const cpu_set_t *set, char *buf, size_t k, size_t n) {
+  int first = -1;
+  bool any = false;
+  for (int c = 0; c <= RS_THREAD_CPU_MAX + 1 && k + 12 < n; c++) {
+    const bool in = c <= RS_THREAD_CPU_MAX && CPU_ISSET(c, set);
+    if (in && first < 0) first = c;
+    if (!in && first >= 0) {
+      k += (size_t)(c - 1 > first ? snprintf(buf + k, n - k, "%s%d-%d", any ? "," : "", first, c - 1)
+                                  : snprintf(buf + k, n - k, "%s%d", any ? "," : "", first));
+      any = true;
+      first = -1;
+    }
+  }
+  return k;
+}
+
+/* the set of CPU cpu alone */
+static cpu_set_t one_cpu(int cpu) {
+  cpu_set_t one;
+  CPU_ZERO(&one);
+  CPU_SET(cpu, &one);
+  return one;
+}
 
 int rs_thread_check(const rs_thread_cfg_t *cfg, const char *what, char *err, size_t n) {
   if (cfg == NULL) return RS_OK;
@@ -34,11 +58,8 @@ int rs_thread_check(const rs_thread_cfg_t *cfg, const char *what, char *err, siz
       return RS_E_THREAD;
     }
     if (!CPU_ISSET(cfg->cpu, &allowed)) {
-      char list[256];
-      size_t k = 0;
-      list[0] = '\0';
-      for (int c = 0; c <= RS_THREAD_CPU_MAX && k + 8 < sizeof list; c++)
-        if (CPU_ISSET(c, &allowed)) k += (size_t)snprintf(list + k, sizeof list - k, "%s%d", k ? "," : "", c);
+      char list[256] = "";
+      cpu_runs(&allowed, list, 0, sizeof list);
       snprintf(err, n, "%s: CPU %d is not one this process may run on (it may: %s)", what, cfg->cpu, list);
       return RS_E_INVAL;
     }
@@ -88,9 +109,7 @@ int rs_thread_create(pthread_t *t, const rs_thread_cfg_t *cfg, const char *what,
   }
   int e = 0;
   if (cfg->pin) {
-    cpu_set_t one;
-    CPU_ZERO(&one);
-    CPU_SET(cfg->cpu, &one);
+    const cpu_set_t one = one_cpu(cfg->cpu);
     e = pthread_attr_setaffinity_np(&attr, sizeof one, &one);
   }
   if (e == 0 && cfg->priority > 0) {
@@ -108,9 +127,7 @@ int rs_thread_place(const rs_thread_cfg_t *cfg, const char *what, char *err, siz
   int rc = rs_thread_check(cfg, what, err, n);
   if (rc != RS_OK || cfg == NULL) return rc;
   if (cfg->pin) {
-    cpu_set_t one;
-    CPU_ZERO(&one);
-    CPU_SET(cfg->cpu, &one);
+    const cpu_set_t one = one_cpu(cfg->cpu);
     const int e = pthread_setaffinity_np(pthread_self(), sizeof one, &one);
     if (e != 0) return refused(cfg, what, e, err, n);
   }
@@ -125,32 +142,17 @@ int rs_thread_place(const rs_thread_cfg_t *cfg, const char *what, char *err, siz
 void rs_thread_describe(pthread_t t, char *buf, size_t n) {
   cpu_set_t set;
   CPU_ZERO(&set);
-  size_t k = 0;
-  buf[0] = '\0';
-  if (pthread_getaffinity_np(t, sizeof set, &set) == 0) {
-    const int count = CPU_COUNT(&set);
-    k += (size_t)snprintf(buf, n, "CPU%s ", count == 1 ? "" : "s");
-    int first = -1;
-    bool any = false;
-    for (int c = 0; c <= RS_THREAD_CPU_MAX + 1 && k + 12 < n; c++) { /* runs as a-b */
-      const bool in = c <= RS_THREAD_CPU_MAX && CPU_ISSET(c, &set);
-      if (in && first < 0) first = c;
-      if (!in && first >= 0) {
-        k += (size_t)(c - 1 > first ? snprintf(buf + k, n - k, "%s%d-%d", any ? "," : "", first, c - 1)
-                                    : snprintf(buf + k, n - k, "%s%d", any ? "," : "", first));
-        any = true;
-        first = -1;
-      }
-    }
-  } else {
-    k += (size_t)snprintf(buf, n, "CPUs unknown");
-  }
-  int policy = 0;
+  size_t k;
+  if (pthread_getaffinity_np(t, sizeof set, &set) == 0)
+    k = cpu_runs(&set, buf, (size_t)snprintf(buf, n, "CPU%s ", CPU_COUNT(&set) == 1 ? "" : "s"), n);
+  else
+    k = (size_t)snprintf(buf, n, "CPUs unknown");
+  int policy = SCHED_OTHER;
   struct sched_param sp = {0};
-  if (k < n && pthread_getschedparam(t, &policy, &sp) == 0)
-    snprintf(buf + k, n - k, ", %s", policy == SCHED_FIFO ? "SCHED_FIFO" : policy == SCHED_RR ? "SCHED_RR" : "normal scheduling");
-  if (k < n && policy != SCHED_OTHER && policy != 0) {
-    const size_t m = strlen(buf);
-    snprintf(buf + m, n - m, " %d", sp.sched_priority);
-  }
+  if (k >= n || pthread_getschedparam(t, &policy, &sp) != 0) return;
+  if (policy == SCHED_OTHER)
+    snprintf(buf + k, n - k, ", normal scheduling");
+  else
+    snprintf(buf + k, n - k, ", %s %d", policy == SCHED_FIFO ? "SCHED_FIFO" : policy == SCHED_RR ? "SCHED_RR" : "policy",
+             sp.sched_priority);
 }
