@@ -9,7 +9,9 @@
  * a lost track taken up again past a line; unseen crossings (a track
  * followed on its prediction, held until it is seen again or ends); the band
  * (a car standing on a line, a track running on over it as its car stops);
- * a walker crossing back (counted each way once, a car's track once); the
+ * a walker crossing back (counted each way once, also back before its first
+ * crossing was tallied; a car's track once); walkers in a file (one's
+ * crossing on its prediction not taken for the one's ahead); the
  * crossing events (time, place, class, how, the spot speed around the
  * crossing; none for a crossing taken back; a full pool counted). */
 #include "roadscan/perception/count.h"
@@ -786,12 +788,14 @@ START_TEST(t_band) {
 }
 END_TEST
 
-/* A walker's track crossing back after its crossing was tallied is counted that way too, once: a
- * walker goes out over "walk 0 -2 0 2" (x = 0) at 1 m/s, turns back back_after_s past the line (3 s:
- * its forward crossing tallied after the class delay), crosses back, turns again again_after_s past
- * the line and goes out for 6 s, crossing forward once more. With 3 s and 4 s: one forward, one
- * backward. The same path by a car-long track: one forward. Turning back before a crossing is tallied
- * takes that crossing back instead (t_band), for walkers too, the second crossing included. */
+/* A walker's track crossing back is counted that way too, once: a walker goes out over "walk 0 -2 0 2"
+ * (x = 0) at 1 m/s, turns back back_after_s past the line (3 s: its forward crossing tallied after the
+ * class delay; 0.6 s: before), crosses back, turns again again_after_s past the line and goes out for
+ * 6 s, crossing forward once more. With 3 s and 4 s, and with 0.6 s and 4 s: one forward, one backward
+ * (two walkers meeting on the line leave with each other's tracks, each over and back: the class delay
+ * does not decide whether both count). The same path by a car-long track: one forward; back before its
+ * crossing is tallied, that crossing is taken back (t_band). A walker's crossing back, seen back over
+ * the line before it is tallied, is taken back: the first stands. */
 static void walk_back(float full_length, rs_class_t cls, double back_after_s, double again_after_s) {
   static const char *const l[] = {"walk 0 -2 0 2"};
   setup(l, 1, NULL, 60);
@@ -820,9 +824,19 @@ START_TEST(t_walker_back) {
   ck_assert_uint_eq(sum(cnt.total[0].backward), 0);
   ck_assert_uint_eq(cnt.crossings, 1);
   ck_assert_uint_eq(cnt.walked_back, 0);
-  /* back 0.6 s past the line: seen back before the tally, taken back; then out again, counted forward once */
+  /* back 0.6 s past the line, before the tally: that crossing tallied then, the crossing back counted too;
+   * out again 4 s on: not counted again */
   walk_back(0.6f, RS_CLASS_PEDESTRIAN, 0.6, 4.0);
+  ck_assert_uint_eq(cnt.back_undone, 0);
+  ck_assert_uint_eq(cnt.walked_early, 1);
+  ck_assert_uint_eq(cnt.walked_back, 1);
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_PEDESTRIAN], 1);
+  ck_assert_uint_eq(cnt.total[0].backward[RS_CLASS_PEDESTRIAN], 1);
+  ck_assert_uint_eq(cnt.crossings, 2);
+  /* a car's track the same way: its crossing taken back, then counted once as it goes out again */
+  walk_back(4.5f, RS_CLASS_CAR, 0.6, 4.0);
   ck_assert_uint_eq(cnt.back_undone, 1);
+  ck_assert_uint_eq(cnt.walked_early, 0);
   ck_assert_uint_eq(sum(cnt.total[0].forward), 1);
   ck_assert_uint_eq(sum(cnt.total[0].backward), 0);
   /* out (tallied), back 0.6 s past the line and out again: the crossing back taken back, the first
@@ -832,6 +846,59 @@ START_TEST(t_walker_back) {
   ck_assert_uint_eq(sum(cnt.total[0].forward), 1);
   ck_assert_uint_eq(sum(cnt.total[0].backward), 0);
   ck_assert_uint_eq(cnt.walked_back, 0);
+}
+END_TEST
+
+/* Walkers in a file over "walk 0 -2 0 2" (x = 0), going -x at pace m/s 1 m apart (y = 0.5): the first
+ * (track 11) seen throughout; the second (track 12, first seen with it) unseen from 1 m before the line
+ * and followed on its prediction over it, 0.8 s after the first crossed (at 1.25 m/s); seen again 1.5 s
+ * after it was last seen, past the line, or, with renewed, never again: a track first seen 0.5 m ahead
+ * of its prediction once it is unseen (13: the same walker's new one) crosses first. Returns the crossings; *dup:
+ * unseen_dup. */
+static void walker_row(uint32_t id, rs_track_state_t st, double x, double pace, double t_birth, double t_update) {
+  one(id, st, RS_CLASS_PEDESTRIAN, x, 0.5);
+  sized(0.6f);
+  rs_track_t *k = &tl.track[tl.count - 1];
+  k->x[2] = -pace;
+  k->hits = 20;
+  k->t_birth = t_birth;
+  k->t_update = t_update;
+}
+
+static uint32_t walker_file(double pace, bool renewed, uint64_t *dup) {
+  static const char *const l[] = {"walk 0 -2 0 2"};
+  setup(l, 1, NULL, 60);
+  const double x0 = 3.0, t0 = 300.0, step = pace * 0.1;
+  const int unseen_from = (int)((x0 + 1.0 - 1.0) / step + 0.5), again = unseen_from + 15;
+  for (int f = 0; f <= again + 20; f++) {
+    const double t = t0 + 0.1 * f, x2 = x0 + 1.0 - step * f;
+    tl.count = 0;
+    walker_row(11, RS_TRACK_CONFIRMED, x0 - step * f, pace, t0, t);
+    const bool seen = f < unseen_from || (!renewed && f >= again);
+    walker_row(12, seen ? RS_TRACK_CONFIRMED : RS_TRACK_COASTING, x2, pace, t0, seen ? t : t0 + 0.1 * (unseen_from - 1));
+    if (renewed && f >= unseen_from)
+      walker_row(13, f >= unseen_from + 2 ? RS_TRACK_CONFIRMED : RS_TRACK_TENTATIVE, x2 - 0.5, pace, t0 + 0.1 * unseen_from, t);
+    rs_count_frame(&cnt, &tl, t);
+  }
+  rs_count_flush(&cnt, t0 + 0.1 * (again + 21));
+  *dup = cnt.unseen_dup;
+  ck_assert_uint_eq(sum(cnt.total[0].backward), 0);
+  return sum(cnt.total[0].forward);
+}
+
+START_TEST(t_unseen_walkers) {
+  uint64_t dup = 0;
+  /* the second walker's crossing on its prediction, 0.8 s after the first's and beside it: both counted */
+  ck_assert_uint_eq(walker_file(1.25, false, &dup), 2);
+  ck_assert_uint_eq(dup, 0);
+  ck_assert_uint_eq(cnt.unseen, 1);
+  /* its own new track crossed first: the same walker, counted once */
+  ck_assert_uint_eq(walker_file(1.25, true, &dup), 2);
+  ck_assert_uint_eq(dup, 1);
+  ck_assert_uint_eq(cnt.unseen, 0);
+  /* as fast as a cyclist (4 m/s, 0.25 s apart), the file is taken for one road user's tracks, as vehicles' are */
+  ck_assert_uint_eq(walker_file(4.0, false, &dup), 1);
+  ck_assert_uint_eq(dup, 1);
 }
 END_TEST
 
@@ -1041,6 +1108,7 @@ int main(void) {
   tcase_add_test(tc, t_unseen_crossings);
   tcase_add_test(tc, t_band);
   tcase_add_test(tc, t_walker_back);
+  tcase_add_test(tc, t_unseen_walkers);
   tcase_add_test(tc, t_crossing_events);
   suite_add_tcase(s, tc);
   return tu_run(s);

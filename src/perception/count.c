@@ -295,13 +295,14 @@ static void mark_counted(rs_counter_t *c, uint32_t i, uint16_t bit, int dir) {
   c->slot[i].counted |= bit;
 }
 
-static void remember(rs_counter_t *c, int l, double t, double s, int dir, uint32_t id, bool vehicle) {
+static void remember(rs_counter_t *c, int l, double t, double s, int dir, const rs_track_t *tr, bool vehicle) {
   const uint32_t k = c->recent_n[l]++ % RS_COUNT_RECENT;
   c->recent[l][k].t = t;
   c->recent[l][k].s = s;
   c->recent[l][k].dir = dir;
-  c->recent[l][k].id = id;
+  c->recent[l][k].id = tr->id;
   c->recent[l][k].vehicle = vehicle;
+  c->recent[l][k].born = tr->t_birth;
 }
 
 /* track id's remembered crossing of line l, taken back */
@@ -314,6 +315,7 @@ static void unremember(rs_counter_t *c, int l, uint32_t id) {
 #define HIDDEN_DT 1.5 /* s: a counted crossing this close in time ... */
 #define HIDDEN_DS 2.5 /* m: ... and along the line is the same vehicle's */
 #define HIDDEN_MIN_SPEED 1.0
+#define NEWER_SLACK_S 0.05 /* s: a track first seen this soon before another's last update is newer (frames' times) */
 /* A track first seen soon after the run started, past a line its path run back
  * crosses, may have crossed it before the run: the vehicle was slower then (it
  * was pulling away from the stop line; the speed its first boxes give is also
@@ -322,14 +324,22 @@ static void unremember(rs_counter_t *c, int l, uint32_t id) {
  * (docs/tracking.md, counting: 1, 1.5, 2 and 3 measured). */
 #define HIDDEN_STRETCH 1.5
 
-/* a crossing of line l in direction dir counted within dt of t and HIDDEN_DS of s; with id != 0,
- * only one by a vehicle-sized track other than id (second tracks, count.h) */
-static bool counted_near(const rs_counter_t *c, int l, double t, double s, int dir, double dt, uint32_t id) {
+/* which earlier crossings counted_near looks for */
+typedef enum {
+  NEAR_ANY,           /* by any track */
+  NEAR_OTHER_VEHICLE, /* by a vehicle-sized track other than id (second tracks, count.h) */
+  NEAR_NEWER          /* by a track other than id first seen at `since` or later (a walker's new track) */
+} near_t;
+
+/* a crossing of line l in direction dir counted within dt of t and HIDDEN_DS of s, by a track of kind */
+static bool counted_near(const rs_counter_t *c, int l, double t, double s, int dir, double dt, near_t kind, uint32_t id,
+                         double since) {
   const uint32_t n = c->recent_n[l] < RS_COUNT_RECENT ? c->recent_n[l] : RS_COUNT_RECENT;
   for (uint32_t k = 0; k < n; k++) {
-    const bool other_vehicle = c->recent[l][k].vehicle && c->recent[l][k].id != id;
-    if ((id == 0 || other_vehicle) && c->recent[l][k].dir == dir && fabs(c->recent[l][k].t - t) <= dt &&
-        fabs(c->recent[l][k].s - s) <= HIDDEN_DS)
+    const bool other = c->recent[l][k].id != id;
+    const bool by = kind == NEAR_ANY || (kind == NEAR_OTHER_VEHICLE && other && c->recent[l][k].vehicle) ||
+                    (kind == NEAR_NEWER && other && c->recent[l][k].born >= since);
+    if (by && c->recent[l][k].dir == dir && fabs(c->recent[l][k].t - t) <= dt && fabs(c->recent[l][k].s - s) <= HIDDEN_DS)
       return true;
   }
   return false;
@@ -337,6 +347,11 @@ static bool counted_near(const rs_counter_t *c, int l, double t, double s, int d
 
 /* a track of a vehicle's length (second tracks, count.h) */
 static bool vehicle_sized(const rs_track_t *tr) { return tr->full_length >= RS_COUNT_VEHICLE_M; }
+
+/* a track not of a vehicle's length moving at a walker's pace (unseen crossings, count.h) */
+static bool walker_paced(const rs_track_t *tr) {
+  return !vehicle_sized(tr) && hypot(tr->x[2], tr->x[3]) < RS_COUNT_WALKER_PACE;
+}
 
 static void tally(rs_counter_t *c, int l, int dir, unsigned cls) {
   if (dir > 0) {
@@ -556,11 +571,15 @@ static void unseen_crossings(rs_counter_t *c, uint32_t i, const rs_track_t *tr, 
     double u, s;
     meet(&c->lines[l], c->slot[i].x, c->slot[i].y, x, y, &u, &s);
     mark_counted(c, i, bit, dir);
-    if (counted_near(c, l, t, s, dir, HIDDEN_DT, 0)) { /* the vehicle's new track counted it already */
+    /* the vehicle's new track counted it already; a walker's, not another walker of a file (one first
+     * seen before this one was last seen: people walk in files, a track's new one starts after it is lost) */
+    const bool dup = walker_paced(tr) ? counted_near(c, l, t, s, dir, HIDDEN_DT, NEAR_NEWER, tr->id, tr->t_update - NEWER_SLACK_S)
+                                      : counted_near(c, l, t, s, dir, HIDDEN_DT, NEAR_ANY, 0, 0.0);
+    if (dup) {
       c->unseen_dup++;
       continue;
     }
-    remember(c, l, t, s, dir, tr->id, vehicle_sized(tr));
+    remember(c, l, t, s, dir, tr, vehicle_sized(tr));
     if (!c->slot[i].pending) c->slot[i].t_tally = t + c->class_delay_s;
     c->slot[i].pending |= bit;
     c->slot[i].predicted |= bit;
@@ -693,8 +712,14 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       if (c->band_m > 0) {
         dir = band_cross(c, i, l, x, y, &s); /* (the sides kept current on every line) */
         const uint16_t bit = (uint16_t)(1u << l);
-        if (dir != 0 && (c->slot[i].pending & bit) && !(undone & bit) &&
-            (dir > 0) != ((c->slot[i].pending_fwd & bit) != 0)) { /* back before its crossing was tallied */
+        const bool back = dir != 0 && (c->slot[i].pending & bit) && !(undone & bit) &&
+                          (dir > 0) != ((c->slot[i].pending_fwd & bit) != 0); /* back before its crossing was tallied */
+        if (back && !vehicle && !(c->slot[i].counted_both & bit)) {
+          /* a walker's track: its first crossing stands, tallied now, and it crosses back (walked_back below;
+           * two walkers meeting on a line may leave with each other's tracks, each one over and back) */
+          tally_pending(c, i, false, standing(c, tr));
+          c->walked_early++;
+        } else if (back) {
           if (c->slot[i].predicted & bit) c->unseen--;
           c->slot[i].pending &= (uint16_t)~bit;
           c->slot[i].pending_fwd &= (uint16_t)~bit;
@@ -723,22 +748,22 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       }
       if (dir != 0) {
         tc = trail_cross_time(c, i, l, t);
-        if (vehicle && c->same_s > 0 && counted_near(c, l, t, s, dir, c->same_s, tr->id)) {
+        if (vehicle && c->same_s > 0 && counted_near(c, l, t, s, dir, c->same_s, NEAR_OTHER_VEHICLE, tr->id, 0.0)) {
           c->same_dup++;
           mark_counted(c, i, (uint16_t)(1u << l), dir); /* its vehicle's: not checked again */
           continue;
         }
-        remember(c, l, t, s, dir, tr->id, vehicle);
+        remember(c, l, t, s, dir, tr, vehicle);
       } else if (first_confirmed || (c->slot[i].born && t - c->slot[i].t0 <= c->hidden_window_s)) {
         dir = hidden_crossing(c, l, c->slot[i].t0, c->slot[i].x0, c->slot[i].y0, t, x, y, &tc, &s);
         if (dir == 0) continue;
         how = RS_CROSS_HIDDEN;
-        if (counted_near(c, l, tc, s, dir, HIDDEN_DT, 0)) {
+        if (counted_near(c, l, tc, s, dir, HIDDEN_DT, NEAR_ANY, 0, 0.0)) {
           c->hidden_dup++;
           mark_counted(c, i, (uint16_t)(1u << l), dir); /* its vehicle's: not checked again */
           continue;
         }
-        remember(c, l, tc, s, dir, tr->id, vehicle);
+        remember(c, l, tc, s, dir, tr, vehicle);
         c->hidden++;
       }
       if (dir == 0) continue;

@@ -70,7 +70,11 @@
  * past the line it stands; back before it (it stopped behind something) it
  * is taken back; or until the track ends, when it is tallied. It is not
  * counted when a crossing of the line in its direction was counted within
- * 1.5 s and 2.5 m (the vehicle's new track), as for hidden crossings.
+ * 1.5 s and 2.5 m (the vehicle's new track), as for hidden crossings; for a
+ * walker's track (not vehicle-sized, slower than RS_COUNT_WALKER_PACE) only
+ * when the track that counted it was first seen after this one was last
+ * seen (the walker's new track): people walk in files, and the one ahead
+ * crossed there a moment before.
  *
  * Second tracks: a vehicle-sized track (RS_COUNT_VEHICLE_M long or more)
  * crossing a line within `same_s` (default 1.5, 0 = off) and 2.5 m along it
@@ -92,14 +96,15 @@
  * hidden crossings are found as before; the band's sides are those of the
  * positions the track was seen at (first seen within a band, it has no side
  * of that line until it is seen clear of it).
- * With the band, a track not vehicle-sized (a walker's, a cyclist's) whose
- * crossing was tallied and that crosses back is counted that way too, once
- * (`walked_back`): people turn back on a crosswalk or a sidewalk, and two
- * walkers passing on a line may leave with each other's tracks, each track
- * then crossing once each way; seen back over the line before that second
- * crossing is tallied, it is taken back and the first stands. A vehicle's
- * track crossing back is not counted (it took another vehicle's place, or
- * its centre wandered).
+ * With the band, a track not vehicle-sized (a walker's, a cyclist's) that
+ * crosses back is counted that way too, once (`walked_back`): people turn
+ * back on a crosswalk or a sidewalk, and two walkers passing on a line may
+ * leave with each other's tracks, each track then crossing once each way.
+ * Back before its first crossing was tallied, that one is not taken back
+ * (as a vehicle's is) but tallied then (`walked_early`); seen back over the
+ * line before the second crossing is tallied, that one is taken back and
+ * the first stands. A vehicle's track crossing back is not counted (it took
+ * another vehicle's place, or its centre wandered).
  *
  * Crossing events: each crossing tallied is also one event in `events` of
  * the frame that tallied it (nevents of them; rs_count_flush's too): when it
@@ -150,6 +155,7 @@
 #define RS_COUNT_BAND_M 0.3               /* default band_m */
 #define RS_COUNT_VEHICLE_M 2.5            /* a track this long (its full length) or longer is a vehicle's (same_s) */
 #define RS_COUNT_UNSEEN_MIN_HITS 5        /* an unseen track of fewer hits is not followed (a flicker confirmed on 3) */
+#define RS_COUNT_WALKER_PACE 3.0          /* m/s: a track not vehicle-sized and slower than this walks (unseen crossings) */
 #define RS_COUNT_TRAIL 16                 /* positions kept per track (spot speeds) ... */
 #define RS_COUNT_TRAIL_MS 95              /* ... at least this far apart (ms): 1.4 s at any frame rate */
 #define RS_COUNT_SPOT_MS 1000             /* a spot speed's window: this long before and after the crossing (ms) */
@@ -233,7 +239,7 @@ typedef struct {
                                             prediction (s; 0 = off); RS_COUNT_UNSEEN_S */
   uint64_t unseen;                       /* of the crossings: on a prediction, the track unseen */
   uint64_t unseen_undone;                /* crossings on a prediction taken back: the track seen again before the line */
-  uint64_t unseen_dup;                   /* crossings on a prediction not counted: the vehicle's new track was */
+  uint64_t unseen_dup;                   /* crossings on a prediction not counted: the vehicle's (walker's) new track was */
   double same_s;                         /* a vehicle's second track crossing this soon after its first is not
                                             counted (s; 0 = off); RS_COUNT_SAME_S */
   uint64_t same_dup;                     /* crossings not counted: another track of the vehicle's was */
@@ -242,8 +248,9 @@ typedef struct {
                                             tallied takes it back (m; 0 = at the line); RS_COUNT_BAND_M */
   uint64_t back_undone;                  /* crossings taken back: the track seen back past the band before they
                                             were tallied (band_m) */
-  uint64_t walked_back;                  /* of the crossings, a walker's track's second, back over a line after
-                                            its first was tallied (band_m) */
+  uint64_t walked_back;                  /* of the crossings, a walker's track's second, back over a line
+                                            (band_m) */
+  uint64_t walked_early;                 /* ... of them, back before its first was tallied (which was then) */
   uint64_t pending;                      /* crossings found and not yet tallied (their class is settling) */
   rs_count_event_t events[RS_COUNT_EVENTS_MAX]; /* the crossings tallied this frame (or by rs_count_flush) */
   uint32_t nevents;
@@ -265,6 +272,7 @@ typedef struct {
     int dir;                             /* 1 forward, -1 backward, 0 taken back */
     uint32_t id;                         /* the track counted */
     bool vehicle;                        /* ... was vehicle-sized (RS_COUNT_VEHICLE_M) */
+    double born;                         /* ... was first seen then (its t_birth, s) */
   } recent[RS_COUNT_LINES][RS_COUNT_RECENT];
   uint32_t recent_n[RS_COUNT_LINES];     /* crossings recorded (the ring holds the last RS_COUNT_RECENT) */
   struct {
