@@ -4,7 +4,9 @@
  * tracks forgotten, the site frame of a pose, bad lines; zones: entries,
  * exits, occupancy, a track first seen inside, tentative and coasting
  * tracks, bad zones; hidden crossings (a track first seen past a line;
- * placed in its lane, not where a partial first box's path met the line);
+ * placed in its lane, not where a partial first box's path met the line;
+ * none against the track's own velocity; one taken back, its track standing,
+ * leaves the line to be crossed);
  * the class delay (a crossing tallied under the class its track settles on);
  * a lost track taken up again past a line; unseen crossings (a track
  * followed on its prediction, held until it is seen again or ends); the band
@@ -565,40 +567,84 @@ END_TEST
  * more of it comes into view (a hidden crossing found at its first confirmed
  * frame), then still. Its track reports speed 0 when the crossing is due (2 s
  * later): taken back, no event. Reporting 4 m/s then: counted, one event.
- * Tallied at once (class delay 0), there is no later look: counted. */
-static uint64_t uncovered_van(double delay, float speed, uint32_t *events) {
+ * Tallied at once (class delay 0), there is no later look: counted. With
+ * drive_back, after 4 s it drives back over the line (+x at 4 m/s), seen. */
+static uint64_t uncovered_van(double delay, float speed, uint32_t *events, bool drive_back) {
   static const char *const l[] = {"gate 0 -5 0 5"};
   setup(l, 1, NULL, 60);
   cnt.class_delay_s = delay;
   run_start();
   *events = 0;
-  for (int f = 0; f < 40; f++) {
+  for (int f = 0; f < (drive_back ? 70 : 40); f++) {
     tl.count = 0;
-    one(1, f < 2 ? RS_TRACK_TENTATIVE : RS_TRACK_CONFIRMED, RS_CLASS_VAN_TRUCK, -2.0 - 0.5 * (f < 4 ? f : 4), 3.0);
+    const double x = f < 40 ? -2.0 - 0.5 * (f < 4 ? f : 4) : -4.0 + 0.4 * (f - 39);
+    one(1, f < 2 ? RS_TRACK_TENTATIVE : RS_TRACK_CONFIRMED, RS_CLASS_VAN_TRUCK, x, 3.0);
     sized(6.0f);
-    tl.track[0].speed = f < 4 ? 0.0f : speed;
+    tl.track[0].speed = f < 4 ? 0.0f : f < 40 ? speed : 4.0f;
     rs_count_frame(&cnt, &tl, 52.0 + 0.1 * f);
     *events += cnt.nevents;
   }
+  rs_count_flush(&cnt, drive_back ? 59.0 : 56.0);
+  *events += cnt.nevents;
   return cnt.crossings;
 }
 
 START_TEST(t_hidden_still) {
   uint32_t events;
-  ck_assert_uint_eq(uncovered_van(2.0, 0.0f, &events), 0);
+  ck_assert_uint_eq(uncovered_van(2.0, 0.0f, &events, false), 0);
   ck_assert_uint_eq(cnt.hidden, 0);
   ck_assert_uint_eq(cnt.hidden_still, 1);
   ck_assert_uint_eq(cnt.pending, 0);
   ck_assert_uint_eq(sum(cnt.total[0].forward), 0);
   ck_assert_uint_eq(events, 0);
-  ck_assert_uint_eq(uncovered_van(2.0, 4.0f, &events), 1);
+  /* taken back, it never crossed: driving back over the line, seen, it is counted that way */
+  ck_assert_uint_eq(uncovered_van(2.0, 0.0f, &events, true), 1);
+  ck_assert_uint_eq(cnt.hidden_still, 1);
+  ck_assert_uint_eq(cnt.total[0].backward[RS_CLASS_VAN_TRUCK], 1);
+  ck_assert_uint_eq(sum(cnt.total[0].forward), 0);
+  ck_assert_uint_eq(events, 1);
+  ck_assert_uint_eq(uncovered_van(2.0, 4.0f, &events, false), 1);
   ck_assert_uint_eq(cnt.hidden, 1);
   ck_assert_uint_eq(cnt.hidden_still, 0);
   ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_VAN_TRUCK], 1);
   ck_assert_uint_eq(events, 1);
-  ck_assert_uint_eq(uncovered_van(0.0, 0.0f, &events), 1);
+  ck_assert_uint_eq(uncovered_van(0.0, 0.0f, &events, false), 1);
   ck_assert_uint_eq(cnt.hidden_still, 0);
   ck_assert_uint_eq(events, 1);
+}
+END_TEST
+
+/* A car out from behind another, 3 m before the line, coming towards it (-x) at 8 m/s: its box grows
+ * away from the line as more of it comes into view, its centre moving 0.6 m a frame the other way for
+ * 3 frames, while its track reports its velocity as vx (the speed estimator follows the box's near
+ * side), then it drives over the line, seen. Returns the forward crossings. */
+static uint32_t grows_away(double vx) {
+  static const char *const l[] = {"gate 0 -5 0 5"};
+  setup(l, 1, NULL, 60);
+  cnt.class_delay_s = 2.0;
+  run_start();
+  for (int f = 0; f < 20; f++) {
+    tl.count = 0;
+    one(1, f < 2 ? RS_TRACK_TENTATIVE : RS_TRACK_CONFIRMED, RS_CLASS_CAR, f < 3 ? 3.0 + 0.6 * f : 4.2 - 0.8 * (f - 2), 3.0);
+    sized(4.5f);
+    tl.track[0].vel[0] = vx;
+    rs_count_frame(&cnt, &tl, 52.0 + 0.1 * f);
+  }
+  rs_count_flush(&cnt, 54.0);
+  ck_assert_uint_eq(sum(cnt.total[0].backward), 0);
+  return sum(cnt.total[0].forward);
+}
+
+START_TEST(t_hidden_against) {
+  /* its centre's path run back meets the line, but against the way the track reports it going: no hidden
+   * crossing; counted once as it drives over */
+  ck_assert_uint_eq(grows_away(-8.0), 1);
+  ck_assert_uint_eq(cnt.hidden, 0);
+  ck_assert_uint_eq(cnt.back_undone, 0);
+  /* with no velocity reported, the path's crossing (backward, 1.5 s before) is held, and the drive over takes
+   * it back (the band): the car is not counted */
+  ck_assert_uint_eq(grows_away(0.0), 0);
+  ck_assert_uint_eq(cnt.back_undone, 1);
 }
 END_TEST
 
@@ -1100,6 +1146,7 @@ int main(void) {
   tcase_add_test(tc, t_hidden_window);
   tcase_add_test(tc, t_hidden_start);
   tcase_add_test(tc, t_hidden_still);
+  tcase_add_test(tc, t_hidden_against);
   tcase_add_test(tc, t_hidden_beside);
   tcase_add_test(tc, t_hidden_place);
   tcase_add_test(tc, t_class_delay);

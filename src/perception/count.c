@@ -365,15 +365,19 @@ static void tally(rs_counter_t *c, int l, int dir, unsigned cls) {
 }
 
 /* Line l for a track at its first confirmed frame (t, x, y) that was first
- * seen at (x0, y0) at time t0 and did not cross it since: did it cross it
- * unseen just before (the header's hidden crossings)? The direction, or 0;
+ * seen at (x0, y0) at time t0 and did not cross it since, reporting velocity
+ * vel: did it cross it unseen just before (the header's hidden crossings)?
+ * The direction, or 0;
  * when and where along the line (hidden_at_track: where (x, y) is along it,
  * the track's lane, not where a partial first box's path met it). */
 static int hidden_crossing(rs_counter_t *c, int l, double t0, double x0, double y0, double t, double x, double y,
-                           double *t_cross, double *s_cross) {
+                           const double vel[2], double *t_cross, double *s_cross) {
   if (!(c->hidden_s > 0) || !(t > t0)) return 0;
   const double vx = (x - x0) / (t - t0), vy = (y - y0) / (t - t0);
   if (hypot(vx, vy) < HIDDEN_MIN_SPEED) return 0;
+  /* its centre moved against the way the track reports it going: its box grew the other way as more of it
+   * came into view (a vehicle out from behind another, coming towards the line) */
+  if (hypot(vel[0], vel[1]) >= HIDDEN_MIN_SPEED && vel[0] * vx + vel[1] * vy < 0) return 0;
   const double bx = x0 - vx * c->hidden_s, by = y0 - vy * c->hidden_s; /* where it was hidden_s before */
   const int dir = crosses(&c->lines[l], bx, by, x0, y0);
   if (dir == 0) return 0;
@@ -542,6 +546,7 @@ static void tally_pending(rs_counter_t *c, uint32_t i, bool all, bool still) {
       c->hidden_still++;
       unremember(c, l, c->slot[i].id);
       open_drop(c, c->slot[i].id, l);
+      c->slot[i].counted &= (uint16_t)~bit; /* it never crossed: it may yet, driving off */
     } else {
       tally(c, l, dir, c->slot[i].cls);
       open_event(c, i, l, dir, c->slot[i].cls);
@@ -637,11 +642,14 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
   for (uint32_t k = 0; k < n; k++) {
     const rs_track_t *tr = &tl->track[k];
     if (tr->id == 0) continue;
-    double x = tr->x[0], y = tr->x[1];
+    double x = tr->x[0], y = tr->x[1], vel[2] = {tr->vel[0], tr->vel[1]};
     if (c->have_pose) {
       const double sx = c->rot[0] * x + c->rot[1] * y + c->trans[0], sy = c->rot[2] * x + c->rot[3] * y + c->trans[1];
       x = sx;
       y = sy;
+      const double vx = c->rot[0] * vel[0] + c->rot[1] * vel[1], vy = c->rot[2] * vel[0] + c->rot[3] * vel[1];
+      vel[0] = vx;
+      vel[1] = vy;
     }
     uint32_t i = hash_id(tr->id);
     int guard = 0;
@@ -755,7 +763,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
         }
         remember(c, l, t, s, dir, tr, vehicle);
       } else if (first_confirmed || (c->slot[i].born && t - c->slot[i].t0 <= c->hidden_window_s)) {
-        dir = hidden_crossing(c, l, c->slot[i].t0, c->slot[i].x0, c->slot[i].y0, t, x, y, &tc, &s);
+        dir = hidden_crossing(c, l, c->slot[i].t0, c->slot[i].x0, c->slot[i].y0, t, x, y, vel, &tc, &s);
         if (dir == 0) continue;
         how = RS_CROSS_HIDDEN;
         if (counted_near(c, l, tc, s, dir, HIDDEN_DT, NEAR_ANY, 0, 0.0)) {

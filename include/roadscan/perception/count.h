@@ -26,7 +26,9 @@
  * traffic until it is over the line). At its first confirmed frame, and at
  * each one after until `hidden_window_s` (default 2) after it was first
  * seen, its path is run back from where it was first seen, at its mean
- * velocity since then (at least 1 m/s), for at most `hidden_s` seconds
+ * velocity since then (at least 1 m/s, and not against the velocity the
+ * track reports: a box growing away from the line as a vehicle coming
+ * towards it comes into view), for at most `hidden_s` seconds
  * (default 3, 0 = off): when that meets a line it was not counted on, at a
  * time after the run's first frame (with the time run back stretched by 1.5:
  * a vehicle first seen soon after the run started was often pulling away
@@ -56,7 +58,8 @@
  * in the interval open at that moment. A hidden crossing whose track then
  * reports standing still (speed 0; with a class delay of 1 s or more) is
  * taken back (hidden_still): its travel past the line was its box growing as
- * more of a standing vehicle came into view.
+ * more of a standing vehicle came into view; the line is left for it to
+ * cross, driving off.
  *
  * A lost track (unpublished, kept by the tracker for re-acquisition) keeps
  * its memory: taken up again past a line, it crossed it.
