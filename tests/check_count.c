@@ -9,8 +9,9 @@
  * leaves the line to be crossed);
  * the class delay (a crossing tallied under the class its track settles on);
  * a lost track taken up again past a line; unseen crossings (a track
- * followed on its prediction, held until it is seen again or ends); the band
- * (a car standing on a line, a track running on over it as its car stops);
+ * followed on its prediction, held until it is seen again or ends; past the
+ * line for the band then); the band (a car standing on a line, a track
+ * running on over it as its car stops);
  * a walker crossing back (counted each way once, also back before its first
  * crossing was tallied; a car's track once); walkers in a file (one's
  * crossing on its prediction not taken for the one's ahead); the
@@ -932,6 +933,57 @@ static uint32_t walker_file(double pace, bool renewed, uint64_t *dup) {
   return sum(cnt.total[0].forward);
 }
 
+/* A walker (track 21) going -x at 1 m/s over "walk 0 -2 0 2" (x = 0), unseen from 1 m before it, its
+ * prediction crossing it; seen again at again_x 1.5 s later (within the band when 0.2 m either side),
+ * standing 2 s, then walking at 1 m/s the way `on` (+1: -x, on over the line; -1: +x, back). A car's track the same
+ * (car). Returns the crossings; forward and backward in *fwd, *bwd. */
+static uint32_t seen_in_band(bool car, double again_x, int on, uint32_t *fwd, uint32_t *bwd) {
+  static const char *const l[] = {"walk 0 -2 0 2"};
+  setup(l, 1, NULL, 60);
+  cnt.class_delay_s = 2.0;
+  const double t0 = 400.0;
+  double x = 3.0;
+  for (int f = 0; f < 110; f++) {
+    const double t = t0 + 0.1 * f;
+    const bool unseen = f >= 20 && f < 35;
+    if (f < 35) x = 3.0 - 0.1 * f; /* its prediction, on at 1 m/s to 0.4 m past the line */
+    else if (f == 35) x = again_x;
+    else if (f >= 55) x += on > 0 ? -0.1 : 0.1;
+    tl.count = 0;
+    one(21, unseen ? RS_TRACK_COASTING : RS_TRACK_CONFIRMED, car ? RS_CLASS_CAR : RS_CLASS_PEDESTRIAN, x, 0.5);
+    sized(car ? 4.5f : 0.6f);
+    rs_track_t *k = &tl.track[0];
+    k->x[2] = f < 35 || f >= 55 ? (on > 0 || f < 35 ? -1.0 : 1.0) : 0.0;
+    k->hits = 20;
+    k->t_update = unseen ? t0 + 1.9 : t;
+    rs_count_frame(&cnt, &tl, t);
+  }
+  rs_count_flush(&cnt, t0 + 11.0);
+  *fwd = sum(cnt.total[0].forward);
+  *bwd = sum(cnt.total[0].backward);
+  return cnt.crossings;
+}
+
+START_TEST(t_unseen_band) {
+  uint32_t fwd, bwd;
+  /* a walker whose prediction crossed, seen again 0.2 m past the line (within the band), then walking
+   * back over it: one forward (on its prediction), one backward (walked_back) */
+  ck_assert_uint_eq(seen_in_band(false, -0.2, -1, &fwd, &bwd), 2);
+  ck_assert_uint_eq(fwd, 1);
+  ck_assert_uint_eq(bwd, 1);
+  ck_assert_uint_eq(cnt.walked_back, 1);
+  /* the same, walking on: one forward */
+  ck_assert_uint_eq(seen_in_band(false, -0.2, 1, &fwd, &bwd), 1);
+  ck_assert_uint_eq(fwd, 1);
+  /* a car whose prediction crossed, seen again 0.2 m before the line (it stopped short): taken back; then
+   * driving over it, seen: one forward */
+  ck_assert_uint_eq(seen_in_band(true, 0.2, 1, &fwd, &bwd), 1);
+  ck_assert_uint_eq(cnt.unseen_undone, 1);
+  ck_assert_uint_eq(fwd, 1);
+  ck_assert_uint_eq(bwd, 0);
+}
+END_TEST
+
 START_TEST(t_unseen_walkers) {
   uint64_t dup = 0;
   /* the second walker's crossing on its prediction, 0.8 s after the first's and beside it: both counted */
@@ -1156,6 +1208,7 @@ int main(void) {
   tcase_add_test(tc, t_band);
   tcase_add_test(tc, t_walker_back);
   tcase_add_test(tc, t_unseen_walkers);
+  tcase_add_test(tc, t_unseen_band);
   tcase_add_test(tc, t_crossing_events);
   suite_add_tcase(s, tc);
   return tu_run(s);

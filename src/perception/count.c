@@ -588,6 +588,7 @@ static void unseen_crossings(rs_counter_t *c, uint32_t i, const rs_track_t *tr, 
     if (!c->slot[i].pending) c->slot[i].t_tally = t + c->class_delay_s;
     c->slot[i].pending |= bit;
     c->slot[i].predicted |= bit;
+    if (c->band_m > 0) note_side(c, i, l, dir); /* past the line now, though within its band when seen again */
     if (dir > 0) c->slot[i].pending_fwd |= bit;
     c->pending++;
     c->unseen++;
@@ -707,6 +708,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
         c->pending--;
         c->unseen--;
         c->unseen_undone++;
+        if (c->band_m > 0) note_side(c, i, l, back); /* before it again: crossing it, seen, counts */
         unremember(c, l, tr->id);
         open_drop(c, tr->id, l);
         undone |= bit;

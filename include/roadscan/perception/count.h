@@ -98,7 +98,9 @@
  * where the vehicle stands (`back_undone`). Crossings on a prediction and
  * hidden crossings are found as before; the band's sides are those of the
  * positions the track was seen at (first seen within a band, it has no side
- * of that line until it is seen clear of it).
+ * of that line until it is seen clear of it), and of its crossings on a
+ * prediction (past the line, though seen again within its band; back
+ * before it again when such a crossing is taken back).
  * With the band, a track not vehicle-sized (a walker's, a cyclist's) that
  * crosses back is counted that way too, once (`walked_back`): people turn
  * back on a crosswalk or a sidewalk, and two walkers passing on a line may
