@@ -533,13 +533,14 @@ static bool standing(const rs_counter_t *c, const rs_track_t *tr) {
   return c->class_delay_s >= HIDDEN_STILL_S && tr->speed <= 0.0f;
 }
 
-/* slot i's pending crossings, tallied under its class (those on a
- * prediction only when `all`: the track has ended); still: its track stands
- * (standing()), its hidden ones are taken back */
-static void tally_pending(rs_counter_t *c, uint32_t i, bool all, bool still) {
+/* slot i's pending crossings of the lines in mask, tallied under its class
+ * (those on a prediction only when `all`: the track has ended); still: its
+ * track stands (standing()), its hidden ones are taken back */
+#define ALL_LINES 0xffffu
+static void tally_pending(rs_counter_t *c, uint32_t i, uint16_t mask, bool all, bool still) {
   for (int l = 0; l < c->nlines && c->slot[i].pending; l++) {
     const uint16_t bit = (uint16_t)(1u << l);
-    if (!(c->slot[i].pending & bit) || (!all && (c->slot[i].predicted & bit))) continue;
+    if (!(mask & bit) || !(c->slot[i].pending & bit) || (!all && (c->slot[i].predicted & bit))) continue;
     const int dir = (c->slot[i].pending_fwd & bit) ? 1 : -1;
     if (still && (c->slot[i].hidden & bit)) { /* a hidden crossing of a track standing still: taken back */
       c->hidden--;
@@ -687,7 +688,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
     c->slot[i].speed = tr->speed;
     if (c->slot[i].pending) open_after(c, i, t, x, y);
     if (tr->state == RS_TRACK_CONFIRMED) c->slot[i].cls = (uint8_t)((unsigned)tr->cls < RS_CLASS_COUNT ? tr->cls : 0);
-    if (c->slot[i].pending && t >= c->slot[i].t_tally) tally_pending(c, i, false, standing(c, tr));
+    if (c->slot[i].pending && t >= c->slot[i].t_tally) tally_pending(c, i, ALL_LINES, false, standing(c, tr));
     if (tr->state != RS_TRACK_CONFIRMED) { /* tentative, or coasting (lost) on a prediction */
       if (tr->state != RS_TRACK_TENTATIVE) unseen_crossings(c, i, tr, x, y, t);
       continue;
@@ -725,9 +726,10 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
         const bool back = dir != 0 && (c->slot[i].pending & bit) && !(undone & bit) &&
                           (dir > 0) != ((c->slot[i].pending_fwd & bit) != 0); /* back before its crossing was tallied */
         if (back && !vehicle && !(c->slot[i].counted_both & bit)) {
-          /* a walker's track: its first crossing stands, tallied now, and it crosses back (walked_back below;
-           * two walkers meeting on a line may leave with each other's tracks, each one over and back) */
-          tally_pending(c, i, false, standing(c, tr));
+          /* a walker's track: its first crossing of this line stands, tallied now, and it crosses back
+           * (walked_back below; two walkers meeting on a line may leave with each other's tracks, each one
+           * over and back) */
+          tally_pending(c, i, bit, false, standing(c, tr));
           c->walked_early++;
         } else if (back) {
           if (c->slot[i].predicted & bit) c->unseen--;
@@ -786,7 +788,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       c->pending++;
       open_add(c, i, l, how, tc, s);
     }
-    if (c->slot[i].pending && t >= c->slot[i].t_tally) tally_pending(c, i, false, standing(c, tr));
+    if (c->slot[i].pending && t >= c->slot[i].t_tally) tally_pending(c, i, ALL_LINES, false, standing(c, tr));
     c->slot[i].x = x;
     c->slot[i].y = y;
     c->slot[i].t_xy = t;
@@ -817,7 +819,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
   /* tracks no longer listed are forgotten */
   for (uint32_t i = 0; i < RS_COUNT_SLOTS; i++) {
     if (c->slot[i].id == 0 || c->slot[i].frame == c->frame_no) continue;
-    tally_pending(c, i, true, false); /* its crossings, under its last class */
+    tally_pending(c, i, ALL_LINES, true, false); /* its crossings, under its last class */
     forget(c, i);
     if (c->slot[i].id != 0 && c->slot[i].frame != c->frame_no) i--; /* a later entry moved here: look again */
   }
@@ -827,7 +829,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
 bool rs_count_flush(rs_counter_t *c, double t) {
   c->nevents = 0;
   for (uint32_t i = 0; i < RS_COUNT_SLOTS; i++)
-    if (c->slot[i].id != 0 && c->slot[i].pending) tally_pending(c, i, true, false);
+    if (c->slot[i].id != 0 && c->slot[i].pending) tally_pending(c, i, ALL_LINES, true, false);
   if (c->cur.t_start < 0) return false;
   close_interval(c, t > c->cur.t_start ? t : c->cur.t_start);
   memset(&c->cur, 0, sizeof c->cur);
