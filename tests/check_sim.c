@@ -543,17 +543,6 @@ START_TEST(t_background_tools) {
 }
 END_TEST
 
-/* a small file's text (a static buffer of 1 MiB) */
-static const char *slurp_small(const char *path) {
-  static char b[1 << 20];
-  FILE *f = fopen(path, "r");
-  ck_assert_ptr_nonnull(f);
-  const size_t n = fread(b, 1, sizeof b - 1, f);
-  b[n] = '\0';
-  fclose(f);
-  return b;
-}
-
 /* The simulator's true crossings of counting lines (--truth-crossings) are the crossings of its own
  * true states (--truth-states) under the counter's rule (once per road user and line, the step from
  * one turn's position to the next meeting the line): the same file roadscan-eval scores counts with.
@@ -713,7 +702,7 @@ START_TEST(t_truth_crossings) {
       n_false++;
       char want[256];
       snprintf(want, sizeof want, "%.3f,%s,%s,%.2f,%s,%u,", t, lname, dir, at, cls, id);
-      ck_assert_msg(strstr(slurp_small(events), want) != NULL, "%s not in the events", want);
+      ck_assert_msg(strstr(tu_slurp_text(events), want) != NULL, "%s not in the events", want);
     } else {
       ck_assert_str_eq(kind, "missed");
       ck_assert_int_eq(nf, 7); /* no how */

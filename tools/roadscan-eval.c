@@ -534,7 +534,10 @@ static int load_events(const char *path) {
     const char *name = fld[1], *dir = fld[2], *cls = fld[4], *how = fld[7];
     int l = 0;
     while (l < st.lines.n && strcmp(st.lines.line[l].name, name) != 0) l++;
-    const int k = class_index(cls), h = strcmp(how, "seen") == 0 ? 0 : strcmp(how, "hidden") == 0 ? 1 : strcmp(how, "unseen") == 0 ? 2 : -1;
+    const int k = class_index(cls);
+    int h = RS_CROSS_SEEN; /* the counter's names (rs_count_how_name) */
+    while (h <= RS_CROSS_UNSEEN && strcmp(how, rs_count_how_name((rs_cross_how_t)h)) != 0) h++;
+    if (h > RS_CROSS_UNSEEN) h = -1;
     if (l == st.lines.n || k < 0 || h < 0 || (strcmp(dir, "forward") != 0 && strcmp(dir, "backward") != 0)) {
       snprintf(sp.err, sizeof sp.err, "--crossings %s:%ld: line '%s' is not a --count-line, or class, direction or how "
                                       "unknown", path, ln, name);
@@ -597,7 +600,6 @@ static int cmp_unmatched(const void *a, const void *b) {
   return (p->k > q->k) - (p->k < q->k);
 }
 static int write_unmatched(FILE *f) {
-  static const char *const how_name[3] = {"seen", "hidden", "unseen"};
   unmatched_t *u = malloc((nev + ntx + 1) * sizeof *u);
   if (u == NULL) return -1;
   size_t n = 0;
@@ -615,7 +617,7 @@ static int write_unmatched(FILE *f) {
     } else {
       const ev_t *v = &evs[u[i].k];
       fprintf(f, "false,%.3f,%s,%s,%.2f,%s,%u,%s\n", v->t, st.lines.line[v->line].name, v->dir > 0 ? "forward" : "backward",
-              v->at, rs_class_name((rs_class_t)v->cls), v->track, how_name[v->how]);
+              v->at, rs_class_name((rs_class_t)v->cls), v->track, rs_count_how_name((rs_cross_how_t)v->how));
     }
   }
   free(u);
