@@ -230,6 +230,41 @@ START_TEST(t_background_vs_percentile) {
 }
 END_TEST
 
+/* The ground the daemon finds in a model learned from a real capture (ground.h): the Monterey HDL-32E,
+ * on a car, 1.5-3 m above a street, the plane holding at least half the cells near it (picking the level
+ * of the cells its level beam (0 degrees) puts on walls said 0 m once); the MRPT VLP-16 sees nothing
+ * beyond 2.3 m: no ground, and the summary says so. */
+START_TEST(t_ground) {
+  static const struct {
+    const char *file;
+    bool found;
+  } c[] = {{"monterey-first-100-packets.pcap", true}, {"sample_velodyne_vlp16_gps.pcap", false}};
+  for (size_t i = 0; i < sizeof c / sizeof c[0]; i++) {
+    char cmd[4096];
+    const char *out, *model = tu_tmp("ground.bg");
+    snprintf(cmd, sizeof cmd, "./roadscan-learn %s/%s -o %s && ./roadscand --pcap %s/%s --fast --background %s --no-publish",
+             tu_shared_data(), c[i].file, model, tu_shared_data(), c[i].file, model);
+    ck_assert_int_eq(tu_exec(cmd, &out), 0);
+    const char *g = strstr(out, "ground (from the model): the sensor ");
+    if (!c[i].found) {
+      ck_assert_msg(g == NULL && strstr(out, "ground: not found in the model") != NULL, "%s: %s", c[i].file, out);
+      continue;
+    }
+    ck_assert_msg(g != NULL, "%s: no ground in %s", c[i].file, out);
+    double h = 0, up = 0, on = 0;
+    ck_assert_int_eq(sscanf(g, "ground (from the model): the sensor %lf m above it; it rises %lf deg", &h, &up), 2);
+    const char *o = strstr(g, " from the plane; ");
+    ck_assert_ptr_nonnull(o);
+    ck_assert_int_eq(sscanf(o, " from the plane; %lf %%", &on), 1);
+    fprintf(stderr, "%s: the sensor %.2f m above the ground, rising %.2f deg, %.0f %% of the near cells on it\n",
+            c[i].file, h, up, on);
+    ck_assert_double_ge(h, 1.5);
+    ck_assert_double_le(h, 3.0);
+    ck_assert_double_ge(on, 50.0);
+  }
+}
+END_TEST
+
 /* The data payloads of a capture (Ethernet/IPv4/UDP at fixed offsets). */
 static uint8_t (*payloads)[1206];
 static int read_payloads(const char *path) {
@@ -292,6 +327,7 @@ int main(void) {
   tcase_add_loop_test(tc, t_capture, 0, (int)(sizeof caps / sizeof caps[0]));
   tcase_add_test(tc, t_detect_any_start);
   tcase_add_test(tc, t_background_vs_percentile);
+  tcase_add_test(tc, t_ground);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

@@ -217,6 +217,29 @@ static double json_num(const char *out, const char *key) {
   return strtod(p + strlen(key), NULL);
 }
 
+/* The ground the daemon finds in a learned model (ground.h), end to end: a VLP-16 on a 3 m and on a 6.5 m pole
+ * over the simulator's level site; the summary names the pole's height within 0.15 m and no tilt. */
+START_TEST(t_ground_height) {
+  static const double poles[] = {3.0, 6.5};
+  for (size_t k = 0; k < sizeof poles / sizeof poles[0]; k++) {
+    char cmd[2048];
+    const char *out;
+    const char *cap = tu_tmp("gh.pcap"), *model = tu_tmp("gh.bg");
+    snprintf(cmd, sizeof cmd,
+             "./roadscan-sim --sensor VLP-16 --seconds 3 --seed 41 --set pole_height=%g -o %s --labels %s.csv && "
+             "./roadscan-learn %s -o %s && ./roadscand --pcap %s --fast --background %s",
+             poles[k], cap, cap, cap, model, cap, model);
+    ck_assert_int_eq(tu_exec(cmd, &out), 0);
+    const char *g = strstr(out, "ground (from the model): the sensor ");
+    ck_assert_msg(g != NULL, "no ground in %s", out);
+    double h = 0, up = 0;
+    ck_assert_int_eq(sscanf(g, "ground (from the model): the sensor %lf m above it; it rises %lf deg", &h, &up), 2);
+    ck_assert_msg(fabs(h - poles[k]) < 0.15, "pole %.1f m: the sensor %.2f m above the ground", poles[k], h);
+    ck_assert_double_lt(up, 0.2);
+  }
+}
+END_TEST
+
 /* A sensor knocked (its yaw steps by 0.3 degree 2 s into the capture: the
  * simulator's knock_deg) after its model was learned: every edge and every
  * far surface moves against the model. The frames after the knock are judged
@@ -802,6 +825,7 @@ int main(void) {
   tcase_add_test(tc, t_bad_options);
   tcase_add_test(tc, t_background_tools);
   tcase_add_test(tc, t_displaced_sensor);
+  tcase_add_test(tc, t_ground_height);
   tcase_add_test(tc, t_truth_crossings);
   suite_add_tcase(s, tc);
   return tu_run(s);

@@ -554,6 +554,30 @@ START_TEST(t_class_votes) {
 }
 END_TEST
 
+/* The top above the ground (objects.h top_agl). A van 2.2 m tall 45 m off behind a queue: its returns span only
+ * its upper metre (the box's height 1.0 m), their top 2.1 m above the ground. With the ground known it is a
+ * van/truck; without (top_agl -1) a car, as the returns alone say. A car whose returns span 1.0 m and top 1.5 m
+ * above the ground stays a car: the ground makes nothing taller than its top. */
+static rs_class_t hidden_bottom(double len, double top_agl) {
+  init_default();
+  for (int f = 0; f < 40; f++) {
+    const double t = 0.1 * f;
+    clear();
+    put(t, 45.0 - 8.0 * t, 12.0, len, 2.0, 0.0, 1.0, 150);
+    objs.obj[0].top_agl = (float)top_agl;
+    rs_track_frame(&tr, &objs, t + 0.05);
+  }
+  ck_assert_uint_eq(tr.n.born, 1);
+  return tr.list.track[0].cls;
+}
+
+START_TEST(t_class_top_above_ground) {
+  ck_assert_int_eq(hidden_bottom(5.2, 2.1), RS_CLASS_VAN_TRUCK);
+  ck_assert_int_eq(hidden_bottom(5.2, -1.0), RS_CLASS_CAR);
+  ck_assert_int_eq(hidden_bottom(4.5, 1.5), RS_CLASS_CAR);
+}
+END_TEST
+
 /* A car speeds up from 4 to 14 m/s at 1.5 m/s^2, seen whole; every third
  * frame only its near half (a partial view: the box 2.3 m long, its centre
  * 1.1 m nearer the sensor). From 1 s into the speeding up, the speed is
@@ -1972,6 +1996,7 @@ int main(void) {
   tcase_add_test(tc, t_sparse_pedestrian);
   tcase_add_test(tc, t_classes);
   tcase_add_test(tc, t_class_votes);
+  tcase_add_test(tc, t_class_top_above_ground);
   tcase_add_test(tc, t_below_beam);
   tcase_add_test(tc, t_below_beam_top);
   tcase_add_test(tc, t_blind_circle);

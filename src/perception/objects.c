@@ -27,6 +27,7 @@ void rs_pose_rotation(const rs_pose_t *pose, double r[9]) {
 void rs_objects_init(rs_objects_t *o, const rs_pose_t *pose) {
   memset(o->stamp, 0xff, sizeof o->stamp);
   o->trig_cols = 0;
+  o->ground = NULL;
   o->have_pose = pose != NULL;
   if (!pose) return;
   double r[9];
@@ -336,6 +337,12 @@ void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sens
       for (int a = 0; a < 3; a++) g->centroid[a] = (float)(o->sum[f][k][a] / ob->points);
     }
     ob->intensity_mean = (float)(o->isum[k] / ob->points);
+    {
+      float gz;
+      ob->top_agl = rs_ground_at(o->ground, ob->sensor.centroid[0], ob->sensor.centroid[1], &gz)
+                        ? fmaxf(ob->sensor.box_max[2] - gz, 0.0f)
+                        : -1.0f;
+    }
     /* a sparse sensor at range passes over a head and under a bumper: the
      * rows next to the object's bound how much of it they missed */
     {

@@ -80,6 +80,8 @@ void rs_proc_deinit(rs_proc_t *p) {
   p->beyond_cells = NULL;
 }
 
+const rs_ground_t *rs_proc_ground(const rs_proc_t *p) { return p->ground_builds > 0 ? &p->ground : NULL; }
+
 const rs_bg_model_t *rs_proc_model(const rs_proc_t *p) { return p->bgu_on ? rs_bgu_model(&p->bgu) : NULL; }
 
 /* Says once when the model in use was learned at another rate, or from less
@@ -188,6 +190,14 @@ void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_pro
   int64_t t = t0;
   const bool geo = bgm && s->meta.cols == bgm->cols && s->meta.rows == bgm->rows;
   if (geo) {
+    if (r->model_changed || bgm != p->ground_model || sensor != p->ground_sensor) {
+      const int64_t g0 = rs_now_ns();
+      rs_ground_build(&p->ground, bgm, sensor);
+      p->ground_ns = rs_now_ns() - g0;
+      p->ground_model = bgm;
+      p->ground_sensor = sensor;
+      p->ground_builds++;
+    }
     const uint64_t fg0 = p->bg.foreground;
     p->bg.beyond_cells = p->beyond_cells;
     rs_bg_subtract(bgm, &p->bgu.cfg.rules, s, &p->bg);
@@ -206,6 +216,7 @@ void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_pro
     p->n.noise += r->cluster.noise;
     p->n.splits += r->cluster.splits;
     if (p->cfg.objects) {
+      p->cfg.objects->ground = geo && p->ground.valid ? &p->ground : NULL;
       rs_objects_extract_cells(p->cfg.objects, s, sensor, cl->members, cl->nmembers, p->cfg.object_list);
       t = stage_end(p, r, RS_STAGE_OBJECTS, t);
       r->objects = p->cfg.object_list;

@@ -1110,7 +1110,8 @@ static rs_class_t classify(const rs_track_t *t) {
   const float L = t->length, W = t->width, H = t->height, V = t->max_speed, Hmax = t->height_max;
   if (t->state == RS_TRACK_TENTATIVE) return RS_CLASS_UNKNOWN;
   if (L >= 10.0f) return RS_CLASS_BUS;
-  if (L >= 5.6f || (L >= 4.0f && H >= 1.8f)) return RS_CLASS_VAN_TRUCK;
+  const float Ht = t->top_agl_n > 0 ? fmaxf(H, t->top_agl) : H; /* the top above the ground: a hidden bottom */
+  if (L >= 5.6f || (L >= 4.0f && Ht >= 1.8f)) return RS_CLASS_VAN_TRUCK;
   if (L >= 3.0f && W >= 1.3f) return RS_CLASS_CAR;
   if (L >= 1.2f && V >= 9.0f) return RS_CLASS_CAR;
   if (t->across >= 1.3f && L >= 1.5f && V >= 3.5f) return RS_CLASS_CAR; /* as wide as a car across its motion */
@@ -1323,6 +1324,10 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   t->width = smooth(t->width, o->sensor.obb_width, first);
   t->height = smooth(t->height, o->sensor.box_max[2] - o->sensor.box_min[2], first);
   t->height_max = smooth(t->height_max, o->sensor.box_max[2] - o->sensor.box_min[2] + o->height_gap, first);
+  if (o->top_agl >= 0.0f) {
+    t->top_agl = smooth(t->top_agl, o->top_agl, t->top_agl_n == 0);
+    t->top_agl_n++;
+  }
   t->z_min = first ? o->sensor.box_min[2] : 0.9f * t->z_min + 0.1f * o->sensor.box_min[2];
   if (o->top_gap >= 0.0f && o->top_gap <= RS_TRACK_TOP_GAP) { /* its top is between its returns' and the row above */
     const float top = o->sensor.box_max[2] + 0.5f * o->top_gap;

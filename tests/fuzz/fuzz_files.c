@@ -1,10 +1,11 @@
 /* fuzz_files - the loaders of what users hand the programs: a calibration
  * YAML (then applied to every model), a background model file (then used on
- * a frame of its geometry), a point-label file (read to the end). Input: a
+ * a frame of its geometry, and the ground built from it), a point-label file (read to the end). Input: a
  * selector byte, then the file. */
 #include "fuzz.h"
 
 #include "roadscan/perception/background.h"
+#include "roadscan/perception/ground.h"
 #include "roadscan/sensor/calib.h"
 #include "roadscan/output/labels.h"
 
@@ -40,6 +41,13 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size) {
       rs_bg_rules_t rules;
       rs_bg_rules_default(&rules);
       rs_bg_subtract(&m, &rules, &slot, &bc);
+      static rs_ground_t g; /* the ground the daemon builds from a model it loaded */
+      rs_sensor_t s;
+      if (rs_sensor_init(&s, m.model) == RS_OK) {
+        rs_ground_build(&g, &m, &s);
+        float z;
+        (void)rs_ground_at(&g, 10.0, -20.0, &z);
+      }
       rs_bg_model_free(&m);
     }
   } else {

@@ -30,6 +30,7 @@
 #define ROADSCAN_OBJECTS_H
 
 #include "roadscan/perception/cluster.h"
+#include "roadscan/perception/ground.h"
 #include "roadscan/frame/frame.h"
 #include "roadscan/sensor/sensor.h"
 
@@ -76,6 +77,8 @@ typedef struct {
                                over it: its top is below box_max[2] + top_gap (-1: no row above) */
   uint16_t col_start, col_end; /* map columns, clockwise, may wrap past column 0 */
   uint8_t occluded;         /* RS_OBJ_HIDDEN_*: a side beside which something nearer returns (it may go on behind) */
+  float top_agl;            /* m: its returns' top above the ground under its centre (rs_ground_t;
+                               -1: no ground known) */
   float intensity_mean;
   double t_first, t_last;   /* capture time (s) of the first and last point */
 } rs_object_t;
@@ -92,6 +95,7 @@ typedef struct {
 typedef struct {
   bool have_pose;
   float rot[9], trans[3];
+  const rs_ground_t *ground;          /* the ground under the objects (NULL: not known; the caller sets it) */
   int trig_cols;                      /* columns the tables below were made for */
   float col_sin[RS_MAX_COLS], col_cos[RS_MAX_COLS];
   /* work areas */

@@ -22,6 +22,7 @@
 #include "roadscan/perception/bgupdate.h"
 #include "roadscan/perception/cluster.h"
 #include "roadscan/perception/count.h"
+#include "roadscan/perception/ground.h"
 #include "roadscan/frame/frame.h"
 #include "roadscan/perception/objects.h"
 #include "roadscan/sensor/sensor.h"
@@ -103,11 +104,20 @@ typedef struct {
   const rs_sensor_t *sensor;         /* of the frames seen so far */
   double last_t;                     /* capture time of the last tracked frame */
   uint32_t divided_cell[RS_PROC_DIVIDED_MAX], divided_track[RS_PROC_DIVIDED_MAX];
+  /* the ground under the objects (ground.h), built from the model in use when it comes (in the
+   * background stage's time) and handed to the object stage */
+  rs_ground_t ground;
+  const rs_bg_model_t *ground_model; /* the model and sensor it was built from */
+  const rs_sensor_t *ground_sensor;
+  uint32_t ground_builds;
+  int64_t ground_ns;                 /* how long the last build took (CLOCK_MONOTONIC) */
 } rs_proc_t;
 
 /* RS_OK, or a negative code with err set (nothing left allocated). */
 int rs_proc_init(rs_proc_t *p, const rs_proc_cfg_t *cfg, char *err, size_t errlen);
 void rs_proc_deinit(rs_proc_t *p);
+/* The ground built from the model in use (NULL before the first model; not valid when none was found). */
+const rs_ground_t *rs_proc_ground(const rs_proc_t *p);
 /* Runs every configured stage on s (whose frames come from sensor) and
  * fills r. Frames whose geometry is not the model's are not subtracted;
  * with a background being learned nothing is clustered until it exists. */

@@ -80,7 +80,9 @@
  * the box's axis (ambiguous by 180 degrees) is turned to it.
  * Class, from the smoothed box (length L, width W, height H, metres) and the
  * highest speed seen (V, m/s), the first rule that holds:
- *   bus: L >= 10; van/truck: L >= 5.6, or L >= 4 and H >= 1.8;
+ *   bus: L >= 10; van/truck: L >= 5.6, or L >= 4 and max(H, T) >= 1.8,
+ *   T the smoothed top above the ground (objects.h top_agl; when the ground
+ *   is known: a van whose lower half is hidden shows H of a car);
  *   car: L >= 3 and W >= 1.3, or L >= 1.2 and V >= 9 (a vehicle seen edge-on);
  *   cyclist: L >= 1.2 and W < 1.2 and V >= 2;
  *   pedestrian: L < 1.3 and W < 1.3 and H <= 2.3 and Hmax >= 0.9 and V < 4,
@@ -281,6 +283,8 @@ typedef struct {
   double prev[2];            /* position at the previous frame (path length) */
   float length, width, height, z_min; /* smoothed box */
   float height_max;                   /* smoothed: height plus the objects' height_gap */
+  float top_agl;                      /* smoothed: the objects' top above the ground (objects.h), when known */
+  uint32_t top_agl_n;                 /* updates with it known (0: top_agl not known) */
   float top;                          /* smoothed: its top (sensor z), midway between its objects' returns'
                                          top and the row above them, from the top_n objects whose row above
                                          passed within RS_TRACK_TOP_GAP */

@@ -1,0 +1,216 @@
+/* ground.c - the ground's height under a place, from a background model
+ * (processing thread; no allocation; the design is in ground.h). */
+#include "roadscan/perception/ground.h"
+
+#include <math.h>
+#include <string.h>
+
+#define PI 3.14159265358979323846
+#define OPEN_END 65535u  /* a surface with no far end (the model's "beyond"): no point */
+#define GROUND_BIN_M 0.1  /* m: the histogram of the cells' ground that finds the level of the most */
+#define GROUND_BINS 2000  /* of them, centred on the sensor: +-100 m */
+
+static int cell_of(double x, double y) {
+  const double fx = floor(x / RS_GROUND_CELL_M) + RS_GROUND_HALF, fy = floor(y / RS_GROUND_CELL_M) + RS_GROUND_HALF;
+  if (!(fx >= 0 && fx < RS_GROUND_N && fy >= 0 && fy < RS_GROUND_N)) return -1;
+  return (int)fy * RS_GROUND_N + (int)fx;
+}
+
+static void add_point(rs_ground_t *g, int c, float z) {
+  const int k = g->n[c] < RS_GROUND_KTH ? g->n[c] : RS_GROUND_KTH;
+  if (k == RS_GROUND_KTH && z >= g->low[c][k - 1]) {
+    if (g->n[c] < UINT16_MAX) g->n[c]++;
+    return;
+  }
+  int j = k == RS_GROUND_KTH ? k - 1 : k; /* insertion into the ascending k lowest */
+  while (j > 0 && g->low[c][j - 1] > z) {
+    g->low[c][j] = g->low[c][j - 1];
+    j--;
+  }
+  g->low[c][j] = z;
+  if (g->n[c] < UINT16_MAX) g->n[c]++;
+}
+
+static float median_small(float *v, int n) {
+  for (int i = 1; i < n; i++) /* insertion sort of at most 9 */
+    for (int j = i; j > 0 && v[j - 1] > v[j]; j--) {
+      const float t = v[j];
+      v[j] = v[j - 1];
+      v[j - 1] = t;
+    }
+  return n % 2 ? v[n / 2] : 0.5f * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* the cells of the 3 x 3 window about cell c (c included) whose ground is known, into at; how many */
+static int known_around(const float *z, int c, int at[9]) {
+  const int cx = c % RS_GROUND_N, cy = c / RS_GROUND_N;
+  int n = 0;
+  for (int dy = -1; dy <= 1; dy++)
+    for (int dx = -1; dx <= 1; dx++) {
+      const int x = cx + dx, y = cy + dy;
+      if (x >= 0 && y >= 0 && x < RS_GROUND_N && y < RS_GROUND_N && !isnan(z[y * RS_GROUND_N + x]))
+        at[n++] = y * RS_GROUND_N + x;
+    }
+  return n;
+}
+
+static double cell_x(int c) { return ((c % RS_GROUND_N) - RS_GROUND_HALF + 0.5) * RS_GROUND_CELL_M; }
+static double cell_y(int c) { return ((c / RS_GROUND_N) - RS_GROUND_HALF + 0.5) * RS_GROUND_CELL_M; }
+
+static double plane_at(const rs_ground_t *g, int c) {
+  return g->plane[0] + g->plane[1] * cell_x(c) + g->plane[2] * cell_y(c);
+}
+
+/* least squares z = a + b x + c y over the known cells (within tol of plane p when p is given) */
+static bool fit_plane(const rs_ground_t *g, const double *p, double tol, double out[3]) {
+  double s[3][3] = {{0}}, r[3] = {0};
+  uint32_t n = 0;
+  for (int c = 0; c < RS_GROUND_N * RS_GROUND_N; c++) {
+    if (isnan(g->z[c])) continue;
+    const double x = cell_x(c), y = cell_y(c), z = g->z[c];
+    if (p && fabs(z - (p[0] + p[1] * x + p[2] * y)) > tol) continue;
+    const double v[3] = {1.0, x, y};
+    for (int i = 0; i < 3; i++) {
+      for (int j = 0; j < 3; j++) s[i][j] += v[i] * v[j];
+      r[i] += v[i] * z;
+    }
+    n++;
+  }
+  if (n < RS_GROUND_MIN_CELLS) return false;
+  /* Gaussian elimination with partial pivoting on the 3 x 3 normal equations */
+  double a[3][4];
+  for (int i = 0; i < 3; i++) {
+    for (int j = 0; j < 3; j++) a[i][j] = s[i][j];
+    a[i][3] = r[i];
+  }
+  for (int col = 0; col < 3; col++) {
+    int piv = col;
+    for (int i = col + 1; i < 3; i++)
+      if (fabs(a[i][col]) > fabs(a[piv][col])) piv = i;
+    if (fabs(a[piv][col]) < 1e-9) return false; /* the cells on a line: no plane */
+    if (piv != col)
+      for (int j = 0; j < 4; j++) {
+        const double t = a[col][j];
+        a[col][j] = a[piv][j];
+        a[piv][j] = t;
+      }
+    for (int i = 0; i < 3; i++) {
+      if (i == col) continue;
+      const double f = a[i][col] / a[col][col];
+      for (int j = col; j < 4; j++) a[i][j] -= f * a[col][j];
+    }
+  }
+  for (int i = 0; i < 3; i++) out[i] = a[i][3] / a[i][i];
+  return true;
+}
+
+void rs_ground_build(rs_ground_t *g, const rs_bg_model_t *m, const rs_sensor_t *sen) {
+  const int ncell = RS_GROUND_N * RS_GROUND_N;
+  g->valid = false;
+  g->on_plane = 0.0;
+  memset(g->plane, 0, sizeof g->plane);
+  g->cells_kept = g->cells_filled = g->cells_plane = 0;
+  memset(g->n, 0, sizeof g->n);
+  for (int c = 0; c < ncell; c++) g->z[c] = NAN;
+  if (m == NULL || sen == NULL || m->n == NULL || m->rows != sen->lasers || m->rows == 0 || m->cols == 0) return;
+  /* every static surface of every map cell: a point */
+  for (int col = 0; col < m->cols; col++) {
+    const double az = (col + 0.5) * 2.0 * PI / m->cols, sa = sin(az), ca = cos(az);
+    for (int row = 0; row < m->rows; row++) {
+      const int laser = sen->laser_of_row[row];
+      const double ce = sen->cos_el[laser], se = sen->sin_el[laser], vo = sen->vert_offset_m[laser];
+      const uint32_t cell = (uint32_t)row * m->cols + (uint32_t)col, b = cell * RS_BG_SURFACES;
+      for (int k = 0; k < m->n[cell] && k < RS_BG_SURFACES; k++) {
+        if (m->hi[b + k] == OPEN_END) continue;
+        const double r = (m->lo[b + k] + m->hi[b + k]) / 200.0;
+        const int gc = cell_of(r * ce * sa, r * ce * ca);
+        if (gc >= 0) add_point(g, gc, (float)(r * se + vo));
+      }
+    }
+  }
+  for (int c = 0; c < ncell; c++)
+    if (g->n[c] >= RS_GROUND_KTH) g->z[c] = g->low[c][RS_GROUND_KTH - 1];
+  /* the 3 x 3 median of the kept cells */
+  for (int c = 0; c < ncell; c++) {
+    g->tmp[c] = g->z[c];
+    if (isnan(g->z[c])) continue;
+    int at[9];
+    float v[9];
+    const int nv = known_around(g->z, c, at);
+    for (int i = 0; i < nv; i++) v[i] = g->z[at[i]];
+    if (nv >= 3) g->tmp[c] = median_small(v, nv);
+  }
+  memcpy(g->z, g->tmp, sizeof g->z);
+  for (int c = 0; c < ncell; c++) g->cells_kept += !isnan(g->z[c]);
+  if (g->cells_kept < RS_GROUND_MIN_CELLS) {
+    for (int c = 0; c < ncell; c++) g->z[c] = NAN;
+    return;
+  }
+  /* the plane: from the level of the most cells (walls, trees and roofs are above the ground and fewer), fitted
+   * again to the cells near the last plane with a narrowing tolerance (a tilted sensor's ground is a band about
+   * that level at first, the whole of it after) */
+  bool have_plane = false;
+  {
+    uint32_t hist[GROUND_BINS] = {0};
+    for (int c = 0; c < ncell; c++) {
+      if (isnan(g->z[c]) || g->z[c] > -RS_GROUND_BELOW_M || hypot(cell_x(c), cell_y(c)) > RS_GROUND_NEAR_M) continue;
+      const double b = floor(g->z[c] / GROUND_BIN_M) + GROUND_BINS / 2;
+      if (b >= 0 && b < GROUND_BINS) hist[(int)b]++;
+    }
+    int mode = 0;
+    for (int b = 1; b < GROUND_BINS; b++)
+      if (hist[b] > hist[mode]) mode = b;
+    double p[3] = {(mode - GROUND_BINS / 2 + 0.5) * GROUND_BIN_M, 0.0, 0.0};
+    static const double tol[] = {4 * RS_GROUND_PLANE_TOL, 2 * RS_GROUND_PLANE_TOL, RS_GROUND_PLANE_TOL,
+                                 RS_GROUND_PLANE_TOL};
+    have_plane = true;
+    for (size_t i = 0; i < sizeof tol / sizeof tol[0] && have_plane; i++) have_plane = fit_plane(g, p, tol[i], p);
+    memcpy(g->plane, p, sizeof p);
+  }
+  /* a plausible ground: below the sensor, not steep, and most of the cells near the sensor on it (a sensor
+   * on a moving vehicle or on its side has none) */
+  uint32_t near = 0, on = 0;
+  for (int c = 0; c < ncell && have_plane; c++) {
+    if (isnan(g->z[c]) || hypot(cell_x(c), cell_y(c)) > RS_GROUND_NEAR_M) continue;
+    near++;
+    on += fabs(g->z[c] - plane_at(g, c)) <= 2 * RS_GROUND_PLANE_TOL;
+  }
+  g->on_plane = near > 0 ? (double)on / near : 0.0;
+  if (!have_plane || -g->plane[0] < RS_GROUND_BELOW_M ||
+      hypot(g->plane[1], g->plane[2]) > tan(RS_GROUND_STEEP_DEG * PI / 180.0) ||
+      g->on_plane < RS_GROUND_ON_PLANE) {
+    for (int c = 0; c < ncell; c++) g->z[c] = NAN;
+    return;
+  }
+  /* cells without ground: the plane there, off it as much as their known neighbours are on average,
+   * RS_GROUND_FILL rings out (on a slope a neighbour's own height would be a step off) */
+  for (int pass = 0; pass < RS_GROUND_FILL; pass++) {
+    memcpy(g->tmp, g->z, sizeof g->z);
+    for (int c = 0; c < ncell; c++) {
+      if (!isnan(g->z[c])) continue;
+      int at[9];
+      const int nv = known_around(g->z, c, at);
+      double sum = 0.0;
+      for (int i = 0; i < nv; i++) sum += g->z[at[i]] - plane_at(g, at[i]);
+      if (nv > 0) {
+        g->tmp[c] = (float)(plane_at(g, c) + sum / nv);
+        g->cells_filled++;
+      }
+    }
+    memcpy(g->z, g->tmp, sizeof g->z);
+  }
+  for (int c = 0; c < ncell; c++)
+    if (isnan(g->z[c])) {
+      g->z[c] = (float)plane_at(g, c);
+      g->cells_plane++;
+    }
+  g->valid = true;
+}
+
+bool rs_ground_at(const rs_ground_t *g, double x, double y, float *z) {
+  if (!g || !g->valid) return false;
+  const int c = cell_of(x, y);
+  if (c < 0 || isnan(g->z[c])) return false;
+  *z = g->z[c];
+  return true;
+}
