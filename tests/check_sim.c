@@ -218,24 +218,33 @@ static double json_num(const char *out, const char *key) {
 }
 
 /* The ground the daemon finds in a learned model (ground.h), end to end: a VLP-16 on a 3 m and on a 6.5 m pole
- * over the simulator's level site; the summary names the pole's height within 0.15 m and no tilt. */
+ * over the simulator's level site, and on a 5 m pole leaning 2 degrees towards azimuth 200 (tilt_deg): the summary
+ * names the pole's height within 0.15 m and the lean within 0.2 degrees (its direction within 5). */
 START_TEST(t_ground_height) {
-  static const double poles[] = {3.0, 6.5};
-  for (size_t k = 0; k < sizeof poles / sizeof poles[0]; k++) {
+  static const struct {
+    double pole, tilt, toward;
+  } c[] = {{3.0, 0.0, 0.0}, {6.5, 0.0, 0.0}, {5.0, 2.0, 200.0}};
+  for (size_t k = 0; k < sizeof c / sizeof c[0]; k++) {
     char cmd[2048];
     const char *out;
     const char *cap = tu_tmp("gh.pcap"), *model = tu_tmp("gh.bg");
     snprintf(cmd, sizeof cmd,
-             "./roadscan-sim --sensor VLP-16 --seconds 3 --seed 41 --set pole_height=%g -o %s --labels %s.csv && "
-             "./roadscan-learn %s -o %s && ./roadscand --pcap %s --fast --background %s",
-             poles[k], cap, cap, cap, model, cap, model);
+             "./roadscan-sim --sensor VLP-16 --seconds 3 --seed 41 --set pole_height=%g --set tilt_deg=%g "
+             "--set tilt_toward=%g -o %s --labels %s.csv && ./roadscan-learn %s -o %s && "
+             "./roadscand --pcap %s --fast --background %s",
+             c[k].pole, c[k].tilt, c[k].toward, cap, cap, cap, model, cap, model);
     ck_assert_int_eq(tu_exec(cmd, &out), 0);
     const char *g = strstr(out, "ground (from the model): the sensor ");
     ck_assert_msg(g != NULL, "no ground in %s", out);
-    double h = 0, up = 0;
-    ck_assert_int_eq(sscanf(g, "ground (from the model): the sensor %lf m above it; it rises %lf deg", &h, &up), 2);
-    ck_assert_msg(fabs(h - poles[k]) < 0.15, "pole %.1f m: the sensor %.2f m above the ground", poles[k], h);
-    ck_assert_double_lt(up, 0.2);
+    double h = 0, up = 0, toward = 0;
+    ck_assert_int_eq(sscanf(g, "ground (from the model): the sensor %lf m above it; it rises %lf deg towards azimuth %lf",
+                            &h, &up, &toward),
+                     3);
+    fprintf(stderr, "pole %.1f m, lean %.1f deg towards %.0f: the sensor %.2f m above the ground, rising %.2f deg towards %.0f\n",
+            c[k].pole, c[k].tilt, c[k].toward, h, up, toward);
+    ck_assert_msg(fabs(h - c[k].pole) < 0.15, "pole %.1f m: the sensor %.2f m above the ground", c[k].pole, h);
+    ck_assert_double_lt(fabs(up - c[k].tilt), 0.2);
+    if (c[k].tilt > 0) ck_assert_double_lt(fabs(toward - c[k].toward), 5.0);
   }
 }
 END_TEST

@@ -7,8 +7,6 @@
 
 #define PI 3.14159265358979323846
 #define OPEN_END 65535u  /* a surface with no far end (the model's "beyond"): no point */
-#define GROUND_BIN_M 0.1  /* m: the histogram of the cells' ground that finds the level of the most */
-#define GROUND_BINS 2000  /* of them, centred on the sensor: +-100 m */
 
 static int cell_of(double x, double y) {
   const double fx = floor(x / RS_GROUND_CELL_M) + RS_GROUND_HALF, fy = floor(y / RS_GROUND_CELL_M) + RS_GROUND_HALF;
@@ -57,8 +55,20 @@ static int known_around(const float *z, int c, int at[9]) {
 static double cell_x(int c) { return ((c % RS_GROUND_N) - RS_GROUND_HALF + 0.5) * RS_GROUND_CELL_M; }
 static double cell_y(int c) { return ((c / RS_GROUND_N) - RS_GROUND_HALF + 0.5) * RS_GROUND_CELL_M; }
 
-static double plane_at(const rs_ground_t *g, int c) {
-  return g->plane[0] + g->plane[1] * cell_x(c) + g->plane[2] * cell_y(c);
+static double plane_of(const double p[3], int c) { return p[0] + p[1] * cell_x(c) + p[2] * cell_y(c); }
+static double plane_at(const rs_ground_t *g, int c) { return plane_of(g->plane, c); }
+
+/* the plane z = q0 + q1 x + q2 y through three cells' ground; false when they are (nearly) on a line */
+static bool plane_through(const rs_ground_t *g, const int c[3], double q[3]) {
+  const double x0 = cell_x(c[0]), y0 = cell_y(c[0]), z0 = g->z[c[0]];
+  const double ax = cell_x(c[1]) - x0, ay = cell_y(c[1]) - y0, az = g->z[c[1]] - z0;
+  const double bx = cell_x(c[2]) - x0, by = cell_y(c[2]) - y0, bz = g->z[c[2]] - z0;
+  const double det = ax * by - ay * bx;
+  if (fabs(det) < 4.0 * RS_GROUND_CELL_M * RS_GROUND_CELL_M) return false;
+  q[1] = (az * by - ay * bz) / det;
+  q[2] = (ax * bz - az * bx) / det;
+  q[0] = z0 - q[1] * x0 - q[2] * y0;
+  return true;
 }
 
 /* least squares z = a + b x + c y over the known cells (within tol of plane p when p is given) */
@@ -146,24 +156,38 @@ void rs_ground_build(rs_ground_t *g, const rs_bg_model_t *m, const rs_sensor_t *
     for (int c = 0; c < ncell; c++) g->z[c] = NAN;
     return;
   }
-  /* the plane: from the level of the most cells (walls, trees and roofs are above the ground and fewer), fitted
-   * again to the cells near the last plane with a narrowing tolerance (a tilted sensor's ground is a band about
-   * that level at first, the whole of it after) */
+  /* the plane: the one through three near cells below the sensor that most near cells lie on (RANSAC, a fixed
+   * sequence of draws: the same model gives the same ground), no steeper than RS_GROUND_STEEP_DEG and at least
+   * RS_GROUND_BELOW_M below the sensor; then least squares over the cells near it, the band narrowing to
+   * RS_GROUND_PLANE_TOL (walls, trees, roofs stay out; a tilted sensor's or a sloping road's ground is a plane
+   * like a level one) */
   bool have_plane = false;
   {
-    uint32_t hist[GROUND_BINS] = {0};
-    for (int c = 0; c < ncell; c++) {
-      if (isnan(g->z[c]) || g->z[c] > -RS_GROUND_BELOW_M || hypot(cell_x(c), cell_y(c)) > RS_GROUND_NEAR_M) continue;
-      const double b = floor(g->z[c] / GROUND_BIN_M) + GROUND_BINS / 2;
-      if (b >= 0 && b < GROUND_BINS) hist[(int)b]++;
+    uint32_t nn = 0;
+    for (int c = 0; c < ncell; c++)
+      if (!isnan(g->z[c]) && g->z[c] <= -RS_GROUND_BELOW_M && hypot(cell_x(c), cell_y(c)) <= RS_GROUND_NEAR_M)
+        g->near[nn++] = (uint16_t)c;
+    const double steep = tan(RS_GROUND_STEEP_DEG * PI / 180.0);
+    uint64_t rng = 0x9e3779b97f4a7c15ull;
+    uint32_t best_on = 0;
+    double p[3] = {0.0, 0.0, 0.0};
+    for (int it = 0; it < RS_GROUND_DRAWS && nn >= 3; it++) {
+      int c3[3];
+      for (int k = 0; k < 3; k++) {
+        rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+        c3[k] = g->near[(uint32_t)(rng >> 33) % nn];
+      }
+      double q[3];
+      if (!plane_through(g, c3, q) || hypot(q[1], q[2]) > steep || -q[0] < RS_GROUND_BELOW_M) continue;
+      uint32_t on = 0;
+      for (uint32_t i = 0; i < nn; i++) on += fabs(g->z[g->near[i]] - plane_of(q, g->near[i])) <= RS_GROUND_PLANE_TOL;
+      if (on > best_on) {
+        best_on = on;
+        memcpy(p, q, sizeof p);
+      }
     }
-    int mode = 0;
-    for (int b = 1; b < GROUND_BINS; b++)
-      if (hist[b] > hist[mode]) mode = b;
-    double p[3] = {(mode - GROUND_BINS / 2 + 0.5) * GROUND_BIN_M, 0.0, 0.0};
-    static const double tol[] = {4 * RS_GROUND_PLANE_TOL, 2 * RS_GROUND_PLANE_TOL, RS_GROUND_PLANE_TOL,
-                                 RS_GROUND_PLANE_TOL};
-    have_plane = true;
+    static const double tol[] = {4 * RS_GROUND_PLANE_TOL, 2 * RS_GROUND_PLANE_TOL, RS_GROUND_PLANE_TOL};
+    have_plane = best_on > 0;
     for (size_t i = 0; i < sizeof tol / sizeof tol[0] && have_plane; i++) have_plane = fit_plane(g, p, tol[i], p);
     memcpy(g->plane, p, sizeof p);
   }

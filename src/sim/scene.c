@@ -154,6 +154,7 @@ static const rs_opt_t knobs[] = {
     KNOB(rpm_offset, -0.05, 0.05),        KNOB(rpm_jitter, 0.0, 0.01),
     KNOB(sway_deg, 0.0, 2.0),             KNOB(sway_period, 0.5, 60.0),
     KNOB(knock_deg, -5.0, 5.0),           KNOB(knock_at, 0.0, 7200.0),
+    KNOB(tilt_deg, 0.0, 10.0),            KNOB(tilt_toward, 0.0, 360.0),
 };
 #define NKNOBS ((int)(sizeof knobs / sizeof knobs[0]))
 
@@ -234,6 +235,8 @@ struct rs_scene {
   rs_scene_cfg_t cfg;
   const rs_sensor_t *sensor;
   double ox, oy, oz;
+  bool tilted;        /* tilt_deg > 0: ray directions turn by tilt (sensor frame -> site) */
+  double tilt[3][3];
   prim_t *prims;
   int nprims;
   int *bucket_start, *bucket_items; /* 360 buckets */
@@ -463,11 +466,25 @@ static void dir_el(double el_deg, double az_deg, double *d) {
   d[2] = sin(e);
 }
 
+/* a sensor-frame direction turned into the site's by the sensor's tilt (tilt_deg) */
+static void tilt_dir(const rs_scene_t *sc, double *d) {
+  if (!sc->tilted) return;
+  double r[3];
+  for (int i = 0; i < 3; i++) r[i] = sc->tilt[i][0] * d[0] + sc->tilt[i][1] * d[1] + sc->tilt[i][2] * d[2];
+  memcpy(d, r, sizeof r);
+}
+/* the site azimuth (degrees, [0, 360)) of direction d */
+static double dir_az(const double *d) {
+  const double a = atan2(d[0], d[1]) / D2R;
+  return a < 0.0 ? a + 360.0 : a;
+}
+
 static void dir_of(const rs_scene_t *sc, int laser, double az, double *d) {
   double a = az * D2R, ce = sc->sensor->cos_el[laser];
   d[0] = ce * sin(a);
   d[1] = ce * cos(a);
   d[2] = sc->sensor->sin_el[laser];
+  tilt_dir(sc, d);
 }
 
 /* a box face hit: which axis the entry face is normal to */
@@ -646,8 +663,9 @@ static void beam_static(const rs_scene_t *sc, int laser, double az, st_cell_t *c
       const double a = az + u * dh;
       double d[3];
       dir_el(el + v * dv, a, d);
+      tilt_dir(sc, d);
       st_hit_t sh;
-      static_hit(sc, d, fmod(a + 360.0, 360.0), &sh);
+      static_hit(sc, d, sc->tilted ? dir_az(d) : fmod(a + 360.0, 360.0), &sh);
       wsum += w;
       if (u == 0 && v == 0) {
         fol = sh.fol;
@@ -712,6 +730,13 @@ static rs_scene_t *alloc_scene(const rs_scene_cfg_t *cfg, const rs_sensor_t *s) 
   sc->ox = cfg->pole_x;
   sc->oy = cfg->pole_y;
   sc->oz = cfg->pole_height;
+  sc->tilted = cfg->tilt_deg > 0.0;
+  if (sc->tilted) { /* about the level axis k across the lean (Rodrigues): the vertical goes to cos t z + sin t u */
+    const double t = cfg->tilt_deg * D2R, T = cfg->tilt_toward * D2R, k[3] = {-cos(T), sin(T), 0.0};
+    const double c = cos(t), sn = sin(t), K[3][3] = {{0, -k[2], k[1]}, {k[2], 0, -k[0]}, {-k[1], k[0], 0}};
+    for (int i = 0; i < 3; i++)
+      for (int j = 0; j < 3; j++) sc->tilt[i][j] = (i == j ? c : 0.0) + sn * K[i][j] + (1.0 - c) * k[i] * k[j];
+  }
   sc->prims = calloc(MAX_PRIMS, sizeof(prim_t));
   sc->wind = 1.0;
   return sc;
@@ -1314,6 +1339,10 @@ void rs_scene_prepare(rs_scene_t *sc, double t, double az_from, double az_to) {
       if (sc->agents[k].active) coarse_span(sc, &sc->agents[k]);
   }
   double span_w = fmod(az_to - az_from + 360.0, 360.0);
+  if (sc->tilted) { /* a tilted ray's site azimuth is off its own by up to about tilt x tan(elevation) */
+    az_from = fmod(az_from - sc->cfg.tilt_deg + 360.0, 360.0);
+    span_w = fmin(359.0, span_w + 2.0 * sc->cfg.tilt_deg);
+  }
   sc->ncand = 0;
   for (int i = 0; i < sc->agent_hwm && sc->ncand < MAX_CAND; i++) {
     agent_t *a = &sc->agents[i];
@@ -1466,8 +1495,9 @@ void rs_scene_cast(rs_scene_t *sc, int slot, int block_az, int laser, double az,
    * side by side) an object's edge mixes with what is behind it */
   int k0 = 0, k1 = sc->ncand;
   bool bucketed = false;
+  const double saz = sc->tilted ? dir_az(d) : az; /* the ray's site azimuth */
   if (sc->nwin > 0) {
-    int b = (int)wrap360(az - sc->win0);
+    int b = (int)wrap360(saz - sc->win0);
     if (b < sc->nwin) {
       k0 = sc->bstart[b];
       k1 = sc->bstart[b + 1];
@@ -1486,7 +1516,7 @@ void rs_scene_cast(rs_scene_t *sc, int slot, int block_az, int laser, double az,
       if (u == 0) memcpy(ds, d, sizeof ds);
       else dir_of(sc, laser, az + u * dh, ds);
       const cand_t *c = NULL;
-      double cosi = 1.0, t = nearest_object(sc, k0, k1, bucketed, az, o, ds, limit, &c, &cosi);
+      double cosi = 1.0, t = nearest_object(sc, k0, k1, bucketed, sc->tilted ? dir_az(ds) : az, o, ds, limit, &c, &cosi);
       if (c && (stc.r1 == 0 || t < stc.r1)) {
         h[n++] = (sub_hit_t){t, w, c->intensity, cosi, c->id};
         objects++;

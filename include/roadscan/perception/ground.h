@@ -52,6 +52,7 @@
 #define RS_GROUND_BELOW_M 0.5        /* m: the ground is at least this far below the sensor */
 #define RS_GROUND_STEEP_DEG 10.0     /* a plane steeper than this is no road's (nor a level-mounted sensor's) */
 #define RS_GROUND_ON_PLANE 0.5       /* share of the near cells within 2 RS_GROUND_PLANE_TOL of the plane */
+#define RS_GROUND_DRAWS 512          /* planes through three near cells tried (RANSAC) */
 
 _Static_assert(RS_GROUND_N * RS_GROUND_N <= UINT16_MAX + 1, "grid cells fit the median's window index");
 _Static_assert(RS_GROUND_KTH >= 1 && RS_GROUND_KTH <= 8, "a small k");
@@ -66,6 +67,7 @@ typedef struct {
   float low[RS_GROUND_N * RS_GROUND_N][RS_GROUND_KTH]; /* the k lowest points' z, ascending */
   uint16_t n[RS_GROUND_N * RS_GROUND_N];    /* points seen, saturating */
   float tmp[RS_GROUND_N * RS_GROUND_N];
+  uint16_t near[RS_GROUND_N * RS_GROUND_N]; /* the near cells below the sensor the plane is drawn from */
 } rs_ground_t;
 
 /* Builds g from model m of sensor sen (whose rows and columns it must have;

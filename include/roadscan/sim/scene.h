@@ -68,6 +68,11 @@ typedef struct {
   double sway_period;        /* its period, s (default 4) */
   double knock_deg;          /* a step of the yaw, degrees, ramped over 0.5 s (default 0: none) */
   double knock_at;           /* when, s from the capture's start (default 0) */
+  /* a sensor not quite level on its mount: its vertical axis leans tilt_deg towards the azimuth
+     tilt_toward (degrees clockwise from +Y); its own frame (the packets', the tracks') then sees the
+     level road rise that way. Truth (labels, states) stays the site's */
+  double tilt_deg;           /* default 0 */
+  double tilt_toward;        /* default 0 */
 } rs_scene_cfg_t;
 
 /* the sensor's yaw against its mount (degrees) t seconds into the capture */
