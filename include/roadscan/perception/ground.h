@@ -15,14 +15,16 @@
  * the lowest, so that one stray return below the road does not decide), kept
  * when it has at least RS_GROUND_KTH points. A 3 x 3 median over the kept cells
  * removes a cell whose only points are a wall or a roof above its neighbours.
- * A plane fitted to the kept cells (least squares over the cells near the level
- * of the most cells, then again over those near that plane, the band narrowing
- * to RS_GROUND_PLANE_TOL: walls, trees and roofs stay out) gives the ground where no cell was
- * kept within RS_GROUND_FILL cells (between the rings of a sparse sensor, under
- * the pole): a sensor that is tilted or a road that slopes is followed by the
- * plane, a crowned road or a kerb by the cells. The level the fit starts from
- * is the commonest of the cells within RS_GROUND_NEAR_M at least RS_GROUND_BELOW_M
- * below the sensor (a level beam's hits on walls are at the sensor's height).
+ * A plane gives the ground where no cell was kept within RS_GROUND_FILL cells
+ * (between the rings of a sparse sensor, under the pole; a filled cell is the
+ * plane there, off it as much as its known neighbours are): a sensor that
+ * leans or a road that slopes is followed by the plane, a crowned road or a
+ * kerb by the cells. The plane: of RS_GROUND_DRAWS planes through three cells
+ * within RS_GROUND_NEAR_M at least RS_GROUND_BELOW_M below the sensor (a fixed
+ * sequence of draws, RANSAC), the one most of those cells lie on within
+ * RS_GROUND_PLANE_TOL, then least squares over the cells near it, the band
+ * narrowing to RS_GROUND_PLANE_TOL (walls, trees and roofs stay out; a level
+ * beam's hits on walls are at the sensor's own height and never drawn).
  * No ground (every query: not known) when the plane is less than
  * RS_GROUND_BELOW_M below the sensor, steeper than RS_GROUND_STEEP_DEG, or holds
  * less than RS_GROUND_ON_PLANE of those near cells: a sensor on a moving vehicle
