@@ -27,8 +27,8 @@
  * beam's hits on walls are at the sensor's own height and never drawn).
  * No ground (every query: not known) when the plane is less than
  * RS_GROUND_BELOW_M below the sensor, steeper than RS_GROUND_STEEP_DEG, or holds
- * less than RS_GROUND_ON_PLANE of those near cells: a sensor on a moving vehicle
- * (its model is smeared) or mounted on its side.
+ * less than RS_GROUND_ON_PLANE of those near cells: a sensor mounted on its
+ * side, in a small room, or one whose model no plane fits.
  *
  * Threads: built on the processing thread when a model comes (at start, after
  * learning, at each update of the model): bounded work (map cells plus grid
