@@ -219,7 +219,8 @@ static double json_num(const char *out, const char *key) {
 
 /* The ground the daemon finds in a learned model (ground.h), end to end: a VLP-16 on a 3 m and on a 6.5 m pole
  * over the simulator's level site, and on a 5 m pole leaning 2 degrees towards azimuth 200 (tilt_deg): the summary
- * names the pole's height within 0.15 m and the lean within 0.2 degrees (its direction within 5). */
+ * names the pole's height within 0.15 m and the lean within 0.2 degrees (its direction within 5), and
+ * roadscan-learn --info says the same of the model. */
 START_TEST(t_ground_height) {
   static const struct {
     double pole, tilt, toward;
@@ -245,6 +246,14 @@ START_TEST(t_ground_height) {
     ck_assert_msg(fabs(h - c[k].pole) < 0.15, "pole %.1f m: the sensor %.2f m above the ground", c[k].pole, h);
     ck_assert_double_lt(fabs(up - c[k].tilt), 0.2);
     if (c[k].tilt > 0) ck_assert_double_lt(fabs(toward - c[k].toward), 5.0);
+    /* the model's summary says the same before any replay */
+    char line[512];
+    const char *e = strchr(g, ';');
+    ck_assert_ptr_nonnull(e);
+    snprintf(line, sizeof line, "%.*s", (int)(e - g), g);
+    snprintf(cmd, sizeof cmd, "./roadscan-learn --info %s", model);
+    ck_assert_int_eq(tu_exec(cmd, &out), 0);
+    ck_assert_msg(strstr(out, line) != NULL, "--info says %s, not %s", out, line);
   }
 }
 END_TEST

@@ -8,6 +8,7 @@
  * then every cell is clustered (see background.h). Single-threaded tool. */
 #include "roadscan/perception/background.h"
 #include "roadscan/perception/bgupdate.h"
+#include "roadscan/perception/ground.h"
 #include "roadscan/sensor/calib.h"
 #include "roadscan/util/opts.h"
 #include "roadscan/frame/framer.h"
@@ -60,6 +61,16 @@ static void on_frame(void *user, rs_slot_t *s) {
     L->lr_ready = true;
   }
   rs_bg_learner_add(&L->lr, s);
+}
+
+static rs_ground_t ground;
+
+/* the ground the daemon will find in model m, from sensor sen's geometry */
+static void print_ground(const rs_bg_model_t *m, const rs_sensor_t *sen, FILE *out) {
+  char line[512];
+  rs_ground_build(&ground, m, sen);
+  rs_ground_describe(&ground, line, sizeof line);
+  fprintf(out, "%s\n", line);
 }
 
 static void print_info(const rs_bg_model_t *m, FILE *out) {
@@ -223,6 +234,8 @@ int main(int argc, char **argv) {
       return 1;
     }
     print_info(&m, stdout);
+    rs_sensor_t sen; /* the model's published table (a unit's calibration moves the ground by millimetres) */
+    if (rs_sensor_init(&sen, m.model) == RS_OK) print_ground(&m, &sen, stdout);
     int rc = 0;
     if (image && write_png(&m, image) != RS_OK) {
       fprintf(stderr, "roadscan-learn: %s: cannot write the image\n", image);
@@ -270,6 +283,7 @@ int main(int argc, char **argv) {
           (unsigned long long)L.frames, L.lr.nframes, (double)(t1 - t0) * 1e-9, (double)(t2 - t1) * 1e-9,
           (double)rs_bg_learner_bytes(L.lr.rows, L.lr.cols, L.lr.max_frames) / 1048576.0);
   print_info(&m, stderr);
+  print_ground(&m, &framer.stream.sensor, stderr);
   const double hz = m.rate_hz > 0 ? m.rate_hz : 10.0;
   if (m.frames < RS_BG_SITE_SECONDS * hz * 0.5)
     fprintf(stderr,

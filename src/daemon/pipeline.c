@@ -652,25 +652,13 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
       fprintf(out, "; in %zu cells more than every other frame: the scene changed, relearn the model", changed);
     fprintf(out, "\n");
     const rs_ground_t *g = rs_proc_ground(pr);
-    if (g && g->valid) {
-      const double up = atan(hypot(g->plane[1], g->plane[2])) * 180.0 / 3.14159265358979323846;
-      double toward = atan2(g->plane[1], g->plane[2]) * 180.0 / 3.14159265358979323846; /* clockwise from +Y */
-      if (toward < 0) toward += 360.0;
-      fprintf(out,
-              "  ground (from the model): the sensor %.2f m above it; it rises %.2f deg towards azimuth %.0f deg in the "
-              "sensor's frame (a tilted sensor or a sloping road); %u of its %.0f m cells from the scene, %u "
-              "filled from neighbours, %u from the plane; %.0f %% of those within %.0f m on it; builds %u, the last "
-              "%.2f ms\n",
-              -g->plane[0], up, toward, g->cells_kept, (double)RS_GROUND_CELL_M, g->cells_filled, g->cells_plane,
-              100.0 * g->on_plane, RS_GROUND_NEAR_M, pr->ground_builds, (double)pr->ground_ns / 1e6);
-    } else if (g) {
-      fprintf(out,
-              "  ground: not found in the model (%u of its %.0f m cells with static returns, fewer than %d, or their plane "
-              "%.2f m below the sensor, %.1f deg steep, holding %.0f %% of those within %.0f m): heights from returns "
-              "alone\n",
-              g->cells_kept, (double)RS_GROUND_CELL_M, RS_GROUND_MIN_CELLS, -g->plane[0],
-              atan(hypot(g->plane[1], g->plane[2])) * 180.0 / 3.14159265358979323846, 100.0 * g->on_plane,
-              RS_GROUND_NEAR_M);
+    if (g) {
+      char line[512];
+      rs_ground_describe(g, line, sizeof line);
+      if (g->valid)
+        fprintf(out, "  %s; builds %u, the last %.2f ms\n", line, pr->ground_builds, (double)pr->ground_ns / 1e6);
+      else
+        fprintf(out, "  %s\n", line);
     }
     if (pr->bg.displaced_frames > 0)
       fprintf(out,

@@ -3,6 +3,7 @@
 #include "roadscan/perception/ground.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #define PI 3.14159265358979323846
@@ -237,4 +238,25 @@ bool rs_ground_at(const rs_ground_t *g, double x, double y, float *z) {
   if (c < 0 || isnan(g->z[c])) return false;
   *z = g->z[c];
   return true;
+}
+
+void rs_ground_describe(const rs_ground_t *g, char *buf, size_t n) {
+  const double up = atan(hypot(g->plane[1], g->plane[2])) * 180.0 / PI;
+  if (g->valid) {
+    double toward = atan2(g->plane[1], g->plane[2]) * 180.0 / PI; /* clockwise from +Y */
+    if (toward < 0) toward += 360.0;
+    snprintf(buf, n,
+             "ground (from the model): the sensor %.2f m above it; it rises %.2f deg towards azimuth %.0f deg in the "
+             "sensor's frame (a tilted sensor or a sloping road); %u of its %.0f m cells from the scene, %u filled from "
+             "neighbours, %u from the plane; %.0f %% of those within %.0f m on it",
+             -g->plane[0], up, toward, g->cells_kept, (double)RS_GROUND_CELL_M, g->cells_filled, g->cells_plane,
+             100.0 * g->on_plane, RS_GROUND_NEAR_M);
+  } else {
+    snprintf(buf, n,
+             "ground: not found in the model (%u of its %.0f m cells with static returns, fewer than %d, or their plane "
+             "%.2f m below the sensor, %.1f deg steep, holding %.0f %% of those within %.0f m): heights from returns "
+             "alone",
+             g->cells_kept, (double)RS_GROUND_CELL_M, RS_GROUND_MIN_CELLS, -g->plane[0], up, 100.0 * g->on_plane,
+             RS_GROUND_NEAR_M);
+  }
 }

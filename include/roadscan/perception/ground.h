@@ -41,6 +41,7 @@
 #include "roadscan/sensor/sensor.h"
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #define RS_GROUND_CELL_M 2.0f
@@ -78,5 +79,8 @@ void rs_ground_build(rs_ground_t *g, const rs_bg_model_t *m, const rs_sensor_t *
 /* The ground's sensor-frame z under (x, y) (sensor frame, m) into *z: true
  * when known (a valid ground, inside the grid). */
 bool rs_ground_at(const rs_ground_t *g, double x, double y, float *z);
+/* One line (no newline) saying what the last build found: the sensor's height above the ground and its
+ * lean, how the cells got their ground; or why there is none. Into buf (truncated to n). */
+void rs_ground_describe(const rs_ground_t *g, char *buf, size_t n);
 
 #endif
