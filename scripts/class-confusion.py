@@ -9,7 +9,8 @@ track gave them. The simulator's van and truck count as van/truck.
 
     scripts/class-confusion.py out/tracking/VLP-16-rush-tracks.csv out/results/VLP-16-rush-states.csv [...]
 
-Arguments come in pairs (tracks, states); one table per pair. Off the real-time
+Arguments come in pairs (tracks, states); one table per pair, then (more than one pair) the rows of
+all of them together, to a tenth of a percent. Off the real-time
 path: plain Python, no third-party module.
 """
 import bisect
@@ -71,21 +72,30 @@ def confusion(tracks_path, states_path):
     return table
 
 
+def print_table(title, table, digits=0):
+    print(f"\n{title}: confirmed track rows by true class (rows within {RADIUS} m of a road user), share classed as")
+    print("| true class | rows | " + " | ".join(CLASSES) + " |")
+    print("|---|---" + "|---" * len(CLASSES) + "|")
+    for true in CLASSES:
+        row = table.get(true)
+        if not row:
+            continue
+        n = sum(row.values())
+        print(f"| {true} | {n} | " + " | ".join(f"{100.0 * row.get(c, 0) / n:.{digits}f} %" for c in CLASSES) + " |")
+
+
 def main(argv):
     if len(argv) < 2 or len(argv) % 2:
         sys.exit(__doc__.strip().splitlines()[0] + "\nusage: class-confusion.py TRACKS STATES [TRACKS STATES ...]")
+    pooled = defaultdict(lambda: defaultdict(int))
     for tracks_path, states_path in zip(argv[0::2], argv[1::2]):
         table = confusion(tracks_path, states_path)
-        print(f"\n{tracks_path}: confirmed track rows by true class (rows within {RADIUS} m of a road user), "
-              "share classed as")
-        print("| true class | rows | " + " | ".join(CLASSES) + " |")
-        print("|---|---" + "|---" * len(CLASSES) + "|")
-        for true in CLASSES:
-            row = table.get(true)
-            if not row:
-                continue
-            n = sum(row.values())
-            print(f"| {true} | {n} | " + " | ".join(f"{100.0 * row.get(c, 0) / n:.0f} %" for c in CLASSES) + " |")
+        print_table(tracks_path, table)
+        for true, row in table.items():
+            for c, n in row.items():
+                pooled[true][c] += n
+    if len(argv) > 2:
+        print_table(f"all {len(argv) // 2} pairs", pooled, digits=1)
 
 
 if __name__ == "__main__":

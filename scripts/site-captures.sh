@@ -5,12 +5,13 @@
 # states, at roadscan-sim --set site_seed=SITE, in DIR as
 # SENSOR-PRESET-siteSITE{-learn.pcap,.pcap,-truth.csv,-states.csv}; made when
 # absent. The background models (.bg) are always learned anew by the current
-# roadscan-learn.
+# roadscan-learn. SIM_SET="--set K=V ..." adds simulator settings to every capture (a leaning
+# sensor: scripts/tracking.sh --site with lean=).
 # Usage: scripts/site-captures.sh DIR SITE LEARN_SEED TEST_SEED SENSOR...
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ $# -lt 5 ]; then
-  sed -n 9p "$0" >&2
+  sed -n 11p "$0" >&2
   exit 2
 fi
 dir=$1 site=$2 seed_learn=$3 seed_test=$4
@@ -22,10 +23,10 @@ for sensor in "$@"; do
     tag=$sensor-$sc-site$site
     if [ ! -s "$dir/$tag.pcap" ] || [ ! -s "$dir/$tag-truth.csv" ] || [ ! -s "$dir/$tag-states.csv" ] ||
       [ ! -s "$dir/$tag-learn.pcap" ]; then
-      $bin/roadscan-sim --sensor "$sensor" --scenario $sc --set site_seed="$site" --seconds 150 --seed "$seed_learn" \
+      $bin/roadscan-sim --sensor "$sensor" --scenario $sc --set site_seed="$site" ${SIM_SET:-} --seconds 150 --seed "$seed_learn" \
         -o "$dir/$tag-learn.pcap" --labels "$dir/$tag-learn.csv" 2>/dev/null
       # the capture is the same with or without --truth-states
-      $bin/roadscan-sim --sensor "$sensor" --scenario $sc --set site_seed="$site" --seconds 30 --seed "$seed_test" \
+      $bin/roadscan-sim --sensor "$sensor" --scenario $sc --set site_seed="$site" ${SIM_SET:-} --seconds 30 --seed "$seed_test" \
         -o "$dir/$tag.pcap" --labels "$dir/$tag-truth.csv" --truth-states "$dir/$tag-states.csv" 2>/dev/null
     fi
     $bin/roadscan-learn "$dir/$tag-learn.pcap" -o "$dir/$tag.bg" 2>/dev/null

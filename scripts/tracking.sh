@@ -11,7 +11,9 @@
 # instead scores another held-out site (its captures made by
 # scripts/site-captures.sh in out/site<SITE>, as scripts/heldout.sh does) and
 # prints its rows (the table's columns) without touching the doc; extra="..."
-# passes roadscand options as for the doc (docs/tracking.md: sites 13, 17, 21, 25).
+# passes roadscand options as for the doc (docs/tracking.md: sites 13, 17, 21, 25);
+# lean="DEG TOWARD" makes and scores the site's captures with the sensor leaning DEG
+# degrees towards azimuth TOWARD (roadscan-sim tilt_deg, tilt_toward; in out/site<SITE>-lean).
 #
 #   scripts/tracking.sh --presets
 # instead scores the far and storm presets (both sensors, seeds 11/12, captures in
@@ -39,7 +41,14 @@ if [ "${1:-}" = "--site" ]; then
     exit 2
   fi
   out=out/site$2
-  scripts/site-captures.sh "$out" "$2" "$3" "$4" VLP-32C VLP-16
+  if [ -n "${lean:-}" ]; then
+    set -- "$@" $lean
+    out=out/site$2-lean$5-$6
+    sfx=-lean$5-$6
+    SIM_SET="--set tilt_deg=$5 --set tilt_toward=$6" scripts/site-captures.sh "$out" "$2" "$3" "$4" VLP-32C VLP-16
+  else
+    scripts/site-captures.sh "$out" "$2" "$3" "$4" VLP-32C VLP-16
+  fi
 fi
 capture() { # tag sensor preset seed_learn seed_test [site args]
   local tag=$1 sensor=$2 sc=$3 sl=$4 st=$5; shift 5
@@ -158,7 +167,7 @@ if [ "${1:-}" = "--site" ]; then
   header
   for sensor in VLP-32C VLP-16; do
     for sc in light rush; do
-      row "$sensor-$sc-site$2" "held out: $sensor $sc, site $2, seed $4"
+      row "$sensor-$sc-site$2" "held out: $sensor $sc, site $2, seed $4${lean:+, leaning ${5:-} deg towards ${6:-}}"
     done
   done
   exit 0

@@ -73,17 +73,20 @@ static void make_model(const scene_t *sc, rs_model_t m) {
       model.lo[cell * RS_BG_SURFACES] = (uint16_t)(cm - 5);
       model.hi[cell * RS_BG_SURFACES] = (uint16_t)(cm + 5);
     }
-  if (sc->stray) { /* two cells whose surface lies 1 m below the road at (15.5, 15.5) */
+  if (sc->stray) { /* two cells whose surface lies below the road at (15.5, 15.5) (its beams' ranges there) */
     const double az = atan2(15.5, 15.5), gr = hypot(15.5, 15.5);
     const int col = (int)(az / (2.0 * PI) * COLS);
+    int strays = 0;
     for (int row = 0; row < 2; row++) {
       const int laser = sensor.laser_of_row[row];
       const double r = gr / sensor.cos_el[laser]; /* the beam's range above that place */
-      if (r * sensor.sin_el[laser] > -sc->h - 1.0 + 0.3) continue; /* would not be below the road */
+      if (r * sensor.sin_el[laser] > -sc->h - 1.0) continue; /* would not be 1 m below the road or more */
       const uint32_t cell = (uint32_t)row * COLS + (uint32_t)col;
       model.n[cell] = 1;
       model.lo[cell * RS_BG_SURFACES] = model.hi[cell * RS_BG_SURFACES] = (uint16_t)lround(r * 100.0);
+      strays++;
     }
+    ck_assert_int_eq(strays, 2); /* both are there to be outvoted */
   }
 }
 
@@ -179,7 +182,7 @@ START_TEST(t_none) {
 END_TEST
 
 /* the object stage: an object whose returns' top is 2.1 m above a road 4 m below the sensor, its bottom hidden
- * (returns from 1.1 m up): its top above the ground 2.1 m with the ground, -1 (not known) without */
+ * (returns from 1.1 m up): its top above the ground 2.1 m with the ground, 0 (not known) without */
 START_TEST(t_object_top) {
   const scene_t road = {.h = 4.0};
   make_model(&road, RS_MODEL_VLP32C);
@@ -215,7 +218,7 @@ START_TEST(t_object_top) {
       ck_assert(o->top_agl > 1.8f && o->top_agl <= 2.11f);
       ck_assert(o->sensor.box_max[2] - o->sensor.box_min[2] < 1.01f); /* what the returns alone say */
     } else {
-      ck_assert_float_eq(o->top_agl, -1.0f);
+      ck_assert_float_eq(o->top_agl, 0.0f);
     }
   }
 }

@@ -556,7 +556,7 @@ END_TEST
 
 /* The top above the ground (objects.h top_agl). A van 2.2 m tall 45 m off behind a queue: its returns span only
  * its upper metre (the box's height 1.0 m), their top 2.1 m above the ground. With the ground known it is a
- * van/truck; without (top_agl -1) a car, as the returns alone say. A car whose returns span 1.0 m and top 1.5 m
+ * van/truck; without (top_agl 0) a car, as the returns alone say. A car whose returns span 1.0 m and top 1.5 m
  * above the ground stays a car: the ground makes nothing taller than its top. */
 static rs_class_t hidden_bottom(double len, double top_agl) {
   init_default();
@@ -573,7 +573,7 @@ static rs_class_t hidden_bottom(double len, double top_agl) {
 
 START_TEST(t_class_top_above_ground) {
   ck_assert_int_eq(hidden_bottom(5.2, 2.1), RS_CLASS_VAN_TRUCK);
-  ck_assert_int_eq(hidden_bottom(5.2, -1.0), RS_CLASS_CAR);
+  ck_assert_int_eq(hidden_bottom(5.2, 0.0), RS_CLASS_CAR);
   ck_assert_int_eq(hidden_bottom(4.5, 1.5), RS_CLASS_CAR);
 }
 END_TEST

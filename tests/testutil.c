@@ -266,3 +266,16 @@ void tu_centroids_check(const tu_centroids_t *t, const char *what) {
   ck_assert_msg(t->within_1 >= 0.95 * t->n, "%s: %d of %d within 1 m", what, t->within_1, t->n);
   ck_assert_float_lt(t->worst, 2.0f);
 }
+
+bool tu_ground_line(const char *out, double *height, double *lean, double *toward, double *on_plane) {
+  const char *g = strstr(out, "ground (from the model): the sensor ");
+  if (g == NULL) return false;
+  ck_assert_int_eq(
+      sscanf(g, "ground (from the model): the sensor %lf m above it; it rises %lf deg towards azimuth %lf", height, lean,
+             toward),
+      3);
+  const char *o = strstr(g, " from the plane; ");
+  ck_assert_ptr_nonnull(o);
+  ck_assert_int_eq(sscanf(o, " from the plane; %lf %%", on_plane), 1);
+  return true;
+}

@@ -51,6 +51,11 @@ long tu_settle_live(uint16_t port, const char *csv);
 /* A file's contents (static buffer, 1 MiB at most; "" when unreadable). */
 const char *tu_slurp_text(const char *path);
 
+/* The ground line of a summary (roadscand's, roadscan-learn's; ground.h): false when it has none (it
+ * found no ground); else the sensor's height above it (m), its lean (deg), towards which azimuth (deg), and
+ * the share of the near cells on the plane (%). */
+bool tu_ground_line(const char *out, double *height, double *lean, double *toward, double *on_plane);
+
 /* Counts lines of a text file (-1 if unreadable). */
 long tu_count_lines(const char *path);
 

@@ -3,6 +3,7 @@
  * Learning runs at start-up or in the learning tool and allocates; the
  * subtraction runs in the processing thread on the preallocated model. */
 #include "roadscan/perception/background.h"
+#include "roadscan/util/rand.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -12,7 +13,6 @@
 #include <unistd.h>
 #include <time.h>
 
-#define BEYOND 65535u
 
 void rs_bg_params_default(rs_bg_params_t *p) {
   memset(p, 0, sizeof *p);
@@ -133,7 +133,7 @@ static bool classify(const rs_bg_model_t *m, const rs_bg_rules_t *rules, int r, 
   const uint32_t nk = m->n[cell];
   if (nk == 0) return false;
   const uint32_t far = m->hi[cell * RS_BG_SURFACES + nk - 1];
-  if (far == BEYOND || cm <= far) return false;
+  if (far == RS_BG_BEYOND || cm <= far) return false;
   *beyond = true;
   return rules->beyond_static && (m->far_seen[cell] >= RS_BG_SOLID_PCT || cm - far <= (far < 1000u ? 30u : far * 3u / 100u));
 }
@@ -177,7 +177,7 @@ static bool match_shifted(const rs_bg_model_t *m, const shift_t *sh, int row, in
     const int c = ((col + k) % cols + cols) % cols;
     const uint32_t cell = base + (uint32_t)c, b = cell * RS_BG_SURFACES;
     for (int j = 0; j < m->n[cell]; j++) {
-      const double lo = m->lo[b + j] / 100.0, hi = m->hi[b + j] == BEYOND ? 655.35 : m->hi[b + j] / 100.0;
+      const double lo = m->lo[b + j] / 100.0, hi = m->hi[b + j] == RS_BG_BEYOND ? 655.35 : m->hi[b + j] / 100.0;
       const double t = fmin(hi, fmax(lo, r * ca));
       if (r * r + t * t - 2.0 * r * t * ca <= tol * tol) return true;
     }
@@ -210,7 +210,7 @@ static bool match_behind(const rs_bg_model_t *m, const shift_t *sh, int row, int
     const uint32_t cell = base + (uint32_t)(((col + k) % cols + cols) % cols);
     const int nk = m->n[cell];
     const uint32_t b = cell * RS_BG_SURFACES + (uint32_t)nk - 1;
-    far[k + kmax] = nk == 0 || m->hi[b] == BEYOND ? -1.0 : (m->lo[b] + m->hi[b]) / 200.0;
+    far[k + kmax] = nk == 0 || m->hi[b] == RS_BG_BEYOND ? -1.0 : (m->lo[b] + m->hi[b]) / 200.0;
   }
   for (int d = 0; d <= kmax; d++) {
     reach[d] = d > 0 ? reach[d - 1] : -1.0;
@@ -235,7 +235,7 @@ static bool match_behind(const rs_bg_model_t *m, const shift_t *sh, int row, int
 /* the return lies beyond its cell's farthest surface, or the cell learned none */
 static bool past_model(const rs_bg_model_t *m, uint32_t cell, uint32_t cm) {
   const uint32_t nk = m->n[cell];
-  return nk == 0 || (m->hi[cell * RS_BG_SURFACES + nk - 1] != BEYOND && cm > m->hi[cell * RS_BG_SURFACES + nk - 1]);
+  return nk == 0 || (m->hi[cell * RS_BG_SURFACES + nk - 1] != RS_BG_BEYOND && cm > m->hi[cell * RS_BG_SURFACES + nk - 1]);
 }
 
 void rs_bg_subtract(const rs_bg_model_t *m, const rs_bg_rules_t *rules, rs_slot_t *s, rs_bg_counts_t *c) {
@@ -433,13 +433,6 @@ void rs_bg_learner_free(rs_bg_learner_t *l) {
   l->t = NULL;
 }
 
-static uint64_t next_rand(uint64_t *s) {
-  *s ^= *s << 13;
-  *s ^= *s >> 7;
-  *s ^= *s << 17;
-  return *s;
-}
-
 void rs_bg_learner_set(rs_bg_learner_t *l, int f, const rs_slot_t *s) {
   if (f < 0 || f >= l->max_frames || s->meta.rows != l->rows || s->meta.cols != l->cols) return;
   if (f >= l->nframes) l->nframes = f + 1;
@@ -457,7 +450,7 @@ void rs_bg_learner_add(rs_bg_learner_t *l, const rs_slot_t *s) {
   if (l->nframes < l->max_frames) {
     f = l->nframes++;
   } else {
-    uint64_t j = next_rand(&l->rng) % (l->seen + 1);
+    uint64_t j = rs_xorshift64(&l->rng) % (l->seen + 1);
     if (j >= (uint64_t)l->max_frames) {
       l->seen++;
       return;
@@ -733,7 +726,7 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
       int idx = (int)floor(p->percentile / 100.0 * (nz - 1));
       int32_t b = vals[idx] - (int32_t)lround(p->percentile_tol * 100);
       lo[0] = (uint16_t)(b < 0 ? 0 : b);
-      hi[0] = BEYOND;
+      hi[0] = RS_BG_BEYOND;
       out->n[cell] = 1;
       continue;
     }

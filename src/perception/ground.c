@@ -2,12 +2,14 @@
  * (processing thread; no allocation; the design is in ground.h). */
 #include "roadscan/perception/ground.h"
 
+#include "roadscan/util/rand.h"
+#include "roadscan/util/sort.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #define PI 3.14159265358979323846
-#define OPEN_END 65535u  /* a surface with no far end (the model's "beyond"): no point */
 
 static int cell_of(double x, double y) {
   const double fx = floor(x / RS_GROUND_CELL_M) + RS_GROUND_HALF, fy = floor(y / RS_GROUND_CELL_M) + RS_GROUND_HALF;
@@ -30,14 +32,9 @@ static void add_point(rs_ground_t *g, int c, float z) {
   if (g->n[c] < UINT16_MAX) g->n[c]++;
 }
 
-static float median_small(float *v, int n) {
-  for (int i = 1; i < n; i++) /* insertion sort of at most 9 */
-    for (int j = i; j > 0 && v[j - 1] > v[j]; j--) {
-      const float t = v[j];
-      v[j] = v[j - 1];
-      v[j - 1] = t;
-    }
-  return n % 2 ? v[n / 2] : 0.5f * (v[n / 2 - 1] + v[n / 2]);
+static int cmp_float(const void *a, const void *b) {
+  const float x = *(const float *)a, y = *(const float *)b;
+  return (x > y) - (x < y);
 }
 
 /* the cells of the 3 x 3 window about cell c (c included) whose ground is known, into at; how many */
@@ -58,6 +55,12 @@ static double cell_y(int c) { return ((c / RS_GROUND_N) - RS_GROUND_HALF + 0.5) 
 
 static double plane_of(const double p[3], int c) { return p[0] + p[1] * cell_x(c) + p[2] * cell_y(c); }
 static double plane_at(const rs_ground_t *g, int c) { return plane_of(g->plane, c); }
+/* within RS_GROUND_NEAR_M of the sensor: the cells the plane is drawn from and judged by */
+static bool near_cell(int c) { return hypot(cell_x(c), cell_y(c)) <= RS_GROUND_NEAR_M; }
+/* every cell not known */
+static void forget(rs_ground_t *g) {
+  for (int c = 0; c < RS_GROUND_N * RS_GROUND_N; c++) g->z[c] = NAN;
+}
 
 /* the plane z = q0 + q1 x + q2 y through three cells' ground; false when they are (nearly) on a line */
 static bool plane_through(const rs_ground_t *g, const int c[3], double q[3]) {
@@ -79,7 +82,7 @@ static bool fit_plane(const rs_ground_t *g, const double *p, double tol, double 
   for (int c = 0; c < RS_GROUND_N * RS_GROUND_N; c++) {
     if (isnan(g->z[c])) continue;
     const double x = cell_x(c), y = cell_y(c), z = g->z[c];
-    if (p && fabs(z - (p[0] + p[1] * x + p[2] * y)) > tol) continue;
+    if (p && fabs(z - plane_of(p, c)) > tol) continue;
     const double v[3] = {1.0, x, y};
     for (int i = 0; i < 3; i++) {
       for (int j = 0; j < 3; j++) s[i][j] += v[i] * v[j];
@@ -122,7 +125,7 @@ void rs_ground_build(rs_ground_t *g, const rs_bg_model_t *m, const rs_sensor_t *
   memset(g->plane, 0, sizeof g->plane);
   g->cells_kept = g->cells_filled = g->cells_plane = 0;
   memset(g->n, 0, sizeof g->n);
-  for (int c = 0; c < ncell; c++) g->z[c] = NAN;
+  forget(g);
   if (m == NULL || sen == NULL || m->n == NULL || m->rows != sen->lasers || m->rows == 0 || m->cols == 0) return;
   /* every static surface of every map cell: a point */
   for (int col = 0; col < m->cols; col++) {
@@ -132,7 +135,7 @@ void rs_ground_build(rs_ground_t *g, const rs_bg_model_t *m, const rs_sensor_t *
       const double ce = sen->cos_el[laser], se = sen->sin_el[laser], vo = sen->vert_offset_m[laser];
       const uint32_t cell = (uint32_t)row * m->cols + (uint32_t)col, b = cell * RS_BG_SURFACES;
       for (int k = 0; k < m->n[cell] && k < RS_BG_SURFACES; k++) {
-        if (m->hi[b + k] == OPEN_END) continue;
+        if (m->hi[b + k] == RS_BG_BEYOND) continue;
         const double r = (m->lo[b + k] + m->hi[b + k]) / 200.0;
         const int gc = cell_of(r * ce * sa, r * ce * ca);
         if (gc >= 0) add_point(g, gc, (float)(r * se + vo));
@@ -149,12 +152,14 @@ void rs_ground_build(rs_ground_t *g, const rs_bg_model_t *m, const rs_sensor_t *
     float v[9];
     const int nv = known_around(g->z, c, at);
     for (int i = 0; i < nv; i++) v[i] = g->z[at[i]];
-    if (nv >= 3) g->tmp[c] = median_small(v, nv);
+    if (nv < 3) continue;
+    rs_sort(v, (size_t)nv, sizeof v[0], cmp_float);
+    g->tmp[c] = nv % 2 ? v[nv / 2] : 0.5f * (v[nv / 2 - 1] + v[nv / 2]);
   }
   memcpy(g->z, g->tmp, sizeof g->z);
   for (int c = 0; c < ncell; c++) g->cells_kept += !isnan(g->z[c]);
   if (g->cells_kept < RS_GROUND_MIN_CELLS) {
-    for (int c = 0; c < ncell; c++) g->z[c] = NAN;
+    forget(g);
     return;
   }
   /* the plane: the one through three near cells below the sensor that most near cells lie on (RANSAC, a fixed
@@ -162,22 +167,18 @@ void rs_ground_build(rs_ground_t *g, const rs_bg_model_t *m, const rs_sensor_t *
    * RS_GROUND_BELOW_M below the sensor; then least squares over the cells near it, the band narrowing to
    * RS_GROUND_PLANE_TOL (walls, trees, roofs stay out; a tilted sensor's or a sloping road's ground is a plane
    * like a level one) */
+  const double steep = tan(RS_GROUND_STEEP_DEG * PI / 180.0);
   bool have_plane = false;
   {
     uint32_t nn = 0;
     for (int c = 0; c < ncell; c++)
-      if (!isnan(g->z[c]) && g->z[c] <= -RS_GROUND_BELOW_M && hypot(cell_x(c), cell_y(c)) <= RS_GROUND_NEAR_M)
-        g->near[nn++] = (uint16_t)c;
-    const double steep = tan(RS_GROUND_STEEP_DEG * PI / 180.0);
+      if (!isnan(g->z[c]) && g->z[c] <= -RS_GROUND_BELOW_M && near_cell(c)) g->near[nn++] = (uint16_t)c;
     uint64_t rng = 0x9e3779b97f4a7c15ull;
     uint32_t best_on = 0;
     double p[3] = {0.0, 0.0, 0.0};
     for (int it = 0; it < RS_GROUND_DRAWS && nn >= 3; it++) {
       int c3[3];
-      for (int k = 0; k < 3; k++) {
-        rng = rng * 6364136223846793005ull + 1442695040888963407ull;
-        c3[k] = g->near[(uint32_t)(rng >> 33) % nn];
-      }
+      for (int k = 0; k < 3; k++) c3[k] = g->near[rs_xorshift64(&rng) % nn];
       double q[3];
       if (!plane_through(g, c3, q) || hypot(q[1], q[2]) > steep || -q[0] < RS_GROUND_BELOW_M) continue;
       uint32_t on = 0;
@@ -193,18 +194,17 @@ void rs_ground_build(rs_ground_t *g, const rs_bg_model_t *m, const rs_sensor_t *
     memcpy(g->plane, p, sizeof p);
   }
   /* a plausible ground: below the sensor, not steep, and most of the cells near the sensor on it (a sensor
-   * on a moving vehicle or on its side has none) */
+   * on its side, in a small room, or a model no plane fits has none) */
   uint32_t near = 0, on = 0;
   for (int c = 0; c < ncell && have_plane; c++) {
-    if (isnan(g->z[c]) || hypot(cell_x(c), cell_y(c)) > RS_GROUND_NEAR_M) continue;
+    if (isnan(g->z[c]) || !near_cell(c)) continue;
     near++;
     on += fabs(g->z[c] - plane_at(g, c)) <= 2 * RS_GROUND_PLANE_TOL;
   }
   g->on_plane = near > 0 ? (double)on / near : 0.0;
-  if (!have_plane || -g->plane[0] < RS_GROUND_BELOW_M ||
-      hypot(g->plane[1], g->plane[2]) > tan(RS_GROUND_STEEP_DEG * PI / 180.0) ||
+  if (!have_plane || -g->plane[0] < RS_GROUND_BELOW_M || hypot(g->plane[1], g->plane[2]) > steep ||
       g->on_plane < RS_GROUND_ON_PLANE) {
-    for (int c = 0; c < ncell; c++) g->z[c] = NAN;
+    forget(g);
     return;
   }
   /* cells without ground: the plane there, off it as much as their known neighbours are on average,

@@ -337,12 +337,10 @@ void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sens
       for (int a = 0; a < 3; a++) g->centroid[a] = (float)(o->sum[f][k][a] / ob->points);
     }
     ob->intensity_mean = (float)(o->isum[k] / ob->points);
-    {
-      float gz;
-      ob->top_agl = rs_ground_at(o->ground, ob->sensor.centroid[0], ob->sensor.centroid[1], &gz)
-                        ? fmaxf(ob->sensor.box_max[2] - gz, 0.0f)
-                        : -1.0f;
-    }
+    float gz;
+    ob->top_agl = rs_ground_at(o->ground, ob->sensor.centroid[0], ob->sensor.centroid[1], &gz)
+                      ? fmaxf(ob->sensor.box_max[2] - gz, 0.0f)
+                      : 0.0f;
     /* a sparse sensor at range passes over a head and under a bumper: the
      * rows next to the object's bound how much of it they missed */
     {

@@ -1324,7 +1324,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   t->width = smooth(t->width, o->sensor.obb_width, first);
   t->height = smooth(t->height, o->sensor.box_max[2] - o->sensor.box_min[2], first);
   t->height_max = smooth(t->height_max, o->sensor.box_max[2] - o->sensor.box_min[2] + o->height_gap, first);
-  if (o->top_agl >= 0.0f) {
+  if (o->top_agl > 0.0f) {
     t->top_agl = smooth(t->top_agl, o->top_agl, t->top_agl_n == 0);
     t->top_agl_n++;
   }

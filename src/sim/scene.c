@@ -235,8 +235,7 @@ struct rs_scene {
   rs_scene_cfg_t cfg;
   const rs_sensor_t *sensor;
   double ox, oy, oz;
-  bool tilted;        /* tilt_deg > 0: ray directions turn by tilt (sensor frame -> site) */
-  double tilt[3][3];
+  double tilt[3][3]; /* sensor frame -> site, when cfg.tilt_deg > 0 */
   prim_t *prims;
   int nprims;
   int *bucket_start, *bucket_items; /* 360 buckets */
@@ -467,8 +466,9 @@ static void dir_el(double el_deg, double az_deg, double *d) {
 }
 
 /* a sensor-frame direction turned into the site's by the sensor's tilt (tilt_deg) */
+static bool tilted(const rs_scene_t *sc) { return sc->cfg.tilt_deg > 0.0; }
 static void tilt_dir(const rs_scene_t *sc, double *d) {
-  if (!sc->tilted) return;
+  if (!tilted(sc)) return;
   double r[3];
   for (int i = 0; i < 3; i++) r[i] = sc->tilt[i][0] * d[0] + sc->tilt[i][1] * d[1] + sc->tilt[i][2] * d[2];
   memcpy(d, r, sizeof r);
@@ -665,7 +665,7 @@ static void beam_static(const rs_scene_t *sc, int laser, double az, st_cell_t *c
       dir_el(el + v * dv, a, d);
       tilt_dir(sc, d);
       st_hit_t sh;
-      static_hit(sc, d, sc->tilted ? dir_az(d) : fmod(a + 360.0, 360.0), &sh);
+      static_hit(sc, d, tilted(sc) ? dir_az(d) : fmod(a + 360.0, 360.0), &sh);
       wsum += w;
       if (u == 0 && v == 0) {
         fol = sh.fol;
@@ -730,8 +730,7 @@ static rs_scene_t *alloc_scene(const rs_scene_cfg_t *cfg, const rs_sensor_t *s) 
   sc->ox = cfg->pole_x;
   sc->oy = cfg->pole_y;
   sc->oz = cfg->pole_height;
-  sc->tilted = cfg->tilt_deg > 0.0;
-  if (sc->tilted) { /* about the level axis k across the lean (Rodrigues): the vertical goes to cos t z + sin t u */
+  if (cfg->tilt_deg > 0.0) { /* about the level axis k across the lean (Rodrigues): the vertical goes to cos t z + sin t u */
     const double t = cfg->tilt_deg * D2R, T = cfg->tilt_toward * D2R, k[3] = {-cos(T), sin(T), 0.0};
     const double c = cos(t), sn = sin(t), K[3][3] = {{0, -k[2], k[1]}, {k[2], 0, -k[0]}, {-k[1], k[0], 0}};
     for (int i = 0; i < 3; i++)
@@ -1339,7 +1338,7 @@ void rs_scene_prepare(rs_scene_t *sc, double t, double az_from, double az_to) {
       if (sc->agents[k].active) coarse_span(sc, &sc->agents[k]);
   }
   double span_w = fmod(az_to - az_from + 360.0, 360.0);
-  if (sc->tilted) { /* a tilted ray's site azimuth is off its own by up to about tilt x tan(elevation) */
+  if (tilted(sc)) { /* a tilted ray's site azimuth is off its own by up to about tilt x tan(elevation) */
     az_from = fmod(az_from - sc->cfg.tilt_deg + 360.0, 360.0);
     span_w = fmin(359.0, span_w + 2.0 * sc->cfg.tilt_deg);
   }
@@ -1495,7 +1494,7 @@ void rs_scene_cast(rs_scene_t *sc, int slot, int block_az, int laser, double az,
    * side by side) an object's edge mixes with what is behind it */
   int k0 = 0, k1 = sc->ncand;
   bool bucketed = false;
-  const double saz = sc->tilted ? dir_az(d) : az; /* the ray's site azimuth */
+  const double saz = tilted(sc) ? dir_az(d) : az; /* the ray's site azimuth */
   if (sc->nwin > 0) {
     int b = (int)wrap360(saz - sc->win0);
     if (b < sc->nwin) {
@@ -1516,7 +1515,7 @@ void rs_scene_cast(rs_scene_t *sc, int slot, int block_az, int laser, double az,
       if (u == 0) memcpy(ds, d, sizeof ds);
       else dir_of(sc, laser, az + u * dh, ds);
       const cand_t *c = NULL;
-      double cosi = 1.0, t = nearest_object(sc, k0, k1, bucketed, sc->tilted ? dir_az(ds) : az, o, ds, limit, &c, &cosi);
+      double cosi = 1.0, t = nearest_object(sc, k0, k1, bucketed, tilted(sc) ? dir_az(ds) : az, o, ds, limit, &c, &cosi);
       if (c && (stc.r1 == 0 || t < stc.r1)) {
         h[n++] = (sub_hit_t){t, w, c->intensity, cosi, c->id};
         objects++;

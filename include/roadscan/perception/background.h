@@ -50,6 +50,7 @@
 #include <stdint.h>
 
 #define RS_BG_SURFACES 4
+#define RS_BG_BEYOND 65535u /* hi of a surface with no far end (the percentile method's): everything beyond lo */
 #define RS_BG_SEE_THROUGH 2
 #define RS_BG_MAGIC "RSBGMDL1"
 #define RS_BG_VERSION 2

@@ -78,7 +78,7 @@ typedef struct {
   uint16_t col_start, col_end; /* map columns, clockwise, may wrap past column 0 */
   uint8_t occluded;         /* RS_OBJ_HIDDEN_*: a side beside which something nearer returns (it may go on behind) */
   float top_agl;            /* m: its returns' top above the ground under its centre (rs_ground_t;
-                               -1: no ground known) */
+                               0: no ground known, or its top not above it) */
   float intensity_mean;
   double t_first, t_last;   /* capture time (s) of the first and last point */
 } rs_object_t;

@@ -284,7 +284,7 @@ typedef struct {
   float length, width, height, z_min; /* smoothed box */
   float height_max;                   /* smoothed: height plus the objects' height_gap */
   float top_agl;                      /* smoothed: the objects' top above the ground (objects.h), when known */
-  uint32_t top_agl_n;                 /* updates with it known (0: top_agl not known) */
+  uint32_t top_agl_n;                 /* updates with it known (objects' top_agl > 0; 0: top_agl not known) */
   float top;                          /* smoothed: its top (sensor z), midway between its objects' returns'
                                          top and the row above them, from the top_n objects whose row above
                                          passed within RS_TRACK_TOP_GAP */
