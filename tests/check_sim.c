@@ -248,6 +248,12 @@ START_TEST(t_ground_height) {
     double h2 = 0, up2 = 0, toward2 = 0, on2 = 0;
     ck_assert_msg(tu_ground_line(out, &h2, &up2, &toward2, &on2), "no ground in --info's %s", out);
     ck_assert(h2 == h && up2 == up && toward2 == toward && on2 == on);
+    if (k > 0) continue;
+    /* --no-ground: none is built, and the summary says heights come from the returns alone */
+    snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s --no-ground", cap, model);
+    ck_assert_int_eq(tu_exec(cmd, &out), 0);
+    ck_assert_msg(!tu_ground_line(out, &h2, &up2, &toward2, &on2), "a ground with --no-ground: %s", out);
+    ck_assert_msg(strstr(out, "ground: off (--no-ground)") != NULL, "%s", out);
   }
 }
 END_TEST

@@ -189,6 +189,10 @@ static const rs_opt_t table[] = {
       "in a displaced frame, do not take for background what the sensor sees behind a near object it moved "
       "around (a return past the model within the object's parallax band, atan(--shift-tol / its range), of "
       "its edge, no nearer than the surface beside the edge)"),
+    F("no-ground", cfg.no_ground,
+      "find no ground in the model (by default the ground under the objects is fitted to the model's lowest "
+      "static surfaces, and the class rule reads how high a vehicle's top stands above it): objects' heights "
+      "then come from their returns alone (a site where no plane fits, a sensor on a bridge)"),
     RS_OPT_HEAD("cluster", "Clustering of the foreground"),
     {.type = RS_OPT_CHOICE, .name = "cluster", .arg = "METHOD", .off = offsetof(T, method),
      .choices = "none|fspc|fspc-adaptive|dbscan|ccl", .def = "fspc-adaptive with a background, else none",

@@ -123,6 +123,7 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
       .see_through = cfg->bg_see_through,
       .beyond_foreground = cfg->bg_beyond_foreground,
       .no_behind = cfg->bg_no_behind,
+      .no_ground = cfg->no_ground,
       .shift_tol = cfg->bg_shift_tol,
       .shift_gate = cfg->bg_shift_gate,
       .shift_deg = cfg->bg_shift_deg,
@@ -652,7 +653,9 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
       fprintf(out, "; in %zu cells more than every other frame: the scene changed, relearn the model", changed);
     fprintf(out, "\n");
     const rs_ground_t *g = rs_proc_ground(pr);
-    if (g) {
+    if (p->cfg.no_ground)
+      fprintf(out, "  ground: off (--no-ground): objects' heights from their returns alone\n");
+    else if (g) {
       char line[512];
       rs_ground_describe(g, line, sizeof line);
       if (g->valid)

@@ -190,7 +190,7 @@ void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_pro
   int64_t t = t0;
   const bool geo = bgm && s->meta.cols == bgm->cols && s->meta.rows == bgm->rows;
   if (geo) {
-    if (r->model_changed || bgm != p->ground_model || sensor != p->ground_sensor) {
+    if (!p->cfg.no_ground && (r->model_changed || bgm != p->ground_model || sensor != p->ground_sensor)) {
       const int64_t g0 = rs_now_ns();
       rs_ground_build(&p->ground, bgm, sensor);
       p->ground_ns = rs_now_ns() - g0;
@@ -216,7 +216,7 @@ void rs_proc_frame(rs_proc_t *p, rs_slot_t *s, const rs_sensor_t *sensor, rs_pro
     p->n.noise += r->cluster.noise;
     p->n.splits += r->cluster.splits;
     if (p->cfg.objects) {
-      p->cfg.objects->ground = geo && p->ground.valid ? &p->ground : NULL;
+      p->cfg.objects->ground = geo && !p->cfg.no_ground && p->ground.valid ? &p->ground : NULL;
       rs_objects_extract_cells(p->cfg.objects, s, sensor, cl->members, cl->nmembers, p->cfg.object_list);
       t = stage_end(p, r, RS_STAGE_OBJECTS, t);
       r->objects = p->cfg.object_list;

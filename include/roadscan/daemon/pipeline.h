@@ -47,6 +47,7 @@ typedef struct {
   int bg_see_through;          /* 0: the model's own see_through (RS_BG_SEE_THROUGH); N > 0: N; < 0: off */
   bool bg_beyond_foreground;   /* returns beyond the farthest surface are foreground (default: background) */
   bool bg_no_behind;         /* displaced frames: no surface continued past a near object */
+  bool no_ground;             /* no ground from the model (rs_proc_cfg_t.no_ground) */
   double bg_shift_tol;         /* a displaced sensor (background.h): 0 = RS_BG_SHIFT_TOL, < 0 = off */
   double bg_shift_gate;        /* share of a frame's returns, 0 = RS_BG_SHIFT_GATE, < 0 = no gate */
   double bg_shift_deg;         /* 0 = RS_BG_SHIFT_DEG, < 0 = none */

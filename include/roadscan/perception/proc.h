@@ -42,6 +42,8 @@ typedef struct {
   int see_through;             /* 0: the model's own (RS_BG_SEE_THROUGH); N > 0: N; < 0: off */
   bool beyond_foreground;      /* returns beyond the farthest surface are foreground */
   bool no_behind;            /* displaced frames: surfaces are not continued past near objects */
+  bool no_ground;             /* no ground is built from the model: objects' tops are not known above it
+                                  (top_agl 0) and the class rule reads their returns' heights alone */
   double shift_tol;            /* a displaced sensor (background.h): 0 = RS_BG_SHIFT_TOL, < 0 = off */
   double shift_gate;           /* 0 = RS_BG_SHIFT_GATE, < 0 = no gate (every frame) */
   double shift_deg;            /* 0 = RS_BG_SHIFT_DEG, < 0 = none */
@@ -116,7 +118,8 @@ typedef struct {
 /* RS_OK, or a negative code with err set (nothing left allocated). */
 int rs_proc_init(rs_proc_t *p, const rs_proc_cfg_t *cfg, char *err, size_t errlen);
 void rs_proc_deinit(rs_proc_t *p);
-/* The ground built from the model in use (NULL before the first model; not valid when none was found). */
+/* The ground built from the model in use (NULL before the first model, and with no_ground; not valid
+ * when none was found). */
 const rs_ground_t *rs_proc_ground(const rs_proc_t *p);
 /* Runs every configured stage on s (whose frames come from sensor) and
  * fills r. Frames whose geometry is not the model's are not subtracted;
