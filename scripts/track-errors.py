@@ -11,7 +11,9 @@
         younger than 1 s, rows of one vehicle followed by two tracks at once, and the
         steady rest; and the heading RMSE (the track's heading against the true velocity's
         direction, rows of vehicles moving faster than 1 m/s) of each. Then the rows of
-        standing vehicles (true speed under 0.05 m/s) and how many of them report a speed.
+        standing vehicles (true speed under 0.05 m/s) and how many of them report a speed; the
+        mean (signed) error of the rows speeding up and of those braking, and the RMSE by range
+        (0-20, 20-40, 40-60, 60-80 m from the sensor).
     scripts/track-errors.py ids MOTDUMP STATES
         From roadscan-eval --tracking ... --mot-dump MOTDUMP: per true class, the frames of
         each true object not matched (IoU > 0.5) by its most frequent track, and each
@@ -49,6 +51,19 @@
         scripts/tracking.sh leaves them in out/tracking/*.json): the vehicles' spot speed RMSE at the
         counting lines, by how each crossing was found (seen, hidden, unseen) and in all, and on the
         crossings where the track was listed confirmed, the spot speed's against the track's own.
+    scripts/track-errors.py crossings CROSSINGS TRACKS STATES [CROSSINGS TRACKS STATES ...]
+        Over all given (roadscand --crossings-out, --tracks-out, roadscan-sim --truth-states of
+        one run each; the five lines of scripts/tracking.sh): the true crossings (each segment of a
+        road user's path between two true states that crosses a line, the crossing interpolated:
+        a few more or fewer than roadscan-eval's, which takes the first state past the line),
+        each counted crossing matched to a true one of its line and way within 1.5 s and 2.5 m
+        along it (greedy, in time order, as roadscan-eval --crossings); the counted ones that match
+        none, by kind: a second count of a true crossing already matched, one near a true crossing
+        of the line left unmatched (within 4 s), or none; how many of those and of the matched
+        ones were counted by slivers (a track's box under 0.25 m tall or wide at the crossing);
+        the true crossings missed, vehicles among them; and the pairs of counted crossings of one
+        line and way within 2.5 s whose tracks' boxes overlapped at the second one (a rule that
+        would not count the second: how many of those are second counts, how many true).
     scripts/track-errors.py close STATES...
         Per true-states file: how many pairs of walkers came within 0.45 m of each other (centres;
         bodies are 0.5 m wide), the states within 0.6 m, and the nearest two ever came (m): how
@@ -132,7 +147,7 @@ def speed(tracks_path, states_path):
             if math.hypot(s[2], s[3]) > 1.0 and r.get("heading", "") not in ("", "nan"):
                 herr = wrap(math.degrees(float(r["heading"]) - math.atan2(s[3], s[2])))
             samples.append((int(r["track"]), best, round(t, 2), float(r["speed"]) - math.hypot(s[2], s[3]), accel,
-                            float(r["age"]), turn, herr, math.hypot(s[2], s[3])))
+                            float(r["age"]), turn, herr, math.hypot(s[2], s[3]), math.hypot(s[0], s[1])))
     if not samples:
         print(f"{tracks_path}: no confirmed vehicle rows within 80 m")
         return
@@ -164,6 +179,13 @@ def speed(tracks_path, states_path):
         moving = [s[3] + s[8] for s in standing if s[3] + s[8] > 0.0]
         print(f"  {'standing (true speed < 0.05 m/s)':38s} rows {len(standing):6d}  reported moving {len(moving)} "
               f"({100.0 * len(moving) / len(standing):.1f} %, the most {max(moving, default=0.0):.2f} m/s)")
+    for name, sel in (("speeding up (> 0.5 m/s^2)", [s for s in samples if s[4] > 0.5]),
+                      ("braking (< -0.5 m/s^2)", [s for s in samples if s[4] < -0.5])):
+        if sel:
+            print(f"  {name:38s} rows {len(sel):6d}  mean error {sum(s[3] for s in sel) / len(sel):+.3f} m/s")
+    bands = [(lo, [s[3] for s in samples if lo <= s[9] < lo + 20.0]) for lo in (0.0, 20.0, 40.0, 60.0)]
+    print("  by range: " + ", ".join(f"{lo:.0f}-{lo + 20:.0f} m {math.sqrt(sum(e * e for e in es) / len(es)):.3f} ({len(es)})"
+                                     for lo, es in bands if es))
 
 
 def ids(mot_path, states_path):
@@ -459,10 +481,113 @@ def spot(*paths):
           f", the track's own {pooled('track_speed_at_crossing_rmse_vehicles', 'track_speed_at_crossing_samples_vehicles')}")
 
 
+# the counting lines of scripts/tracking.sh (sensor frame, m)
+TRACKING_LINES = {"east": (41.5, 4.5, 41.5, 18.5), "west": (-18.5, 4.5, -18.5, 18.5), "north": (4.5, 41.5, 18.5, 41.5),
+                  "south": (4.5, -18.5, 18.5, -18.5), "walk": (31.5, 19.5, 31.5, 23.5)}
+SLIVER_M = 0.25  # a box under this tall or wide: one row's arc, a face seen edge-on
+MATCH_S, MATCH_M, NEAR_S, PAIR_S = 1.5, 2.5, 4.0, 2.5
+
+
+def true_crossings(states_path):
+    """[t, line, way, along, class, id, matched] for each segment of a road user's path that crosses a line;
+    forward: from the right of the line's first end -> second end to its left, as roadscand"""
+    paths, cls = defaultdict(list), {}
+    with open(states_path, newline="") as f:
+        for r in csv.DictReader(f):
+            paths[int(r["id"])].append((float(r["t"]), float(r["x"]), float(r["y"])))
+            cls[int(r["id"])] = r["class"]
+    out = []
+    for name, (ax, ay, bx, by) in TRACKING_LINES.items():
+        length = math.hypot(bx - ax, by - ay)
+        for k, rows in paths.items():
+            for a, b in zip(rows, rows[1:]):
+                sa = (bx - ax) * (a[2] - ay) - (by - ay) * (a[1] - ax)
+                sb = (bx - ax) * (b[2] - ay) - (by - ay) * (b[1] - ax)
+                if sa * sb >= 0:
+                    continue
+                w = sa / (sa - sb)
+                x, y = a[1] + w * (b[1] - a[1]), a[2] + w * (b[2] - a[2])
+                along = ((x - ax) * (bx - ax) + (y - ay) * (by - ay)) / length
+                if 0.0 <= along <= length:
+                    out.append([a[0] + w * (b[0] - a[0]), name, "backward" if sa > 0 else "forward", along, cls[k], k, False])
+    return out
+
+
+def crossings(*paths):
+    if not paths or len(paths) % 3:
+        sys.exit(__doc__.strip())
+    n = Counter()
+    for k in range(0, len(paths), 3):
+        truth = true_crossings(paths[k + 2])
+        with open(paths[k], newline="") as f:
+            counted = sorted(csv.DictReader(f), key=lambda r: float(r["t"]))
+        frames = defaultdict(dict)  # frame -> track -> row
+        with open(paths[k + 1], newline="") as f:
+            for r in csv.DictReader(f):
+                frames[int(r["frame"])][r["track"]] = r
+        times = sorted((float(next(iter(rs.values()))["t"]), fr) for fr, rs in frames.items())
+
+        def row_at(track, t):
+            """the track's row of the first frame at or after t (within a frame) that lists it"""
+            i = bisect.bisect_left(times, (t - 0.06,))
+            for _, fr in times[i:i + 12]:
+                if track in frames[fr]:
+                    return fr, frames[fr][track]
+            return None, None
+
+        for c in counted:
+            t, at = float(c["t"]), float(c["at"])
+            best = None
+            for x in truth:
+                if not x[6] and x[1] == c["line"] and x[2] == c["direction"] and abs(x[0] - t) <= MATCH_S and \
+                        abs(x[3] - at) <= MATCH_M and (best is None or abs(x[0] - t) < abs(best[0] - t)):
+                    best = x
+            if best:
+                best[6] = True
+            c["matched"] = best is not None
+            _, r = row_at(c["track"], t)
+            c["sliver"] = r is not None and (float(r["height"]) < SLIVER_M or float(r["width"]) < SLIVER_M)
+            n["matched, by slivers" if best and c["sliver"] else "matched" if best else "unmatched"] += 1
+        for c in counted:
+            if c["matched"]:
+                continue
+            t, at = float(c["t"]), float(c["at"])
+            if any(x[6] and x[1] == c["line"] and x[2] == c["direction"] and abs(x[0] - t) <= MATCH_S and
+                   abs(x[3] - at) <= MATCH_M for x in truth):
+                kind = "a second count of a matched true crossing"
+            elif any(not x[6] and x[1] == c["line"] and abs(x[0] - t) <= NEAR_S for x in truth):
+                kind = "near an unmatched true crossing of its line"
+            else:
+                kind = "no true crossing near"
+            n["unmatched: " + kind + (", by slivers" if c["sliver"] else "")] += 1
+        for i, c in enumerate(counted):  # pairs of one line and way, the tracks' boxes overlapping at the second
+            fr, b = row_at(c["track"], float(c["t"]))
+            if b is None:
+                continue
+            for p in counted[:i]:
+                if p["line"] != c["line"] or p["direction"] != c["direction"] or p["track"] == c["track"] or \
+                        float(c["t"]) - float(p["t"]) > PAIR_S:
+                    continue
+                a = frames[fr].get(p["track"])
+                if a is None:
+                    continue
+                h = float(b["heading"])
+                dx, dy = float(a["x"]) - float(b["x"]), float(a["y"]) - float(b["y"])
+                u, v = abs(dx * math.cos(h) + dy * math.sin(h)), abs(-dx * math.sin(h) + dy * math.cos(h))
+                if u < 0.5 * (float(a["length"]) + float(b["length"])) and v < 0.5 * (float(a["width"]) + float(b["width"])):
+                    n["overlapping pairs: the second " + ("true" if c["matched"] else "unmatched")] += 1
+        n["true"] += len(truth)
+        n["true, missed"] += sum(1 for x in truth if not x[6])
+        n["true, missed vehicles"] += sum(1 for x in truth if not x[6] and x[4] in VEHICLES)
+    for kind in sorted(n):
+        print(f"  {kind:66s} {n[kind]:6d}")
+
+
 def main(argv):
     modes = {"speed": speed, "ids": ids, "close": close, "traffic": traffic, "unmatched": unmatched, "matched": matched,
-             "born": born, "spot": spot}
-    if len(argv) < 2 or argv[0] not in modes or (argv[0] not in ("close", "traffic", "matched", "born", "spot") and len(argv) != 3):
+             "born": born, "spot": spot, "crossings": crossings}
+    if len(argv) < 2 or argv[0] not in modes or \
+            (argv[0] not in ("close", "traffic", "matched", "born", "spot", "crossings") and len(argv) != 3):
         sys.exit(__doc__.strip())
     modes[argv[0]](*argv[1:])
 
