@@ -64,6 +64,13 @@
         the true crossings missed, vehicles among them; and the pairs of counted crossings of one
         line and way within 2.5 s whose tracks' boxes overlapped at the second one (a rule that
         would not count the second: how many of those are second counts, how many true).
+    scripts/track-errors.py late MOTDUMP TRACKS STATES [MOTDUMP TRACKS STATES ...]
+        Over all given: the true objects not matched (IoU > 0.5) by a confirmed track within 0.3 s
+        (3 frames) of their first frame as an instance (>= 10 returns), as roadscan-eval's
+        confirmed_within_0_3s counts them, walkers (pedestrians, cyclists) and vehicles apart, by
+        why: hidden most of the wait (an instance in under half its frames), seen and matched by a
+        tentative track in at least half of them (the confirmation rules held it), or seen and not
+        matched; then the objects confirmed in time.
     scripts/track-errors.py close STATES...
         Per true-states file: how many pairs of walkers came within 0.45 m of each other (centres;
         bodies are 0.5 m wide), the states within 0.6 m, and the nearest two ever came (m): how
@@ -481,6 +488,42 @@ def spot(*paths):
           f", the track's own {pooled('track_speed_at_crossing_rmse_vehicles', 'track_speed_at_crossing_samples_vehicles')}")
 
 
+def late(*paths):
+    if not paths or len(paths) % 3:
+        sys.exit(__doc__.strip())
+    n = Counter()
+    for k in range(0, len(paths), 3):
+        _, cls = load_states(paths[k + 2])
+        state = {}
+        with open(paths[k + 1], newline="") as f:
+            for r in csv.DictReader(f):
+                state[(int(r["frame"]), int(r["track"]))] = r["state"]
+        inst, match = defaultdict(set), defaultdict(dict)
+        with open(paths[k], newline="") as f:
+            for r in csv.DictReader(f):
+                t, fr = int(r["truth"]), int(r["frame"])
+                if t == 0:
+                    continue
+                inst[t].add(fr)
+                if int(r["pred"]) >= 3 and float(r["iou"]) > 0.5:
+                    match[t][fr] = int(r["pred"]) - 2
+        for t, frames in inst.items():
+            f0 = min(frames)
+            fc = next((fr for fr in sorted(frames) if state.get((fr, match[t].get(fr))) == "confirmed"), None)
+            who = "walkers" if cls.get(t) in ("pedestrian", "cyclist") else "vehicles"
+            if fc is not None and fc - f0 <= 3:
+                n[f"{who}: confirmed within 0.3 s"] += 1
+                continue
+            end = fc if fc is not None else max(frames) + 1
+            seen = [fr for fr in frames if f0 <= fr < end]
+            tentative = sum(1 for fr in seen if fr in match[t])
+            why = "hidden most of the wait" if len(seen) < 0.5 * (end - f0) else \
+                  "seen, tracked by a tentative track" if tentative >= 0.5 * len(seen) else "seen, not matched"
+            n[f"{who}: late, {why}"] += 1
+    for kind in sorted(n):
+        print(f"  {kind:56s} {n[kind]:6d}")
+
+
 # the counting lines of scripts/tracking.sh (sensor frame, m)
 TRACKING_LINES = {"east": (41.5, 4.5, 41.5, 18.5), "west": (-18.5, 4.5, -18.5, 18.5), "north": (4.5, 41.5, 18.5, 41.5),
                   "south": (4.5, -18.5, 18.5, -18.5), "walk": (31.5, 19.5, 31.5, 23.5)}
@@ -585,9 +628,9 @@ def crossings(*paths):
 
 def main(argv):
     modes = {"speed": speed, "ids": ids, "close": close, "traffic": traffic, "unmatched": unmatched, "matched": matched,
-             "born": born, "spot": spot, "crossings": crossings}
+             "born": born, "spot": spot, "crossings": crossings, "late": late}
     if len(argv) < 2 or argv[0] not in modes or \
-            (argv[0] not in ("close", "traffic", "matched", "born", "spot", "crossings") and len(argv) != 3):
+            (argv[0] not in ("close", "traffic", "matched", "born", "spot", "crossings", "late") and len(argv) != 3):
         sys.exit(__doc__.strip())
     modes[argv[0]](*argv[1:])
 
