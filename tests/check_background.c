@@ -94,6 +94,11 @@ static rs_slot_t slot;
  * 10 s of every 60 s, in a quarter of the 5 s windows; its returns spread
  * over 0.6 m (the mixed returns of its edge), the far side of the edge
  * (49 m) in a quarter of those frames, at random */
+/* row 3 also holds, in columns 60-69, the ground far off at a grazing angle:
+ * 86 m, returned in 4 % of the frames at random in each cell on its own,
+ * nothing otherwise (no return is a persistent state there: sky); and in
+ * columns 80-89 traffic in front of nothing: a vehicle at 30 m in 2 % of the
+ * frames, at random, seen in the ten cells at once, for one frame */
 #define ROWS 16 /* a VLP-16's */
 #define COLS 100
 static float truth_range(int row, int col, int frame, uint64_t *rng) {
@@ -107,7 +112,11 @@ static float truth_range(int row, int col, int frame, uint64_t *rng) {
   case 0: return (float)(20.0 + noise);
   case 1: return (float)(u < 0.5 ? 8.0 + u + noise : 20.0 + noise);
   case 2: return (float)(fmod(t, 60.0) < 30.0 ? 9.0 + noise : 12.0 + noise);
-  case 3: return fmod(t, 60.0) < 30.0 ? (float)(15.0 + noise) : 0.0f;
+  case 3:
+    if (col >= 60 && col < 70) return u < 0.04 ? (float)(86.0 + noise) : 0.0f;
+    if (col >= 80 && col < 90) /* one draw per frame, the same for the ten cells */
+      return ((uint32_t)frame * 2654435761u) % 10000u < 200u ? (float)(30.0 + noise) : 0.0f;
+    return fmod(t, 60.0) < 30.0 ? (float)(15.0 + noise) : 0.0f;
   case 4: return (float)(fmod(t, 2.0) < 0.3 ? 10.0 + noise : 14.0 + noise);
   case 5: return (float)(40.0 + 2.0 * fmod(frame * 0.843, 1.0) + noise);
   case 6: return u < 0.5 ? 0.0f : (float)(186.0 + 0.17 * (double)((*rng >> 40) % 24) + noise);
@@ -196,6 +205,14 @@ START_TEST(t_learn_hard_cases) {
   /* a truck against the sky is never background */
   ck_assert(!rs_bg_is_static(&model, 3, 5, 15.0f));
   ck_assert_int_eq(model.n[3 * COLS + 5], 0);
+  /* the far ground whose returns drop out at random, cell by cell, is
+   * background; traffic in front of nothing, now and then, in the ten cells
+   * at once, is not */
+  for (int c = 60; c < 70; c++) {
+    ck_assert_msg(rs_bg_is_static(&model, 3, c, 86.0f), "sparse ground, column %d", c);
+    ck_assert(!rs_bg_is_static(&model, 3, c, 84.0f));
+  }
+  for (int c = 80; c < 90; c++) ck_assert_msg(!rs_bg_is_static(&model, 3, c, 30.0f), "passing traffic, column %d", c);
   /* passing traffic is foreground */
   ck_assert(rs_bg_is_static(&model, 4, 5, 14.0f));
   ck_assert(!rs_bg_is_static(&model, 4, 5, 10.0f));
@@ -278,6 +295,16 @@ START_TEST(t_learn_hard_cases) {
     ck_assert_msg(rs_bg_is_static(&model, off[i].row, 5, off[i].range) == off[i].is_static,
                   "rule %zu off: row %d at %.1f m static %d", i, off[i].row, (double)off[i].range, !off[i].is_static);
   }
+  rs_bg_model_free(&model);
+  /* without sparse_cover the far ground is background only in the cells whose
+   * few returns happened to fall in 80 % of the windows */
+  rs_bg_params_t p;
+  rs_bg_params_default(&p);
+  p.sparse_cover = 0.0;
+  learn_model_params(&p);
+  int ground = 0;
+  for (int c = 60; c < 70; c++) ground += rs_bg_is_static(&model, 3, c, 86.0f);
+  ck_assert_int_le(ground, 3);
   rs_bg_model_free(&model);
 }
 END_TEST

@@ -1302,6 +1302,60 @@ START_TEST(t_split_near_circle) {
 }
 END_TEST
 
+/* A bus (12 x 2.5 m) 110 m off drives towards the sensor at 9 m/s along a
+ * lane 9.75 m to its side, seen whole for 3 s, then as what a grazing view
+ * leaves of it: the rear 4 m of its near side (0.2 m wide) and its front
+ * face (2.5 x 0.1 m), two clusters. Its track takes the side piece, nearer
+ * its prediction; measured by it alone (a third of its length, moved by
+ * at most 3 m towards where the rest should be, the wrong way here) its box
+ * slides back along the bus. With merge_parts it is updated by the two
+ * together and stays on the bus. A walker with a confirmed track of its own,
+ * standing by the kerb where the bus's front face passes, within the bus's
+ * size, keeps its returns: it is in its own track's box. */
+static double merge_seq(int on, uint32_t *walker_frames) {
+  if (on < 0) init_default();
+  else init_knob("merge_parts", on);
+  *walker_frames = 0;
+  uint32_t walker = 0;
+  double err = 0.0;
+  for (int f = 0; f < 55; f++) {
+    const double t = 0.1 * f, yc = 110.0 - 9.0 * t;
+    clear();
+    if (f < 30) put(t, 9.75, yc, 12.0, 2.5, -0.5 * M_PI, 3.0, 200);
+    else {
+      put(t, 8.6, yc + 4.0, 4.0, 0.2, 0.5 * M_PI, 3.0, 30);
+      put(t, 9.75, yc - 6.0, 2.5, 0.1, 0.0, 3.0, 60);
+    }
+    put(t, 7.3, 65.0, 0.45, 0.4, 0.0, 1.7, 25); /* the walker */
+    rs_track_frame(&tr, &objs, t + 0.05);
+    const uint32_t bus = tr.list.object_track[0];
+    ck_assert_uint_ne(bus, 0);
+    if (f == 29) walker = tr.list.object_track[1];
+    if (f >= 30) {
+      walker = walker ? walker : tr.list.object_track[2];
+      *walker_frames += tr.list.object_track[2] == walker && walker != bus;
+      err = fabs(find_id(bus)->x[1] - yc);
+    }
+  }
+  return err;
+}
+
+START_TEST(t_merge_parts) {
+  uint32_t wf;
+  const double on = merge_seq(1, &wf);
+  ck_assert_msg(on < 1.0, "merged: the track %.2f m off the bus's centre", on);
+  ck_assert_uint_eq(tr.n.born, 2); /* the bus and the walker */
+  ck_assert_uint_gt(tr.n.merged, 20);
+  ck_assert_uint_eq(wf, 25);
+  const double off = merge_seq(0, &wf);
+  ck_assert_msg(off > 3.0, "not merged: the track %.2f m off the bus's centre", off);
+  ck_assert_uint_eq(tr.n.merged, 0);
+  ck_assert_uint_gt(tr.n.born, 2); /* and a part of the bus became a track of its own */
+  ck_assert_double_eq_tol(merge_seq(-1, &wf), on, 1e-9);
+  knob_refused("merge_parts", "2");
+}
+END_TEST
+
 /* A pedestrian walks 4 s toward the road, then stands hidden behind a
  * parked van; a car comes out from behind the van 1.8 m before where it
  * was last seen, seen side-on (4.5 x 1.8 m) or end-on (2 x 1.8 m). The pedestrian's track does not
@@ -2011,6 +2065,7 @@ int main(void) {
   tcase_add_test(tc, t_split_side);
   tcase_add_test(tc, t_split_turned);
   tcase_add_test(tc, t_split_near_circle);
+  tcase_add_test(tc, t_merge_parts);
   tcase_add_test(tc, t_speed_follows);
   tcase_add_test(tc, t_speed_imm);
   tcase_add_test(tc, t_turn_rate);

@@ -173,6 +173,10 @@ static const rs_opt_t table[] = {
                 "the farthest cluster of a cell is no surface when the cell returns nothing more often than it "
                 "and, once seen, it is back in the next frame at least SHARE of the time (a vehicle standing "
                 "where nothing behind it returns) (0 = off)"),
+    RS_OPT_DBL_("sparse-cover", "SHARE", T, params.sparse_cover, 0, 1,
+                "a cluster of a cell that flickers, at one range, present in SHARE of the 5 s windows that returns "
+                "at random at its rate would be in, is a surface whose returns drop out (far ground at a grazing "
+                "angle) (0 = off)"),
     {.type = RS_OPT_BOOL, .name = "support", .arg = "on|off", .off = offsetof(T, params.support),
      .help = "a nearer cluster that a neighbouring cell sees as static in half its frames or more is static too "
              "(edges)"},

@@ -26,6 +26,7 @@ void rs_bg_params_default(rs_bg_params_t *p) {
   p->void_stay = 0.6;
   p->flicker_lift = 0.25;
   p->coverage_min = 0.8;
+  p->sparse_cover = 0.8;
   p->window_s = 5.0;
   p->pair_gap_s = 1.0;
   p->margin_min = 0.05;
@@ -583,6 +584,41 @@ static bool flickers(const clus_t *q, uint32_t npairs, double lift) {
   return q->pairs >= 10 && stay - base < lift;
 }
 
+/* whether a cluster [lo, hi] (cm) of a cell comes and goes independently of
+ * what the cells beside it in the row return at about its range: a surface
+ * whose returns drop out at random drops out in each cell on its own, a
+ * vehicle passing covers several cells at once. For each neighbour, P(it
+ * returns within max(0.5 m, 2 %) of [lo, hi] | the cluster is seen) minus
+ * P(it does) is below lift. */
+static bool alone_in_row(const rs_bg_learner_t *l, size_t cell, int nf, int32_t lo, int32_t hi, double lift) {
+  const size_t col = cell % (size_t)l->cols, base = cell - col;
+  const int32_t tol = (int32_t)lround(fmax(50.0, 0.02 * lo));
+  const uint16_t *smp = l->samples + cell * (size_t)l->max_frames;
+  for (int side = 0; side < 2; side++) {
+    const size_t nc = base + (side ? (col + 1 < (size_t)l->cols ? col + 1 : 0) : (col > 0 ? col - 1 : (size_t)l->cols - 1));
+    const uint16_t *nb = l->samples + nc * (size_t)l->max_frames;
+    uint32_t in = 0, both = 0, near = 0;
+    for (int f = 0; f < nf; f++) {
+      const bool n_in = nb[f] && nb[f] >= lo - tol && nb[f] <= hi + tol;
+      near += n_in;
+      if (smp[f] && smp[f] >= lo && smp[f] <= hi) {
+        in++;
+        both += n_in;
+      }
+    }
+    if (in == 0 || (double)both / in - (double)near / nf >= lift) return false;
+  }
+  return true;
+}
+
+/* the windows (wn[w] frames sampled in window w) a cluster returning in each
+ * frame at random with probability r is expected to be seen in */
+static double random_windows(const int *wn, int nwin, double r) {
+  double e = 0.0;
+  for (int w = 0; w < nwin; w++) e += 1.0 - pow(1.0 - r, wn[w]);
+  return e;
+}
+
 /* extent, count, time windows and consecutive pairs of every cluster and of
  * "no return" (cl[k]); memb = cluster of every stored frame in time order.
  * Returns the number of consecutive pairs. */
@@ -692,6 +728,7 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
   tidx_t *ti = malloc(sizeof(tidx_t) * (size_t)nf);
   int *order = malloc(sizeof(int) * (size_t)nf);
   int *win = malloc(sizeof(int) * (size_t)nf);
+  int *wn = malloc(sizeof(int) * (size_t)nf);
   int32_t *vals = malloc(sizeof(int32_t) * (size_t)nf), *v = malloc(sizeof(int32_t) * (size_t)nf);
   uint32_t *cnt = malloc(sizeof(uint32_t) * (size_t)nf);
   int16_t *label = malloc(sizeof(int16_t) * (size_t)nf);
@@ -699,7 +736,7 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
   cand_t *cand = p->method == RS_BG_PERCENTILE ? NULL : calloc(cells * CAND, sizeof(cand_t));
   uint8_t *ncand = calloc(cells, 1);
   uint16_t *ilo = malloc(cells * RS_BG_SURFACES * sizeof(uint16_t)), *ihi = malloc(cells * RS_BG_SURFACES * sizeof(uint16_t));
-  if (!ti || !order || !win || !vals || !v || !cnt || !label || !memb || (!cand && p->method != RS_BG_PERCENTILE) ||
+  if (!ti || !order || !win || !wn || !vals || !v || !cnt || !label || !memb || (!cand && p->method != RS_BG_PERCENTILE) ||
       !ncand || !ilo || !ihi) {
     rc = RS_E_OOM;
     goto done;
@@ -711,6 +748,11 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
   for (int i = 0; i < nf; i++) win[i] = (int)floor((l->t[order[i]] - t0) / p->window_s);
   int nwin = 1;
   for (int i = 1; i < nf; i++) nwin += win[i] != win[i - 1];
+  /* frames sampled in each window that has any (in time order) */
+  for (int i = 0, w = 0; i < nf; i++) {
+    if (i > 0 && win[i] != win[i - 1]) w++;
+    wn[w] = i > 0 && win[i] == win[i - 1] ? wn[w] + 1 : 1;
+  }
   const uint32_t min_pts = (uint32_t)rs_bg_min_pts(p, nf);
 
   /* pass 1: every cell's clusters, decided by the cell's own samples */
@@ -781,6 +823,16 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
         if (cl[m].pairs > 0 && cl[m].stay < RS_BG_INTERMITTENT * cl[m].pairs) behind_edge += cl[m].count;
       const double behind = (double)cl[j].behind - behind_edge;
       bg[j] = !wide[j] && ((j == k - 1 && far_surface) || (fl[j] && (double)cl[j].windows / nwin >= p->coverage_min));
+      /* a surface whose returns drop out at random (ground far off at a
+       * grazing angle, seen in a few % of the frames, the cell returning
+       * nothing the rest: sky by the test above) is in fewer windows than
+       * coverage_min, but in about as many as random returns at its rate
+       * would be; traffic passing now and then comes in bursts */
+      if (!bg[j] && !wide[j] && fl[j] && p->sparse_cover > 0 && nf >= RS_BG_JUDGE_FRAMES &&
+          cl[j].hi - cl[j].lo <= (int32_t)lround(fmax(p->occluded_spread * 100.0, 0.01 * cl[j].lo)) &&
+          cl[j].windows >= p->sparse_cover * random_windows(wn, nwin, (double)cl[j].count / nf) &&
+          alone_in_row(l, cell, nf, cl[j].lo, cl[j].hi, p->flicker_lift))
+        bg[j] = true;
       /* hidden, not gone: a nearer cluster seen in a good share of the frames,
        * throughout the capture, at one range, and when it is not seen the
        * cell mostly returns something nearer (traffic in front of it; not
@@ -976,6 +1028,7 @@ done:
   free(ti);
   free(order);
   free(win);
+  free(wn);
   free(vals);
   free(v);
   free(cnt);

@@ -85,6 +85,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->walker_reacq_s = 0.3;
   c->circle_whole = 1;
   c->uncover_restart = 1;
+  c->merge_parts = 1;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -109,7 +110,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->near_ref_m >= 0 && cfg->near_ref_m <= 1000) || !(cfg->near_ref_s >= 0 && cfg->near_ref_s <= 60) ||
       !(cfg->twin_s >= 0 && cfg->twin_s <= 60) || !(cfg->walker_reacq_s >= 0 && cfg->walker_reacq_s <= 60) ||
       !(cfg->seen_across_m >= 0 && cfg->seen_across_m <= 20) ||
-      cfg->circle_whole < 0 || cfg->circle_whole > 1 || cfg->uncover_restart < 0 || cfg->uncover_restart > 1)
+      cfg->circle_whole < 0 || cfg->circle_whole > 1 || cfg->uncover_restart < 0 || cfg->uncover_restart > 1 ||
+      cfg->merge_parts < 0 || cfg->merge_parts > 1)
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -144,7 +146,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1), KNOB_INT(dup_box, 0, 1),
     KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),      KNOB(twin_s, 0.0, 60.0),
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
-    KNOB_INT(uncover_restart, 0, 1),
+    KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -1484,6 +1486,71 @@ static bool unseen(const rs_track_t *o) {
   return o->id != 0 && o->object < 0 && !rs_track_held(o) && (o->state == RS_TRACK_COASTING || o->state == RS_TRACK_LOST);
 }
 
+/* merge_parts: track i (t, of a long vehicle) took object o; the free thin
+ * parts that fit with it in t's size on t's axes (fits_on, each tried against
+ * the box grown so far) and lie in no other confirmed or coasting track's
+ * predicted box (within half its length and 1 m of its predicted centre) are
+ * taken too, and *m is the box of them all on t's axes (no end marked
+ * hidden: the ends inside it hid each other). A bus 80 m off at a grazing
+ * angle comes as its front face and pieces of its side; following one
+ * piece, its track's box slid back along it and the face became a track of
+ * its own. Bounded: the grid cells within its length and the margin,
+ * RS_OBJ_MAX objects a cell. Returns whether any part was taken. */
+static bool merge_parts(rs_tracker_t *tr, uint32_t i, const rs_object_list_t *objs, const rs_object_t *o, rs_object_t *m) {
+  rs_track_list_t *L = &tr->list;
+  const rs_track_t *t = &L->track[i];
+  if (!tr->cfg.merge_parts || !size_known(t) || t->full_length < RS_TRACK_MERGE_LEN_M) return false;
+  bool any = false;
+  *m = *o;
+  const double r = t->full_length + RS_TRACK_SPLIT_MARGIN; /* a part's centre, from the object's: within the length */
+  const double cx = o->sensor.obb_center[0], cy = o->sensor.obb_center[1];
+  const long g0x = (long)floor((cx - r) / GRID), g1x = (long)floor((cx + r) / GRID);
+  const long g0y = (long)floor((cy - r) / GRID), g1y = (long)floor((cy + r) / GRID);
+  for (long gx = g0x; gx <= g1x && gx - g0x < 16; gx++)
+    for (long gy = g0y; gy <= g1y && gy - g0y < 16; gy++)
+      for (int32_t k = tr->grid_head[bucket(gx, gy)], guard = 0; k >= 0 && guard < RS_OBJ_MAX;
+           k = tr->grid_next[k], guard++) {
+        if (tr->obj_cell[k][0] != gx || tr->obj_cell[k][1] != gy) continue; /* another cell, same bucket */
+        const rs_object_t *b = &objs->obj[k];
+        if (k == t->object || tr->taken_by[k] >= 0 || tr->shared[k] || b->points == 0) continue;
+        if (b->sensor.obb_width > RS_TRACK_MERGE_PART_WID_M || !fits_on(tr, t, m, b, t->heading, t->hcos, t->hsin)) continue;
+        const double bx = b->sensor.obb_center[0], by = b->sensor.obb_center[1];
+        const uint32_t nn = tracks_near(tr, bx, by, 10.0);
+        bool other = false;
+        for (uint32_t q = 0; q < nn && !other; q++) {
+          const rs_track_t *u = &L->track[tr->near[q]];
+          if (u == t || u->state == RS_TRACK_TENTATIVE || u->state == RS_TRACK_LOST) continue;
+          double p[2], S[3];
+          predict_pos(tr, u, tr->obj_t[k], p, S);
+          other = norm2(p[0] - bx, p[1] - by) < 0.5 * u->length + 1.0;
+        }
+        if (other) continue;
+        double ea[4], eb[4];
+        box_on(m, t->heading, t->hcos, t->hsin, ea);
+        box_on(b, t->heading, t->hcos, t->hsin, eb);
+        const double u0 = fmin(ea[0], eb[0]), u1 = fmax(ea[1], eb[1]), v0 = fmin(ea[2], eb[2]), v1 = fmax(ea[3], eb[3]);
+        const double cu = 0.5 * (u0 + u1), cv = 0.5 * (v0 + v1), lu = u1 - u0, lv = v1 - v0;
+        m->sensor.obb_center[0] = (float)(cu * t->hcos - cv * t->hsin);
+        m->sensor.obb_center[1] = (float)(cu * t->hsin + cv * t->hcos);
+        m->sensor.obb_heading = (float)(lu >= lv ? t->heading : t->heading + 0.5 * PI);
+        m->sensor.obb_length = (float)fmax(lu, lv);
+        m->sensor.obb_width = (float)fmin(lu, lv);
+        for (int d = 0; d < 3; d++) {
+          m->sensor.box_min[d] = fminf(m->sensor.box_min[d], b->sensor.box_min[d]);
+          m->sensor.box_max[d] = fmaxf(m->sensor.box_max[d], b->sensor.box_max[d]);
+        }
+        m->points += b->points;
+        m->range_min = fminf(m->range_min, b->range_min);
+        m->occluded = 0;
+        tr->taken_by[k] = (int32_t)i;
+        L->object_track[k] = t->id;
+        tr->n.absorbed++;
+        tr->n.merged++;
+        any = true;
+      }
+  return any;
+}
+
 void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_frame) {
   rs_track_list_t *L = &tr->list;
   const rs_track_cfg_t *cf = &tr->cfg;
@@ -1568,11 +1635,13 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   assign(tr, nobj);
   gate(tr, objs, false);
   assign(tr, nobj);
-  /* updates */
+  /* updates (a long vehicle's with its thin parts, merge_parts) */
   for (uint32_t i = 0; i < L->count; i++) {
     rs_track_t *t = &L->track[i];
     if (t->object < 0) continue;
-    take(tr, t, &objs->obj[t->object], tr->obj_t[t->object]);
+    const rs_object_t *o = &objs->obj[t->object];
+    rs_object_t merged;
+    take(tr, t, merge_parts(tr, i, objs, o, &merged) ? &merged : o, tr->obj_t[t->object]);
     L->object_track[t->object] = t->id;
   }
   /* split parts: a free object inside the box of a track that took one this

@@ -80,6 +80,12 @@ typedef struct {
   double flicker_lift;    /* a nearer cluster flickers when P(next in it | in it) - P(next in it)
                              is below this (default 0.25) */
   double coverage_min;    /* ... and is present in this share of windows (default 0.8) */
+  double sparse_cover;    /* ... or, within max(occluded_spread, 1 % of the range), in this share
+                             of the windows a cluster returning at random at its own rate would
+                             be seen in: a far surface whose returns drop out (ground at a grazing
+                             angle, returning in 5 % of the frames, is in fewer than 80 % of the
+                             windows; traffic comes in bursts and covers fewer still); default 0.8,
+                             0 = off; not stored in the model file */
   double window_s;        /* coverage window, default 5 s */
   double pair_gap_s;      /* samples closer than this count as consecutive, default 1 s */
   double margin_min;      /* a surface interval is the cluster's [min, max] widened by */

@@ -103,6 +103,8 @@
 #define RS_TRACK_GROUP_MAX 48    /* tracks or objects in one exactly solved association group */
 #define RS_TRACK_ENDED_MAX 128   /* end events per frame */
 #define RS_TRACK_SPLIT_MARGIN 1.0f
+#define RS_TRACK_MERGE_LEN_M 6.0f     /* merge_parts: a track this long (a bus, a truck) */
+#define RS_TRACK_MERGE_PART_WID_M 0.5f /* merge_parts: parts this wide or less (a face, a piece of a side) */
 #define RS_TRACK_PED_MAX_LENGTH 2.5f /* m, the longest object a pedestrian's track takes */
 #define RS_TRACK_PED_MAX_WIDTH 1.5f  /* m, and the widest (a car seen end-on) */
 #define RS_TRACK_EDGES_PER_TRACK 8 /* the best gated objects a track keeps per round */
@@ -243,6 +245,11 @@ typedef struct {
                                   uncovered as that moves off), starts its speed estimator again there at 0
                                   m/s, as uncertain as at birth (init_speed_sd): the jump of the box's centre
                                   is not speed; the filter and the ids untouched (default 1; docs/tracking.md) */
+  int merge_parts;             /* 1: a long vehicle's track (full length RS_TRACK_MERGE_LEN_M or more) is updated by
+                                  its object together with the free thin parts (RS_TRACK_MERGE_PART_WID_M wide or
+                                  less) that fit with it in its size on its axes and lie in no other track's
+                                  predicted box: a bus far off seen as its front face and pieces of its side at a
+                                  grazing angle, whose track followed the pieces (default 1; docs/tracking.md) */
   double seen_across_m;        /* m: a moving vehicle's track of known size, seen within the last 0.5 s, within 80 m
                                   of the sensor and not turning (under 0.1 rad/s), takes no object farther across
                                   its heading from its prediction than this (the next lane is 3-3.7 m over: a
@@ -352,6 +359,7 @@ typedef struct {
 typedef struct {
   uint64_t frames, born, confirmed, ended, overflow, greedy_groups, held, absorbed, ends_dropped, duplicates, stitched, blind_linked;
   uint64_t hold_overflow; /* held tracks beyond RS_TRACK_HOLD_MAX in one cluster (its returns go to the others) */
+  uint64_t merged;        /* split parts a long vehicle's track was updated with (merge_parts; also in absorbed) */
 } rs_track_counters_t;
 
 typedef struct {
