@@ -11,6 +11,8 @@
 # deterministic, so a capture of the same sensor, preset, site and seed is the same
 # file); models are always learned anew.
 # Takes about 30 minutes on 2 cores, 10 when the captures exist.
+# LEARN_ARGS="..." adds roadscan-learn options (a rule off, e.g. --sparse-cover 0) and
+# DOC=FILE writes the table elsewhere than docs/results.md.
 set -euo pipefail
 # roadscand refuses to run as root unless told (it needs no privilege to replay a file): these
 # scripts are often run as root (containers, CI), so they say so
@@ -25,7 +27,7 @@ sim() { # capture truth args...: the capture, unless it exists
     $bin/roadscan-sim "$@" -o "$cap" --labels "$truth" 2>/dev/null
   fi
 }
-doc=docs/results.md
+doc=${DOC:-docs/results.md}
 {
   echo "# Results: clustering on simulated intersections"
   echo
@@ -65,7 +67,7 @@ for sensor in VLP-32C VLP-16; do
     tag="$sensor-$sc"
     sim "$out/$tag-learn.pcap" "$out/$tag-learn.csv" --sensor "$sensor" --scenario $sc --seconds 150 --seed 11
     sim "$out/$tag.pcap" "$out/$tag-truth.csv" --sensor "$sensor" --scenario $sc --seconds 30 --seed 12
-    $bin/roadscan-learn "$out/$tag-learn.pcap" -o "$out/$tag.bg" 2>/dev/null
+    $bin/roadscan-learn "$out/$tag-learn.pcap" -o "$out/$tag.bg" ${LEARN_ARGS:-} 2>/dev/null
     $bin/roadscan-bench "$out/$tag.pcap" --model "$out/$tag.bg" --csv "$out/$tag-bench.csv" > "$out/$tag-bench.txt"
     {
       echo "## $sensor, $sc"
@@ -102,7 +104,7 @@ for site in "5 21 22" "9 41 42"; do
       tag="$sensor-$sc-site$1"
       sim "$out/$tag-learn.pcap" "$out/$tag-learn.csv" --sensor "$sensor" --scenario $sc --set site_seed=$1 --seconds 150 --seed $2
       sim "$out/$tag.pcap" "$out/$tag-truth.csv" --sensor "$sensor" --scenario $sc --set site_seed=$1 --seconds 30 --seed $3
-      $bin/roadscan-learn "$out/$tag-learn.pcap" -o "$out/$tag.bg" 2>/dev/null
+      $bin/roadscan-learn "$out/$tag-learn.pcap" -o "$out/$tag.bg" ${LEARN_ARGS:-} 2>/dev/null
       for m in fspc-adaptive fspc; do
         row=$(score "$tag" "$out/$tag.pcap" "$out/$tag-truth.csv" "$out/$tag.bg" $m -)
         echo "| site $1: $sensor, $sc |${row#|}" >> "$doc"

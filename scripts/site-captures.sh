@@ -7,6 +7,7 @@
 # absent. The background models (.bg) are always learned anew by the current
 # roadscan-learn. SIM_SET="--set K=V ..." adds simulator settings to every capture (a leaning
 # sensor: scripts/tracking.sh --site with lean=).
+# LEARN_ARGS="..." adds roadscan-learn options to every model (a rule off, e.g. --sparse-cover 0).
 # Usage: scripts/site-captures.sh DIR SITE LEARN_SEED TEST_SEED SENSOR...
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -29,6 +30,6 @@ for sensor in "$@"; do
       $bin/roadscan-sim --sensor "$sensor" --scenario $sc --set site_seed="$site" ${SIM_SET:-} --seconds 30 --seed "$seed_test" \
         -o "$dir/$tag.pcap" --labels "$dir/$tag-truth.csv" --truth-states "$dir/$tag-states.csv" 2>/dev/null
     fi
-    $bin/roadscan-learn "$dir/$tag-learn.pcap" -o "$dir/$tag.bg" 2>/dev/null
+    $bin/roadscan-learn "$dir/$tag-learn.pcap" -o "$dir/$tag.bg" ${LEARN_ARGS:-} 2>/dev/null
   done
 done

@@ -11,7 +11,9 @@
 # instead scores another held-out site (its captures made by
 # scripts/site-captures.sh in out/site<SITE>, as scripts/heldout.sh does) and
 # prints its rows (the table's columns) without touching the doc; extra="..."
-# passes roadscand options as for the doc (docs/tracking.md: sites 13, 17, 21, 25);
+# passes roadscand options as for the doc (docs/tracking.md: sites 13, 17, 21, 25) and
+# LEARN_ARGS="..." roadscan-learn options (every mode; the models are learned anew, kept apart as
+# TAG-learnargs.bg; DOC=FILE writes the main table elsewhere than docs/tracking-results.md);
 # lean="DEG TOWARD" makes and scores the site's captures with the sensor leaning DEG
 # degrees towards azimuth TOWARD (roadscan-sim tilt_deg, tilt_toward; in out/site<SITE>-lean).
 #
@@ -34,13 +36,14 @@ cd "$(dirname "$0")/.."
 bin=${BIN:-build/bin}
 out=out/results
 mkdir -p "$out" out/tracking
-doc=docs/tracking-results.md
+doc=${DOC:-docs/tracking-results.md}
 if [ "${1:-}" = "--site" ]; then
   if [ $# -ne 4 ]; then
     echo "usage: scripts/tracking.sh --site SITE LEARN_SEED TEST_SEED" >&2
     exit 2
   fi
   out=out/site$2
+  site_run=1
   if [ -n "${lean:-}" ]; then
     set -- "$@" $lean
     out=out/site$2-lean$5-$6
@@ -50,11 +53,18 @@ if [ "${1:-}" = "--site" ]; then
     scripts/site-captures.sh "$out" "$2" "$3" "$4" VLP-32C VLP-16
   fi
 fi
+model() { # tag: its background model (with LEARN_ARGS one of its own, learned anew each run; a
+  # --site run's are always learned anew by site-captures.sh, with LEARN_ARGS)
+  if [ -n "${LEARN_ARGS:-}" ] && [ -z "${site_run:-}" ]; then echo "$out/$1-learnargs.bg"; else echo "$out/$1.bg"; fi
+}
 capture() { # tag sensor preset seed_learn seed_test [site args]
-  local tag=$1 sensor=$2 sc=$3 sl=$4 st=$5; shift 5
-  if [ ! -f "$out/$tag.bg" ]; then
-    $bin/roadscan-sim --sensor "$sensor" --scenario "$sc" "$@" --seconds 150 --seed "$sl" -o "$out/$tag-learn.pcap" --labels "$out/$tag-learn.csv" 2>/dev/null
-    $bin/roadscan-learn "$out/$tag-learn.pcap" -o "$out/$tag.bg" 2>/dev/null
+  local tag=$1 sensor=$2 sc=$3 sl=$4 st=$5 bg
+  shift 5
+  bg=$(model "$tag")
+  if [ ! -f "$bg" ] || [ -n "${LEARN_ARGS:-}" ]; then
+    [ -f "$out/$tag-learn.pcap" ] ||
+      $bin/roadscan-sim --sensor "$sensor" --scenario "$sc" "$@" --seconds 150 --seed "$sl" -o "$out/$tag-learn.pcap" --labels "$out/$tag-learn.csv" 2>/dev/null
+    $bin/roadscan-learn "$out/$tag-learn.pcap" -o "$bg" ${LEARN_ARGS:-} 2>/dev/null
   fi
   # the test capture with its true states (the capture is the same with or without --truth-states)
   [ -f "$out/$tag.pcap" ] && [ -f "$out/$tag-truth.csv" ] && [ -f "$out/$tag-states.csv" ] && return 0
@@ -68,7 +78,7 @@ lines=(--count-line "east 41.5 4.5 41.5 18.5" --count-line "west -18.5 4.5 -18.5
        --count-line "walk 31.5 19.5 31.5 23.5" --count-zone "junction 4.5 4.5 18.5 4.5 18.5 18.5 4.5 18.5")
 row() { # tag label
   local tag=$1 label=$2
-  $bin/roadscand --pcap "$out/$tag.pcap" --fast --background "$out/$tag.bg" --no-publish --quiet ${extra:-} \
+  $bin/roadscand --pcap "$out/$tag.pcap" --fast --background "$(model "$tag")" --no-publish --quiet ${extra:-} \
     --labels-out out/tracking/$tag${sfx:-}-labels.csv --tracks-out out/tracking/$tag${sfx:-}-tracks.csv \
     --counts-out out/tracking/$tag${sfx:-}-counts.csv --crossings-out out/tracking/$tag${sfx:-}-crossings.csv \
     "${lines[@]}" 2>/dev/null
@@ -241,7 +251,7 @@ extra= sfx=
   echo "and the stages of \`roadscan-bench CAPTURE --model MODEL\` on the VLP-32C rush capture:"
   echo
   $bin/roadscan-bench --tracker 200 | sed 's/^/    /'
-  $bin/roadscan-bench "$out/VLP-32C-rush.pcap" --model "$out/VLP-32C-rush.bg" 2>/dev/null |
+  $bin/roadscan-bench "$out/VLP-32C-rush.pcap" --model "$(model VLP-32C-rush)" 2>/dev/null |
     grep -E "cluster  |objects  |tracks  |processing|tracks alive|stage ratio" | sed 's/^/    /'
 } >> "$doc"
 echo "wrote $doc"

@@ -175,8 +175,9 @@ static const rs_opt_t table[] = {
                 "where nothing behind it returns) (0 = off)"),
     RS_OPT_DBL_("sparse-cover", "SHARE", T, params.sparse_cover, 0, 1,
                 "a cluster of a cell that flickers, at one range, present in SHARE of the 5 s windows that returns "
-                "at random at its rate would be in, is a surface whose returns drop out (far ground at a grazing "
-                "angle) (0 = off)"),
+                "at random at its rate would be in, and coming and going on its own in its row (a vehicle covers "
+                "several cells at once), is a surface whose returns drop out (far ground at a grazing angle) (0 = "
+                "off)"),
     {.type = RS_OPT_BOOL, .name = "support", .arg = "on|off", .off = offsetof(T, params.support),
      .help = "a nearer cluster that a neighbouring cell sees as static in half its frames or more is static too "
              "(edges)"},

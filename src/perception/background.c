@@ -746,12 +746,11 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
   for (int i = 0; i < nf; i++) order[i] = ti[i].i;
   const double t0 = l->t[order[0]];
   for (int i = 0; i < nf; i++) win[i] = (int)floor((l->t[order[i]] - t0) / p->window_s);
-  int nwin = 1;
-  for (int i = 1; i < nf; i++) nwin += win[i] != win[i - 1];
-  /* frames sampled in each window that has any (in time order) */
-  for (int i = 0, w = 0; i < nf; i++) {
-    if (i > 0 && win[i] != win[i - 1]) w++;
-    wn[w] = i > 0 && win[i] == win[i - 1] ? wn[w] + 1 : 1;
+  /* the windows that have sampled frames, and how many each (in time order) */
+  int nwin = 0;
+  for (int i = 0; i < nf; i++) {
+    if (i == 0 || win[i] != win[i - 1]) wn[nwin++] = 0;
+    wn[nwin - 1]++;
   }
   const uint32_t min_pts = (uint32_t)rs_bg_min_pts(p, nf);
 

@@ -880,6 +880,41 @@ static uint32_t tracks_near(rs_tracker_t *tr, double x, double y, double r) {
   return n;
 }
 
+/* The objects of the grid cells within r of (x, y) (at most 16 x 16 cells),
+ * cell by cell (x outer), each cell's in its bucket's order: for (k =
+ * objs_near_first(..); k >= 0; k = objs_near_next(..)). Bounded: RS_OBJ_MAX
+ * steps of a bucket's chain a cell. */
+typedef struct {
+  long g0x, g1x, g0y, g1y, gx, gy;
+  int32_t k;
+  uint32_t guard;
+} objs_near_t;
+static int32_t objs_near_next(const rs_tracker_t *tr, objs_near_t *it) {
+  for (;;) {
+    while (it->k >= 0 && it->guard < RS_OBJ_MAX) {
+      const int32_t k = it->k;
+      it->k = tr->grid_next[k];
+      it->guard++;
+      if (tr->obj_cell[k][0] == it->gx && tr->obj_cell[k][1] == it->gy) return k; /* not another cell, same bucket */
+    }
+    if (++it->gy > it->g1y || it->gy - it->g0y >= 16) {
+      it->gy = it->g0y;
+      if (++it->gx > it->g1x || it->gx - it->g0x >= 16) return -1;
+    }
+    it->k = tr->grid_head[bucket(it->gx, it->gy)];
+    it->guard = 0;
+  }
+}
+static int32_t objs_near_first(const rs_tracker_t *tr, double x, double y, double r, objs_near_t *it) {
+  it->g0x = it->gx = (long)floor((x - r) / GRID);
+  it->g1x = (long)floor((x + r) / GRID);
+  it->g0y = it->gy = (long)floor((y - r) / GRID);
+  it->g1y = (long)floor((y + r) / GRID);
+  it->k = tr->grid_head[bucket(it->gx, it->gy)];
+  it->guard = 0;
+  return objs_near_next(tr, it);
+}
+
 /* ---- assignment ------------------------------------------------------------ */
 static int cmp_edge(const void *x, const void *y) {
   const rs_track_edge_t *p = x, *q = y;
@@ -1023,54 +1058,49 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
     if ((t->state != RS_TRACK_TENTATIVE) != confirmed_round) continue;
     const double sp = norm2(t->x[2], t->x[3]);
     const double radius = cf->gate_m + sp * 0.15 + MAX_SHIFT;
-    const long g0x = (long)floor((t->x[0] - radius) / GRID), g1x = (long)floor((t->x[0] + radius) / GRID);
-    const long g0y = (long)floor((t->x[1] - radius) / GRID), g1y = (long)floor((t->x[1] + radius) / GRID);
     struct { uint16_t o; float c; } best[EDGES_PER_TRACK];
     int nb = 0;
-    for (long gx = g0x; gx <= g1x && gx - g0x < 16; gx++)
-      for (long gy = g0y; gy <= g1y && gy - g0y < 16; gy++) {
-        for (int32_t k = tr->grid_head[bucket(gx, gy)], guard = 0; k >= 0 && guard < RS_OBJ_MAX; k = tr->grid_next[k], guard++) {
-          const rs_object_t *o = &objs->obj[k];
-          if (tr->taken_by[k] >= 0 || tr->shared[k]) continue;
-          if (tr->obj_cell[k][0] != gx || tr->obj_cell[k][1] != gy) continue; /* another cell, same bucket */
-          double z[2], sd, p[2], S[3], misfit;
-          meas_for(tr, t, o, z, &sd, &misfit);
-          const double tk = tr->obj_t[k];
-          predict_pos(tr, t, tk, p, S);
-          const double dx = z[0] - p[0], dy = z[1] - p[1], d = sqrt(dx * dx + dy * dy);
-          const double unseen = tk - t->t_update; /* the gate grows while a track is not seen */
-          if (d > (unseen > 0.5 ? fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (unseen - 0.5)) : cf->gate_m)) continue;
-          if (off_lane(cf, t, dx, dy, unseen)) continue;
-          const double dtu = tk - t->t_z; /* the speed the pairing implies, from the last measurement */
-          if (dtu > 0.02 && norm2(z[0] - t->last_z[0], z[1] - t->last_z[1]) / dtu > cf->max_speed) continue;
-          const double s00 = S[0] + sd * sd, s01 = S[1], s11 = S[2] + sd * sd, det = s00 * s11 - s01 * s01;
-          if (!(det > 0)) continue;
-          const double m2 = (dx * dx * s11 - 2 * dx * dy * s01 + dy * dy * s00) / det;
-          if (m2 > cf->gate_chi2) continue;
-          /* a pedestrian does not turn into a vehicle (one passing where it walked, or was last seen), nor
-           * does a track that walked like one, once its box has grown on a part of something else */
-          if (walker_like(cf, t) && vehicle_sized(o->sensor.obb_length, o->sensor.obb_width)) continue;
-          /* nor is a walker's track, re-acquired, taken up by a vehicle: one seen only as a walker's body
-           * (walker_body) does not take a vehicle-sized object of many times its returns after walker_reacq_s
-           * unseen (a car coming out of the circle below the lowest beam where a walker went in) */
-          if (walker_reacq(cf, t, unseen, o->sensor.obb_length, o->sensor.obb_width, o->points)) continue;
-          /* and how unlike the track's last object it is: a track keeps its object, not a fragment beside it */
-          /* (beyond what counting noise explains: 3 sd of the smaller count) */
-          const double lo = o->points < t->points ? o->points : t->points, hi = o->points < t->points ? t->points : o->points;
-          const double ratio = lo > 0 ? hi / lo / (1.0 + 3.0 / sqrt(lo)) : 1.0; /* (one log, none when alike) */
-          const double unlike = ratio > 1.0 ? log(ratio) : 0.0;
-          const float cost = (float)(m2 + log(det) + cf->size_weight * fmin(unlike, 4.0));
-          /* keep the best EDGES_PER_TRACK, by cost then object order */
-          int at = nb;
-          while (at > 0 && (best[at - 1].c > cost || (best[at - 1].c == cost && best[at - 1].o > k))) at--;
-          if (at >= EDGES_PER_TRACK) continue;
-          int last = nb < EDGES_PER_TRACK ? nb : EDGES_PER_TRACK - 1;
-          for (int m = last; m > at; m--) best[m] = best[m - 1];
-          best[at].o = (uint16_t)k;
-          best[at].c = cost;
-          if (nb < EDGES_PER_TRACK) nb++;
-        }
-      }
+    objs_near_t it;
+    for (int32_t k = objs_near_first(tr, t->x[0], t->x[1], radius, &it); k >= 0; k = objs_near_next(tr, &it)) {
+      const rs_object_t *o = &objs->obj[k];
+      if (tr->taken_by[k] >= 0 || tr->shared[k]) continue;
+      double z[2], sd, p[2], S[3], misfit;
+      meas_for(tr, t, o, z, &sd, &misfit);
+      const double tk = tr->obj_t[k];
+      predict_pos(tr, t, tk, p, S);
+      const double dx = z[0] - p[0], dy = z[1] - p[1], d = sqrt(dx * dx + dy * dy);
+      const double unseen = tk - t->t_update; /* the gate grows while a track is not seen */
+      if (d > (unseen > 0.5 ? fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (unseen - 0.5)) : cf->gate_m)) continue;
+      if (off_lane(cf, t, dx, dy, unseen)) continue;
+      const double dtu = tk - t->t_z; /* the speed the pairing implies, from the last measurement */
+      if (dtu > 0.02 && norm2(z[0] - t->last_z[0], z[1] - t->last_z[1]) / dtu > cf->max_speed) continue;
+      const double s00 = S[0] + sd * sd, s01 = S[1], s11 = S[2] + sd * sd, det = s00 * s11 - s01 * s01;
+      if (!(det > 0)) continue;
+      const double m2 = (dx * dx * s11 - 2 * dx * dy * s01 + dy * dy * s00) / det;
+      if (m2 > cf->gate_chi2) continue;
+      /* a pedestrian does not turn into a vehicle (one passing where it walked, or was last seen), nor
+       * does a track that walked like one, once its box has grown on a part of something else */
+      if (walker_like(cf, t) && vehicle_sized(o->sensor.obb_length, o->sensor.obb_width)) continue;
+      /* nor is a walker's track, re-acquired, taken up by a vehicle: one seen only as a walker's body
+       * (walker_body) does not take a vehicle-sized object of many times its returns after walker_reacq_s
+       * unseen (a car coming out of the circle below the lowest beam where a walker went in) */
+      if (walker_reacq(cf, t, unseen, o->sensor.obb_length, o->sensor.obb_width, o->points)) continue;
+      /* and how unlike the track's last object it is: a track keeps its object, not a fragment beside it */
+      /* (beyond what counting noise explains: 3 sd of the smaller count) */
+      const double lo = o->points < t->points ? o->points : t->points, hi = o->points < t->points ? t->points : o->points;
+      const double ratio = lo > 0 ? hi / lo / (1.0 + 3.0 / sqrt(lo)) : 1.0; /* (one log, none when alike) */
+      const double unlike = ratio > 1.0 ? log(ratio) : 0.0;
+      const float cost = (float)(m2 + log(det) + cf->size_weight * fmin(unlike, 4.0));
+      /* keep the best EDGES_PER_TRACK, by cost then object order */
+      int at = nb;
+      while (at > 0 && (best[at - 1].c > cost || (best[at - 1].c == cost && best[at - 1].o > k))) at--;
+      if (at >= EDGES_PER_TRACK) continue;
+      int last = nb < EDGES_PER_TRACK ? nb : EDGES_PER_TRACK - 1;
+      for (int m = last; m > at; m--) best[m] = best[m - 1];
+      best[at].o = (uint16_t)k;
+      best[at].c = cost;
+      if (nb < EDGES_PER_TRACK) nb++;
+    }
     for (int b = 0; b < nb; b++) {
       tr->edge[tr->edges].t = (uint16_t)i;
       tr->edge[tr->edges].o = best[b].o;
@@ -1494,8 +1524,8 @@ static bool unseen(const rs_track_t *o) {
  * hidden: the ends inside it hid each other). A bus 80 m off at a grazing
  * angle comes as its front face and pieces of its side; following one
  * piece, its track's box slid back along it and the face became a track of
- * its own. Bounded: the grid cells within its length and the margin,
- * RS_OBJ_MAX objects a cell. Returns whether any part was taken. */
+ * its own. Bounded as objs_near_first. Returns whether any part was
+ * taken. */
 static bool merge_parts(rs_tracker_t *tr, uint32_t i, const rs_object_list_t *objs, const rs_object_t *o, rs_object_t *m) {
   rs_track_list_t *L = &tr->list;
   const rs_track_t *t = &L->track[i];
@@ -1503,51 +1533,46 @@ static bool merge_parts(rs_tracker_t *tr, uint32_t i, const rs_object_list_t *ob
   bool any = false;
   *m = *o;
   const double r = t->full_length + RS_TRACK_SPLIT_MARGIN; /* a part's centre, from the object's: within the length */
-  const double cx = o->sensor.obb_center[0], cy = o->sensor.obb_center[1];
-  const long g0x = (long)floor((cx - r) / GRID), g1x = (long)floor((cx + r) / GRID);
-  const long g0y = (long)floor((cy - r) / GRID), g1y = (long)floor((cy + r) / GRID);
-  for (long gx = g0x; gx <= g1x && gx - g0x < 16; gx++)
-    for (long gy = g0y; gy <= g1y && gy - g0y < 16; gy++)
-      for (int32_t k = tr->grid_head[bucket(gx, gy)], guard = 0; k >= 0 && guard < RS_OBJ_MAX;
-           k = tr->grid_next[k], guard++) {
-        if (tr->obj_cell[k][0] != gx || tr->obj_cell[k][1] != gy) continue; /* another cell, same bucket */
-        const rs_object_t *b = &objs->obj[k];
-        if (k == t->object || tr->taken_by[k] >= 0 || tr->shared[k] || b->points == 0) continue;
-        if (b->sensor.obb_width > RS_TRACK_MERGE_PART_WID_M || !fits_on(tr, t, m, b, t->heading, t->hcos, t->hsin)) continue;
-        const double bx = b->sensor.obb_center[0], by = b->sensor.obb_center[1];
-        const uint32_t nn = tracks_near(tr, bx, by, 10.0);
-        bool other = false;
-        for (uint32_t q = 0; q < nn && !other; q++) {
-          const rs_track_t *u = &L->track[tr->near[q]];
-          if (u == t || u->state == RS_TRACK_TENTATIVE || u->state == RS_TRACK_LOST) continue;
-          double p[2], S[3];
-          predict_pos(tr, u, tr->obj_t[k], p, S);
-          other = norm2(p[0] - bx, p[1] - by) < 0.5 * u->length + 1.0;
-        }
-        if (other) continue;
-        double ea[4], eb[4];
-        box_on(m, t->heading, t->hcos, t->hsin, ea);
-        box_on(b, t->heading, t->hcos, t->hsin, eb);
-        const double u0 = fmin(ea[0], eb[0]), u1 = fmax(ea[1], eb[1]), v0 = fmin(ea[2], eb[2]), v1 = fmax(ea[3], eb[3]);
-        const double cu = 0.5 * (u0 + u1), cv = 0.5 * (v0 + v1), lu = u1 - u0, lv = v1 - v0;
-        m->sensor.obb_center[0] = (float)(cu * t->hcos - cv * t->hsin);
-        m->sensor.obb_center[1] = (float)(cu * t->hsin + cv * t->hcos);
-        m->sensor.obb_heading = (float)(lu >= lv ? t->heading : t->heading + 0.5 * PI);
-        m->sensor.obb_length = (float)fmax(lu, lv);
-        m->sensor.obb_width = (float)fmin(lu, lv);
-        for (int d = 0; d < 3; d++) {
-          m->sensor.box_min[d] = fminf(m->sensor.box_min[d], b->sensor.box_min[d]);
-          m->sensor.box_max[d] = fmaxf(m->sensor.box_max[d], b->sensor.box_max[d]);
-        }
-        m->points += b->points;
-        m->range_min = fminf(m->range_min, b->range_min);
-        m->occluded = 0;
-        tr->taken_by[k] = (int32_t)i;
-        L->object_track[k] = t->id;
-        tr->n.absorbed++;
-        tr->n.merged++;
-        any = true;
-      }
+  objs_near_t it;
+  for (int32_t k = objs_near_first(tr, o->sensor.obb_center[0], o->sensor.obb_center[1], r, &it); k >= 0;
+       k = objs_near_next(tr, &it)) {
+    const rs_object_t *b = &objs->obj[k];
+    if (k == t->object || tr->taken_by[k] >= 0 || tr->shared[k] || b->points == 0) continue;
+    if (b->sensor.obb_width > RS_TRACK_MERGE_PART_WID_M || !fits_on(tr, t, m, b, t->heading, t->hcos, t->hsin)) continue;
+    const double bx = b->sensor.obb_center[0], by = b->sensor.obb_center[1];
+    const uint32_t nn = tracks_near(tr, bx, by, 10.0);
+    bool other = false;
+    for (uint32_t q = 0; q < nn && !other; q++) {
+      const rs_track_t *u = &L->track[tr->near[q]];
+      if (u == t || u->state == RS_TRACK_TENTATIVE || u->state == RS_TRACK_LOST) continue;
+      double p[2], S[3];
+      predict_pos(tr, u, tr->obj_t[k], p, S);
+      other = norm2(p[0] - bx, p[1] - by) < 0.5 * u->length + 1.0;
+    }
+    if (other) continue;
+    double ea[4], eb[4];
+    box_on(m, t->heading, t->hcos, t->hsin, ea);
+    box_on(b, t->heading, t->hcos, t->hsin, eb);
+    const double u0 = fmin(ea[0], eb[0]), u1 = fmax(ea[1], eb[1]), v0 = fmin(ea[2], eb[2]), v1 = fmax(ea[3], eb[3]);
+    const double cu = 0.5 * (u0 + u1), cv = 0.5 * (v0 + v1), lu = u1 - u0, lv = v1 - v0;
+    m->sensor.obb_center[0] = (float)(cu * t->hcos - cv * t->hsin);
+    m->sensor.obb_center[1] = (float)(cu * t->hsin + cv * t->hcos);
+    m->sensor.obb_heading = (float)(lu >= lv ? t->heading : t->heading + 0.5 * PI);
+    m->sensor.obb_length = (float)fmax(lu, lv);
+    m->sensor.obb_width = (float)fmin(lu, lv);
+    for (int d = 0; d < 3; d++) {
+      m->sensor.box_min[d] = fminf(m->sensor.box_min[d], b->sensor.box_min[d]);
+      m->sensor.box_max[d] = fmaxf(m->sensor.box_max[d], b->sensor.box_max[d]);
+    }
+    m->points += b->points;
+    m->range_min = fminf(m->range_min, b->range_min);
+    m->occluded = 0;
+    tr->taken_by[k] = (int32_t)i;
+    L->object_track[k] = t->id;
+    tr->n.absorbed++;
+    tr->n.merged++;
+    any = true;
+  }
   return any;
 }
 

@@ -82,10 +82,12 @@ typedef struct {
   double coverage_min;    /* ... and is present in this share of windows (default 0.8) */
   double sparse_cover;    /* ... or, within max(occluded_spread, 1 % of the range), in this share
                              of the windows a cluster returning at random at its own rate would
-                             be seen in: a far surface whose returns drop out (ground at a grazing
+                             be seen in, and coming and going on its own in its row (for each cell
+                             beside it, P(it returns near the cluster's range | the cluster is seen)
+                             - P(it does) below flicker_lift; a vehicle covers several cells at
+                             once): a far surface whose returns drop out (ground at a grazing
                              angle, returning in 5 % of the frames, is in fewer than 80 % of the
-                             windows; traffic comes in bursts and covers fewer still); default 0.8,
-                             0 = off; not stored in the model file */
+                             windows); default 0.8, 0 = off; not stored in the model file */
   double window_s;        /* coverage window, default 5 s */
   double pair_gap_s;      /* samples closer than this count as consecutive, default 1 s */
   double margin_min;      /* a surface interval is the cluster's [min, max] widened by */
