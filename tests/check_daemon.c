@@ -849,6 +849,10 @@ START_TEST(t_tracks_outputs) {
   ck_assert_ptr_nonnull(strstr(out, "tracking parameter coast_s: 100 is out of range (0.01 to 60)"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --track-set nonsense", &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "is not NAME=VALUE"));
+  /* an unknown name: the message lists every parameter, to the last one */
+  ck_assert_int_eq(tu_exec("./roadscand --pcap x --track-set no_such=1", &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "no tracking parameter 'no_such'; there are: q_accel"));
+  ck_assert_ptr_nonnull(strstr(out, " merge_parts kin_accel"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --labels-tracks some", &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "--labels-tracks: 'some' is not one of all, confirmed"));
 }

@@ -882,6 +882,57 @@ START_TEST(t_next_lane_not_taken) {
 }
 END_TEST
 
+/* kin_accel. A car at v0 m/s along y = 10 (a queue moving off), seen for 3 s, hidden for 2.5 s behind
+ * something nearer while it speeds up at `accel` m/s^2 (from 3 m/s at 2 m/s^2: 6.25 m ahead of its
+ * track's straight-on prediction, out of the gate's 5 m), then seen again, `across` m over from its
+ * lane, at the speed it got to (at least v0). Returns the id on it in the last frame; *before*: the
+ * id it had before it was hidden. */
+static uint32_t kin_return(double kin_accel, double v0, double accel, double across, uint32_t *before) {
+  init_knob("kin_accel", kin_accel);
+  const double hid = 2.5, v1 = fmax(v0, v0 + accel * hid);
+  for (int f = 0; f < 80; f++) {
+    const double t = 0.1 * f;
+    clear();
+    if (t < 3.0 - 1e-9) car(t, -30.0 + v0 * t, 10.0, 0.0);
+    else if (t >= 3.0 + hid - 1e-9)
+      car(t, -30.0 + v0 * 3.0 + v0 * hid + 0.5 * accel * hid * hid + v1 * (t - 3.0 - hid), 10.0 + across, 0.0);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 25) *before = tr.list.object_track[0];
+  }
+  ck_assert_uint_ne(*before, 0);
+  return tr.list.object_track[0];
+}
+
+START_TEST(t_kin_reacq) {
+  uint32_t before = 0;
+  /* sped up while hidden: taken up again, by its own id */
+  ck_assert_uint_eq(kin_return(2.5, 3.0, 2.0, 0.0, &before), before);
+  ck_assert_uint_eq(tr.n.kin_stitched, 1);
+  ck_assert_uint_eq(tr.n.born, 2); /* its young track, stitched at its third hit */
+  /* off: a new track */
+  ck_assert_uint_ne(kin_return(0.0, 3.0, 2.0, 0.0, &before), before);
+  ck_assert_uint_eq(tr.n.kin_stitched, 0);
+  /* 6.25 m behind the prediction (the next car in the lane, or this one braked): not taken */
+  ck_assert_uint_ne(kin_return(2.5, 3.0, -2.0, 0.0, &before), before);
+  ck_assert_uint_eq(tr.n.kin_stitched, 0);
+  /* ahead but in the next lane, 3.5 m over: not taken */
+  ck_assert_uint_ne(kin_return(2.5, 3.0, 2.0, 3.5, &before), before);
+  ck_assert_uint_eq(tr.n.kin_stitched, 0);
+  /* farther ahead than 2.5 m/s^2 takes it: at 4 m/s^2, at the young track's third hit (2.7 s unseen)
+   * 14.5 m ahead, the bound 9.1 m plus 2.1 m: not taken */
+  ck_assert_uint_ne(kin_return(2.5, 3.0, 4.0, 0.0, &before), before);
+  ck_assert_uint_eq(tr.n.kin_stitched, 0);
+  /* standing when hidden (its axis might point either way): not taken */
+  ck_assert_uint_ne(kin_return(2.5, 0.0, 2.0, 0.0, &before), before);
+  ck_assert_uint_eq(tr.n.kin_stitched, 0);
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  ck_assert_double_eq(c.kin_accel, 2.5);
+  knob_refused("kin_accel", "-1");
+  knob_refused("kin_accel", "11");
+}
+END_TEST
+
 /* seen_across_m. A car at 8 m/s along y = 8, seen every frame for 2 s; then
  * for 0.5 s it is hidden and, 2.6 m over in the next lane beside where it is
  * predicted, a long cluster shows (8 m x 2 m: a van and the car behind it,
@@ -2084,6 +2135,7 @@ int main(void) {
   tcase_add_test(tc, t_walker_upright_confirms_fast);
   tcase_add_test(tc, t_dup_box);
   tcase_add_test(tc, t_seen_across);
+  tcase_add_test(tc, t_kin_reacq);
   tcase_add_test(tc, t_twin);
   tcase_add_test(tc, t_across_column_zero);
   tcase_add_test(tc, t_lost_frame_dt);

@@ -86,6 +86,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->circle_whole = 1;
   c->uncover_restart = 1;
   c->merge_parts = 1;
+  c->kin_accel = 2.5;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -111,7 +112,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->twin_s >= 0 && cfg->twin_s <= 60) || !(cfg->walker_reacq_s >= 0 && cfg->walker_reacq_s <= 60) ||
       !(cfg->seen_across_m >= 0 && cfg->seen_across_m <= 20) ||
       cfg->circle_whole < 0 || cfg->circle_whole > 1 || cfg->uncover_restart < 0 || cfg->uncover_restart > 1 ||
-      cfg->merge_parts < 0 || cfg->merge_parts > 1)
+      cfg->merge_parts < 0 || cfg->merge_parts > 1 || !(cfg->kin_accel >= 0 && cfg->kin_accel <= 10))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -146,7 +147,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1), KNOB_INT(dup_box, 0, 1),
     KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),      KNOB(twin_s, 0.0, 60.0),
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
-    KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1),
+    KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(kin_accel, 0.0, 10.0),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -1516,6 +1517,62 @@ static bool unseen(const rs_track_t *o) {
   return o->id != 0 && o->object < 0 && !rs_track_held(o) && (o->state == RS_TRACK_COASTING || o->state == RS_TRACK_LOST);
 }
 
+/* ---- kinematic re-acquisition (kin_accel) ----
+ * A vehicle hidden for a second or more in slow traffic (behind a bus in the
+ * near lane, in a queue pulling away at a green light) does not go on at the
+ * speed it was last seen at. Its track's velocity lags one speeding up (the
+ * box grows as it pulls away), and it goes on speeding up while hidden: it
+ * comes back metres ahead of its prediction, out of the gate, as a new track.
+ * A young track is that vehicle when:
+ * - it has KIN_HITS hits (its direction known), is still tentative (a
+ *   confirmed one is an object of its own to the counter and the outputs),
+ *   was born after the vehicle's track was last seen, is no larger than that
+ *   track's full size plus a metre and does not move against it;
+ * - it lies in the vehicle's lane: across its heading within reacq_across_m,
+ *   half its width and KIN_LANE_M;
+ * - along its heading, between the prediction and where the vehicle would be
+ *   had it sped up at kin_accel since it was last seen, each end widened by
+ *   KIN_MARGIN_M and a quarter of its full length (the young box may be a
+ *   part). Not behind the prediction: a young track there is as often the
+ *   next vehicle in the lane as this one slowed down (on the rush captures,
+ *   four of five such were the next one).
+ * The vehicle's track: moving at KIN_MOVING or more when last seen (a
+ * standing one's axis may point either way; on the rush captures such a
+ * car's track took a walker passing beside it), unseen for KIN_MIN_S or more.
+ * Only for young tracks the ordinary stitching and the blind-circle link gave
+ * to none; of several vehicles, the one whose prediction is nearest. */
+#define KIN_MIN_S 1.0    /* s unseen */
+#define KIN_HITS 3       /* the young track's hits (its direction known) */
+#define KIN_MARGIN_M 1.0 /* m, each end */
+#define KIN_LANE_M 0.5   /* m, across, beyond reacq_across_m and half the width */
+#define KIN_LEN_M 2.5    /* m: the full length of a vehicle's track */
+#define KIN_MOVING 1.0   /* m/s along its heading when last seen */
+static bool kin_vehicle(const rs_track_cfg_t *cf, const rs_track_t *t) {
+  return cf->kin_accel > 0 && t->state != RS_TRACK_TENTATIVE && size_known(t) && t->full_length >= KIN_LEN_M &&
+         t->shape_cls != RS_CLASS_PEDESTRIAN && !walker_like(cf, t);
+}
+/* how far young track y lies from unseen vehicle track o's prediction along o's heading when
+ * it lies where o may be (the bounds above), -1 when it does not */
+static double kin_fit(const rs_tracker_t *tr, const rs_track_t *o, const rs_track_t *y) {
+  const rs_track_cfg_t *cf = &tr->cfg;
+  const double dt = y->t_state - o->t_update;
+  if (dt < KIN_MIN_S || y->hits < KIN_HITS || y->t_birth <= o->t_update || !kin_vehicle(cf, o)) return -1.0;
+  if (y->length > o->full_length + 1.0f || y->width > o->full_width + 1.0f) return -1.0;
+  /* where o was last seen: its state is predicted straight on from there while unseen */
+  const double back = o->t_state - o->t_update;
+  const double lx = o->x[0] - o->x[2] * back, ly = o->x[1] - o->x[3] * back;
+  const double c = o->hcd, s = o->hsd, dx = y->x[0] - lx, dy = y->x[1] - ly;
+  const double along = dx * c + dy * s, across = -dx * s + dy * c;
+  if (fabs(across) > cf->reacq_across_m + 0.5 * o->width + KIN_LANE_M) return -1.0;
+  const double v = o->x[2] * c + o->x[3] * s; /* (its heading is its velocity's) */
+  if (v < KIN_MOVING) return -1.0;
+  const double ahead = 0.5 * cf->kin_accel * dt * dt, m = KIN_MARGIN_M + 0.25 * o->full_length;
+  const double off = along - v * dt; /* from the prediction */
+  if (off > ahead + m || off < -m) return -1.0;
+  if (y->x[2] * c + y->x[3] * s < -1.0) return -1.0; /* coming the other way */
+  return fabs(off);
+}
+
 /* merge_parts: track i (t, of a long vehicle) took object o; the free thin
  * parts that fit with it in t's size on t's axes (fits_on, each tried against
  * the box grown so far) and lie in no other confirmed or coasting track's
@@ -1781,6 +1838,38 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     stitch(tr, objs, nobj, (uint32_t)best, y, true); /* its state is y's: o's is seconds old */
     L->track[best].blind_kept = false;
     tr->n.blind_linked++;
+  }
+  /* the kinematic re-acquisition (kin_accel): a young track the stitching and the link above gave to
+   * none, against the vehicles' tracks unseen for KIN_MIN_S or more, in index order */
+  uint32_t nkin = 0;
+  double kin_first = INFINITY; /* the earliest of their last updates: a young track born before it has none */
+  for (uint32_t j = 0; j < L->count && cf->kin_accel > 0; j++) {
+    const rs_track_t *o = &L->track[j];
+    if (unseen(o) && !o->blind_kept && kin_vehicle(cf, o) && t_frame - o->t_update >= KIN_MIN_S) {
+      tr->near[nkin++] = (uint16_t)j;
+      kin_first = fmin(kin_first, o->t_update);
+    }
+  }
+  for (uint32_t i = 0; i < L->count && nkin > 0; i++) {
+    rs_track_t *y = &L->track[i];
+    if (y->object < 0 || y->id == 0 || y->state != RS_TRACK_TENTATIVE || y->hits < KIN_HITS || y->t_birth <= kin_first)
+      continue;
+    int best = -1;
+    double best_off = INFINITY;
+    for (uint32_t q = 0; q < nkin; q++) {
+      const uint32_t j = tr->near[q];
+      const rs_track_t *o = &L->track[j];
+      if (j == i || o->id == 0 || o->object >= 0) continue; /* (taken up this frame) */
+      const double off = kin_fit(tr, o, y);
+      if (off >= 0 && off < best_off) {
+        best_off = off;
+        best = (int)j;
+      }
+    }
+    if (best < 0) continue;
+    stitch(tr, objs, nobj, (uint32_t)best, y, y->hits > L->track[best].hits);
+    tr->n.stitched++;
+    tr->n.kin_stitched++;
   }
   /* duplicates, ended without an event: a tentative track inside the box of
    * a confirmed one at least its size (a fragment of its object); a

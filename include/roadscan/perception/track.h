@@ -255,6 +255,11 @@ typedef struct {
                                   its heading from its prediction than this (the next lane is 3-3.7 m over: a
                                   cluster of the vehicle there, or of both, is not this one; 0 = off; default 2;
                                   docs/tracking.md) */
+  double kin_accel;            /* m/s^2: a young track that no gate gave to an unseen track is a vehicle's unseen
+                                  for a second or more when it lies in that vehicle's lane, between its prediction
+                                  and where it would be had it sped up at this acceleration since it was last seen
+                                  (a car pulling away in a queue behind a bus; 0 = off; default 2.5;
+                                  docs/tracking.md, Kinematic re-acquisition) */
   int split_full_size;         /* 1: a free object is a split part of a track when both fit in the track's
                                   full size (its largest box, falling 0.05 m an update), not only in its
                                   smoothed box, which shrinks while the object is partly hidden (default 1) */
@@ -359,6 +364,7 @@ typedef struct {
 typedef struct {
   uint64_t frames, born, confirmed, ended, overflow, greedy_groups, held, absorbed, ends_dropped, duplicates, stitched, blind_linked;
   uint64_t hold_overflow; /* held tracks beyond RS_TRACK_HOLD_MAX in one cluster (its returns go to the others) */
+  uint64_t kin_stitched;  /* tracks taken up by the kinematic re-acquisition (kin_accel; also in stitched) */
   uint64_t merged;        /* split parts a long vehicle's track was updated with (merge_parts; also in absorbed) */
 } rs_track_counters_t;
 

@@ -108,7 +108,7 @@ typedef struct {
   char arena[RS_OPTS_ARENA];
   size_t used;
   struct option lopts[RS_OPTS_MAX + 5];
-  char err[512];
+  char err[1024]; /* (room for a parameter table's names: rs_opt_set) */
 } rs_opts_t;
 
 typedef enum { RS_OPTS_RUN = 0, RS_OPTS_EXIT = 1, RS_OPTS_ERROR = 2 } rs_opts_result_t;
