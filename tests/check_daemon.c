@@ -69,6 +69,9 @@ START_TEST(t_config_errors) {
       {"[lcm]\nlcm-url = udpm://10.0.0.1:7667\n", "is not an IPv4 multicast address"},
       {"[daemon]\nbudget-ms = -1\n", "[daemon] budget-ms: -1 is out of range"},
       {"this is not ini\n", "not an INI line"},
+      /* an unknown tracking parameter: every name is listed, to the last one, after the file and line */
+      {"[track]\ntrack-set = no_such=1\n", ":2: no tracking parameter 'no_such'; there are: q_accel"},
+      {"[track]\ntrack-set = no_such=1\n", " merge_parts kin_accel"},
       {"[cluster]\neps = 1.0\neps = 2.0\n", "[cluster] eps: given twice in the file"},
       {"[source]\nsource = 10.0.0.300\n", "[source] source: '10.0.0.300' is not an IPv4 or IPv6 address"},
       {"[lcm]\nsensor-id = north-gate-with-a-name-that-goes-on-and-on-and-on-and-on-and-on-and-on-and-on-and-on-"

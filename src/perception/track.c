@@ -1320,6 +1320,16 @@ static bool uncovered(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *
 }
 
 /* track t took object o (measured at tk) */
+/* The axis of a vehicle's long side, from its objects whose box is as long as AXIS_VIEW_SHARE of its
+ * full length (and AXIS_VIEW_M) and AXIS_ASPECT times as long as wide: a whole side, or the face of
+ * one seen edge-on. A fitted box's axis is good to a few degrees; a slow vehicle's velocity, from
+ * box centres that move as parts of it come and go, is not (on the rush captures 25-33 degrees off
+ * at 1.7-2.6 m/s). Averaged as twice the angle (the axis has no sign). Read by the kinematic
+ * re-acquisition (kin_dir). */
+#define AXIS_VIEW_M 2.5f
+#define AXIS_VIEW_SHARE 0.8f
+#define AXIS_ASPECT 1.8f
+#define AXIS_WEIGHT 0.2f
 static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double tk) {
   double z[2], sd, misfit;
   const bool whole = made_whole(tr, t, o); /* on the box's axes: meas_for's misfit is against them */
@@ -1368,6 +1378,14 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
     t->top_n++;
   }
   t->full_length = fmaxf(t->length, t->full_length - 0.05f);
+  if (o->sensor.obb_length >= fmaxf(AXIS_VIEW_M, AXIS_VIEW_SHARE * t->full_length) &&
+      o->sensor.obb_length >= AXIS_ASPECT * o->sensor.obb_width) { /* a side seen whole: its axis */
+    const float c2 = cosf(2.0f * o->sensor.obb_heading), s2 = sinf(2.0f * o->sensor.obb_heading);
+    const float w = t->axis_n == 0 ? 1.0f : AXIS_WEIGHT;
+    t->axis_c2 += w * (c2 - t->axis_c2);
+    t->axis_s2 += w * (s2 - t->axis_s2);
+    if (t->axis_n < UINT16_MAX) t->axis_n++;
+  }
   if (!t->seen_whole && near_edge(t->x[0], t->x[1], t->length, t->width) > beam_reach(tr, t)) t->seen_whole = true;
   t->full_width = fmaxf(t->width, t->full_width - 0.02f);
   t->hits++;
@@ -1528,9 +1546,10 @@ static bool unseen(const rs_track_t *o) {
  *   confirmed one is an object of its own to the counter and the outputs),
  *   was born after the vehicle's track was last seen, is no larger than that
  *   track's full size plus a metre and does not move against it;
- * - it lies in the vehicle's lane: across its heading within reacq_across_m,
- *   half its width and KIN_LANE_M;
- * - along its heading, between the prediction and where the vehicle would be
+ * - it lies in the vehicle's lane: across the lane's direction (kin_dir: the
+ *   axis of the vehicle's side views, its heading when those are not known)
+ *   within reacq_across_m, half its width and KIN_LANE_M;
+ * - along the lane, between the prediction and where the vehicle would be
  *   had it sped up at kin_accel since it was last seen, each end widened by
  *   KIN_MARGIN_M and a quarter of its full length (the young box may be a
  *   part). Not behind the prediction: a young track there is as often the
@@ -1547,9 +1566,26 @@ static bool unseen(const rs_track_t *o) {
 #define KIN_LANE_M 0.5   /* m, across, beyond reacq_across_m and half the width */
 #define KIN_LEN_M 2.5    /* m: the full length of a vehicle's track */
 #define KIN_MOVING 1.0   /* m/s along its heading when last seen */
+#define KIN_AXIS_VIEWS 3     /* side views (AXIS_*) before its axis is the lane's */
+#define KIN_AXIS_AGREE 0.8   /* their mean vector's length at least (1: all one axis) */
+#define KIN_AXIS_DEG 45.0    /* its axis within this of its heading */
 static bool kin_vehicle(const rs_track_cfg_t *cf, const rs_track_t *t) {
   return cf->kin_accel > 0 && t->state != RS_TRACK_TENTATIVE && size_known(t) && t->full_length >= KIN_LEN_M &&
          t->shape_cls != RS_CLASS_PEDESTRIAN && !walker_like(cf, t);
+}
+/* the direction vehicle track o's lane runs in (unit vector, the way it goes): its side's axis
+ * (take: AXIS_*) when known from KIN_AXIS_VIEWS views, their average KIN_AXIS_AGREE or more (one
+ * axis, not a turn), and within KIN_AXIS_DEG of its heading; its heading otherwise */
+static void kin_dir(const rs_track_t *o, double *c, double *s) {
+  *c = o->hcd;
+  *s = o->hsd;
+  if (o->axis_n < KIN_AXIS_VIEWS || norm2(o->axis_c2, o->axis_s2) < KIN_AXIS_AGREE) return;
+  const double a = 0.5 * atan2(o->axis_s2, o->axis_c2);
+  double ca = cos(a), sa = sin(a);
+  if (ca * *c + sa * *s < 0) ca = -ca, sa = -sa;
+  if (ca * *c + sa * *s < cos(KIN_AXIS_DEG * PI / 180.0)) return;
+  *c = ca;
+  *s = sa;
 }
 /* how far young track y lies from unseen vehicle track o's prediction along o's heading when
  * it lies where o may be (the bounds above), -1 when it does not */
@@ -1561,7 +1597,9 @@ static double kin_fit(const rs_tracker_t *tr, const rs_track_t *o, const rs_trac
   /* where o was last seen: its state is predicted straight on from there while unseen */
   const double back = o->t_state - o->t_update;
   const double lx = o->x[0] - o->x[2] * back, ly = o->x[1] - o->x[3] * back;
-  const double c = o->hcd, s = o->hsd, dx = y->x[0] - lx, dy = y->x[1] - ly;
+  double c, s;
+  kin_dir(o, &c, &s);
+  const double dx = y->x[0] - lx, dy = y->x[1] - ly;
   const double along = dx * c + dy * s, across = -dx * s + dy * c;
   if (fabs(across) > cf->reacq_across_m + 0.5 * o->width + KIN_LANE_M) return -1.0;
   const double v = o->x[2] * c + o->x[3] * s; /* (its heading is its velocity's) */

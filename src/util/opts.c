@@ -265,7 +265,9 @@ int rs_opts_read_stream(rs_opts_t *o, FILE *f, const char *path) {
   if (c.failed) { /* the file and line first (inih stops at the first line its handler refuses) */
     char why[sizeof o->err];
     memcpy(why, o->err, sizeof why);
-    snprintf(o->err, sizeof o->err, "%s:%d: %.*s", path, rc, (int)(sizeof o->err / 2), why);
+    /* the path at most half the room, the reason the rest (a parameter table's names are long) */
+    const int at = snprintf(o->err, sizeof o->err, "%.*s:%d: ", (int)(sizeof o->err / 2), path, rc);
+    if (at > 0 && (size_t)at < sizeof o->err) snprintf(o->err + at, sizeof o->err - (size_t)at, "%s", why);
     return RS_E_INVAL;
   }
   if (rc != 0) {

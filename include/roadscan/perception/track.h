@@ -331,6 +331,8 @@ typedef struct {
                                 the track is no longer young (or near_ref_m is 0) */
   uint32_t twin;             /* the older track whose box its own overlaps (twin_s), 0 none */
   double twin_t;             /* since when (capture time) */
+  float axis_c2, axis_s2;    /* smoothed cosine and sine of twice the axis of its whole side views (kin_accel) */
+  uint16_t axis_n;           /* such views */
   double vel[2];             /* reported velocity, m/s: the speed estimator's for a track not of a walker's size
                                 (speed_imm), the Kalman filter's otherwise */
 } rs_track_t;
