@@ -1319,17 +1319,18 @@ static bool uncovered(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *
   return grown;
 }
 
-/* track t took object o (measured at tk) */
 /* The axis of a vehicle's long side, from its objects whose box is as long as AXIS_VIEW_SHARE of its
  * full length (and AXIS_VIEW_M) and AXIS_ASPECT times as long as wide: a whole side, or the face of
  * one seen edge-on. A fitted box's axis is good to a few degrees; a slow vehicle's velocity, from
- * box centres that move as parts of it come and go, is not (on the rush captures 25-33 degrees off
- * at 1.7-2.6 m/s). Averaged as twice the angle (the axis has no sign). Read by the kinematic
- * re-acquisition (kin_dir). */
+ * box centres that move as parts of it come and go, is not (on the rush captures 24-33 degrees off
+ * at 1.7-2.6 m/s). Averaged as twice the angle (the axis has no sign), weight AXIS_WEIGHT. Read by
+ * the kinematic re-acquisition (kin_dir). */
 #define AXIS_VIEW_M 2.5f
 #define AXIS_VIEW_SHARE 0.8f
 #define AXIS_ASPECT 1.8f
 #define AXIS_WEIGHT 0.2f
+
+/* track t took object o (measured at tk) */
 static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double tk) {
   double z[2], sd, misfit;
   const bool whole = made_whole(tr, t, o); /* on the box's axes: meas_for's misfit is against them */
@@ -1587,8 +1588,8 @@ static void kin_dir(const rs_track_t *o, double *c, double *s) {
   *c = ca;
   *s = sa;
 }
-/* how far young track y lies from unseen vehicle track o's prediction along o's heading when
- * it lies where o may be (the bounds above), -1 when it does not */
+/* how far young track y lies from unseen vehicle track o's prediction along o's lane (kin_dir)
+ * when it lies where o may be (the bounds above), -1 when it does not */
 static double kin_fit(const rs_tracker_t *tr, const rs_track_t *o, const rs_track_t *y) {
   const rs_track_cfg_t *cf = &tr->cfg;
   const double dt = y->t_state - o->t_update;
@@ -1602,7 +1603,7 @@ static double kin_fit(const rs_tracker_t *tr, const rs_track_t *o, const rs_trac
   const double dx = y->x[0] - lx, dy = y->x[1] - ly;
   const double along = dx * c + dy * s, across = -dx * s + dy * c;
   if (fabs(across) > cf->reacq_across_m + 0.5 * o->width + KIN_LANE_M) return -1.0;
-  const double v = o->x[2] * c + o->x[3] * s; /* (its heading is its velocity's) */
+  const double v = o->x[2] * c + o->x[3] * s; /* its speed along the lane when last seen */
   if (v < KIN_MOVING) return -1.0;
   const double ahead = 0.5 * cf->kin_accel * dt * dt, m = KIN_MARGIN_M + 0.25 * o->full_length;
   const double off = along - v * dt; /* from the prediction */

@@ -267,7 +267,11 @@ int rs_opts_read_stream(rs_opts_t *o, FILE *f, const char *path) {
     memcpy(why, o->err, sizeof why);
     /* the path at most half the room, the reason the rest (a parameter table's names are long) */
     const int at = snprintf(o->err, sizeof o->err, "%.*s:%d: ", (int)(sizeof o->err / 2), path, rc);
-    if (at > 0 && (size_t)at < sizeof o->err) snprintf(o->err + at, sizeof o->err - (size_t)at, "%s", why);
+    if (at > 0 && (size_t)at < sizeof o->err) {
+      const size_t room = sizeof o->err - (size_t)at, n = strnlen(why, room - 1);
+      memcpy(o->err + at, why, n);
+      o->err[(size_t)at + n] = '\0';
+    }
     return RS_E_INVAL;
   }
   if (rc != 0) {
