@@ -926,6 +926,36 @@ static bool kin_drift(double wid) {
   return tr.list.object_track[0] == before;
 }
 
+/* kin_accel behind the prediction. A vehicle `len` m long at 6 m/s along y = 10, seen for 3 s, hidden
+ * for 1.3 s while it brakes at 2.5 m/s^2 (2.1 m behind its straight-on prediction), then seen again
+ * by its rear 1.3 m alone for three frames, and more of it each frame after as it comes out from
+ * behind what hid it, at the speed it got to; or (follower) it stays hidden and a car 2 m behind it
+ * shows whole. Returns whether the id it had is on that object in the last frame. */
+static bool kin_behind(double len, bool follower) {
+  init_default();
+  const double v0 = 6.0, hid = 1.3, a = -2.5, v1 = v0 + a * hid, x3 = -30.0 + v0 * 3.0;
+  uint32_t before = 0;
+  for (int f = 0; f < 60; f++) {
+    const double t = 0.1 * f;
+    clear();
+    if (t < 3.0 - 1e-9) {
+      put(t, -30.0 + v0 * t, 10.0, len, 2.5, 0.0, 3.0, 300);
+    } else if (t >= 3.0 + hid - 1e-9) {
+      const double x = x3 + v0 * hid + 0.5 * a * hid * hid + v1 * (t - 3.0 - hid); /* its centre */
+      if (follower) put(t, x - 0.5 * len - 2.0 - 2.25, 10.0, 4.5, 1.8, 0.0, 1.5, 120);
+      else { /* its rear 1.3 m for three frames, then more of it each frame as it comes out */
+        const int k = (int)lround((t - 3.0 - hid) / 0.1);
+        const double seen = fmin(len, 1.3 + 2.5 * (k > 2 ? k - 2 : 0));
+        put(t, x - 0.5 * len + 0.5 * seen, 10.0, seen, 2.5, 0.0, 3.0, (uint32_t)(60 + 20 * seen));
+      }
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 25) before = tr.list.object_track[0];
+  }
+  ck_assert_uint_ne(before, 0);
+  return tr.list.object_track[0] == before;
+}
+
 START_TEST(t_kin_reacq) {
   uint32_t before = 0;
   /* sped up while hidden: taken up again, by its own id */
@@ -949,6 +979,12 @@ START_TEST(t_kin_reacq) {
    * square for an axis (4.5 x 3 m), the velocity's direction: not */
   ck_assert(kin_drift(1.8));
   ck_assert(!kin_drift(3.0));
+  /* a bus that braked while hidden, seen again by its rear 8 m behind the prediction: kept (taken up
+   * at the rear's third hit); a car following the bus, seen whole: not given the bus's id */
+  ck_assert(kin_behind(11.5, false));
+  ck_assert_uint_eq(tr.n.kin_stitched, 1);
+  ck_assert(!kin_behind(11.5, true));
+  ck_assert_uint_eq(tr.n.kin_stitched, 0);
   /* standing when hidden (its axis might point either way): not taken */
   ck_assert_uint_ne(kin_return(2.5, 0.0, 2.0, 0.0, &before), before);
   ck_assert_uint_eq(tr.n.kin_stitched, 0);

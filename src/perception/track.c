@@ -1555,7 +1555,9 @@ static bool unseen(const rs_track_t *o) {
  *   KIN_MARGIN_M and a quarter of its full length (the young box may be a
  *   part). Not behind the prediction: a young track there is as often the
  *   next vehicle in the lane as this one slowed down (on the rush captures,
- *   four of five such were the next one).
+ *   four of five such were the next one); but a long vehicle's (KIN_LONG_M)
+ *   rear part, within its full length placed where it may be had it braked
+ *   (kin_rear), is (a bus seen again by its rear after passing the pole).
  * The vehicle's track: moving at KIN_MOVING or more when last seen (a
  * standing one's axis may point either way; on the rush captures such a
  * car's track took a walker passing beside it), unseen for KIN_MIN_S or more.
@@ -1567,6 +1569,8 @@ static bool unseen(const rs_track_t *o) {
 #define KIN_LANE_M 0.5   /* m, across, beyond reacq_across_m and half the width */
 #define KIN_LEN_M 2.5    /* m: the full length of a vehicle's track */
 #define KIN_MOVING 1.0   /* m/s along its heading when last seen */
+#define KIN_LONG_M 8.0   /* m: a bus's or a truck's full length (kin_rear) */
+#define KIN_BRAKE 4.0    /* m/s^2: the hardest it may have braked (kin_rear) */
 #define KIN_AXIS_VIEWS 3     /* side views (AXIS_*) before its axis is the lane's */
 #define KIN_AXIS_AGREE 0.8   /* their mean vector's length at least (1: all one axis) */
 #define KIN_AXIS_DEG 45.0    /* its axis within this of its heading */
@@ -1588,6 +1592,16 @@ static void kin_dir(const rs_track_t *o, double *c, double *s) {
   *c = ca;
   *s = sa;
 }
+/* behind the prediction (off < 0 along the lane, off from it), is young track y's box within the
+ * full length of long vehicle o (KIN_MARGIN_M each end) placed somewhere between where it would be
+ * had it braked at KIN_BRAKE since it was last seen (at v, dt ago) and `ahead` of the prediction?
+ * A bus seen again by its rear after passing behind something is its rear part; a car following it,
+ * seen whole, reaches out of the bus's box */
+static bool kin_rear(const rs_track_t *o, const rs_track_t *y, double off, double v, double dt, double ahead) {
+  const double braked = fmin(v * dt, 0.5 * KIN_BRAKE * dt * dt), half = 0.5 * o->full_length + KIN_MARGIN_M;
+  const double front = off + 0.5 * y->length, rear = off - 0.5 * y->length;
+  return fmax(-braked, front - half) <= fmin(ahead, rear + half);
+}
 /* how far young track y lies from unseen vehicle track o's prediction along o's lane (kin_dir)
  * when it lies where o may be (the bounds above), -1 when it does not */
 static double kin_fit(const rs_tracker_t *tr, const rs_track_t *o, const rs_track_t *y) {
@@ -1607,7 +1621,10 @@ static double kin_fit(const rs_tracker_t *tr, const rs_track_t *o, const rs_trac
   if (v < KIN_MOVING) return -1.0;
   const double ahead = 0.5 * cf->kin_accel * dt * dt, m = KIN_MARGIN_M + 0.25 * o->full_length;
   const double off = along - v * dt; /* from the prediction */
-  if (off > ahead + m || off < -m) return -1.0;
+  if (off > ahead + m) return -1.0;
+  if (off < -m) { /* behind: only a long vehicle's rear part, it having braked (kin_rear) */
+    if (o->full_length < KIN_LONG_M || !kin_rear(o, y, off, v, dt, ahead)) return -1.0;
+  }
   if (y->x[2] * c + y->x[3] * s < -1.0) return -1.0; /* coming the other way */
   return fabs(off);
 }
