@@ -71,6 +71,16 @@
         why: hidden most of the wait (an instance in under half its frames), seen and matched by a
         tentative track in at least half of them (the confirmation rules held it), or seen and not
         matched; then the objects confirmed in time.
+    scripts/track-errors.py reacquired MOTDUMP TRACKS STATES [MOTDUMP TRACKS STATES ...]
+        Over all given: each true vehicle's change of matched track (IoU > 0.5, as roadscan-eval
+        --tracking matches) to a track it never had before, by how long the old track had been
+        unseen (from its last row with no miss to the new one's first row with this vehicle:
+        under 0.15 s, under 1 s, 1-3 s, 3-6 s, longer), whether the old track was still listed
+        then, and whether the new one lay within 6 m along and 2.5 m across the old one's
+        heading from where it was predicted (straight on from its last row seen): the vehicles
+        that came back out of their track's gate (kin_accel, docs/tracking.md); then each of those
+        unseen 1-3 s, no longer listed and out: the old track's last reported speed, the true
+        speeds then and when it came back, and where it came back.
     scripts/track-errors.py close STATES...
         Per true-states file: how many pairs of walkers came within 0.45 m of each other (centres;
         bodies are 0.5 m wide), the states within 0.6 m, and the nearest two ever came (m): how
@@ -626,11 +636,72 @@ def crossings(*paths):
         print(f"  {kind:66s} {n[kind]:6d}")
 
 
+def reacquired(*paths):
+    if len(paths) % 3:
+        sys.exit("reacquired: MOTDUMP TRACKS STATES triples")
+    kinds, events = Counter(), []
+    for m in range(0, len(paths), 3):
+        mot_path, tracks_path, states_path = paths[m:m + 3]
+        states, cls = load_states(states_path)
+        best = {}  # (frame, truth) -> (track, iou): the match
+        with open(mot_path, newline="") as f:
+            for r in csv.DictReader(f):
+                iou = float(r["iou"])
+                key = (int(r["frame"]), r["truth"])
+                if iou > 0.5 and (key not in best or iou > best[key][1]):
+                    best[key] = (str(int(r["pred"]) - 2), iou)  # a track's label is 2 + its id
+        rows = defaultdict(dict)  # track -> frame -> row
+        with open(tracks_path, newline="") as f:
+            for r in csv.DictReader(f):
+                rows[r["track"]][int(r["frame"])] = r
+        seq = defaultdict(list)
+        for (frame, truth), (track, _) in sorted(best.items()):
+            seq[truth].append((frame, track))
+        for truth, s in seq.items():
+            if cls.get(int(truth)) not in VEHICLES:
+                continue
+            had = set()
+            for j in range(1, len(s)):
+                had.add(s[j - 1][1])
+                (fa, a), (fb, b) = s[j - 1], s[j]
+                if b == a or b in had or fb not in rows[b] or fa not in rows[a]:
+                    continue
+                seen = [fr for fr in rows[a] if fr < fb and rows[a][fr]["misses"] == "0"]
+                ra, rb = rows[a][max(seen)], rows[b][fb]
+                dt = float(rb["t"]) - float(ra["t"])
+                h = float(ra["heading"])
+                dx = float(rb["x"]) - (float(ra["x"]) + float(ra["vx"]) * dt)
+                dy = float(rb["y"]) - (float(ra["y"]) + float(ra["vy"]) * dt)
+                along, across = dx * math.cos(h) + dy * math.sin(h), -dx * math.sin(h) + dy * math.cos(h)
+                when = next(name for lim, name in ((0.15, "under 0.15 s"), (1.0, "under 1 s"), (3.0, "1-3 s"),
+                                                    (6.0, "3-6 s"), (math.inf, "longer")) if dt < lim)
+                listed = "listed" if fb in rows[a] else "not listed"
+                near = "near" if abs(along) < 6.0 and abs(across) < 2.5 else "out"
+                kinds[(when, listed, near)] += 1
+                if when == "1-3 s" and listed == "not listed" and near == "out":
+                    t0, t1 = at(states[int(truth)], float(ra["t"])), at(states[int(truth)], float(rb["t"]))
+                    v0 = math.hypot(t0[2], t0[3]) if t0 else math.nan
+                    v1 = math.hypot(t1[2], t1[3]) if t1 else math.nan
+                    events.append(f"    {tracks_path}: {cls[int(truth)]} {truth}, track {a} -> {b}: unseen {dt:.2f} s, "
+                                  f"last reported {math.hypot(float(ra['vx']), float(ra['vy'])):.1f} m/s (true {v0:.1f}), "
+                                  f"back {along:+.1f} m along, {across:+.1f} m across the prediction at {v1:.1f} m/s")
+    print(f"{len(paths) // 3} captures: vehicles' changes to a track they never had, by how long the old one was unseen")
+    for when in ("under 0.15 s", "under 1 s", "1-3 s", "3-6 s", "longer"):
+        n = sum(v for k, v in kinds.items() if k[0] == when)
+        lost = sum(v for k, v in kinds.items() if k[0] == when and k[1] == "not listed")
+        out = sum(v for k, v in kinds.items() if k[0] == when and k[1] == "not listed" and k[2] == "out")
+        out_listed = sum(v for k, v in kinds.items() if k[0] == when and k[1] == "listed" and k[2] == "out")
+        print(f"  {when:12s} {n:4d}; the old track not listed {lost:4d}, of them out of 6 m along or 2.5 m across its "
+              f"prediction {out:4d}; listed and out {out_listed:4d}")
+    print("  1-3 s, not listed, out:")
+    print("\n".join(events))
+
+
 def main(argv):
     modes = {"speed": speed, "ids": ids, "close": close, "traffic": traffic, "unmatched": unmatched, "matched": matched,
-             "born": born, "spot": spot, "crossings": crossings, "late": late}
+             "born": born, "spot": spot, "crossings": crossings, "late": late, "reacquired": reacquired}
     if len(argv) < 2 or argv[0] not in modes or \
-            (argv[0] not in ("close", "traffic", "matched", "born", "spot", "crossings", "late") and len(argv) != 3):
+            (argv[0] not in ("close", "traffic", "matched", "born", "spot", "crossings", "late", "reacquired") and len(argv) != 3):
         sys.exit(__doc__.strip())
     modes[argv[0]](*argv[1:])
 

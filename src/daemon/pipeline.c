@@ -683,7 +683,7 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
     const rs_tracker_t *tr = p->cfg.tracker;
     fprintf(out, "  tracks: %llu born, %llu confirmed, %llu ended, %u alive; %llu frames with clusters shared by tracks, "
                  "%llu split parts absorbed (%llu measured with their track), %llu tracks joined to an older one (%llu out of the blind circle, "
-                 "%llu ahead of a hidden vehicle's prediction), %llu beyond "
+                 "%llu where a hidden vehicle may have got to), %llu beyond "
                  "the %d-track capacity, "
                  "%llu groups assigned greedily; %llu returns of shared clusters divided between their tracks (%llu beyond "
                  "%d per frame, %llu tracks beyond %d in one cluster, left with the others)\n",

@@ -1380,7 +1380,8 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   }
   t->full_length = fmaxf(t->length, t->full_length - 0.05f);
   if (o->sensor.obb_length >= fmaxf(AXIS_VIEW_M, AXIS_VIEW_SHARE * t->full_length) &&
-      o->sensor.obb_length >= AXIS_ASPECT * o->sensor.obb_width) { /* a side seen whole: its axis */
+      o->sensor.obb_length >= AXIS_ASPECT * o->sensor.obb_width &&
+      isfinite(o->sensor.obb_heading)) { /* a side seen whole: its axis (a NaN would stay in the mean) */
     const float c2 = cosf(2.0f * o->sensor.obb_heading), s2 = sinf(2.0f * o->sensor.obb_heading);
     const float w = t->axis_n == 0 ? 1.0f : AXIS_WEIGHT;
     t->axis_c2 += w * (c2 - t->axis_c2);
@@ -1627,6 +1628,28 @@ static double kin_fit(const rs_tracker_t *tr, const rs_track_t *o, const rs_trac
   }
   if (y->x[2] * c + y->x[3] * s < -1.0) return -1.0; /* coming the other way */
   return fabs(off);
+}
+
+/* Of the candidates tr->near[0..n) (list indices) still unseen (a link made earlier in the same pass
+ * takes one up) and other than track i (y), the one whose fit to y is least (fit: a distance, < 0
+ * when it does not fit; the first in index order of equals); -1 none. The blind-circle link and the
+ * kinematic re-acquisition */
+typedef double (*link_fit_t)(const rs_tracker_t *tr, const rs_track_t *o, const rs_track_t *y);
+static int nearest_unseen(const rs_tracker_t *tr, uint32_t i, uint32_t n, link_fit_t fit) {
+  const rs_track_t *y = &tr->list.track[i];
+  int best = -1;
+  double best_fit = INFINITY;
+  for (uint32_t q = 0; q < n; q++) {
+    const uint32_t j = tr->near[q];
+    const rs_track_t *o = &tr->list.track[j];
+    if (j == i || !unseen(o)) continue;
+    const double f = fit(tr, o, y);
+    if (f >= 0 && f < best_fit) {
+      best_fit = f;
+      best = (int)j;
+    }
+  }
+  return best;
 }
 
 /* merge_parts: track i (t, of a long vehicle) took object o; the free thin
@@ -1878,18 +1901,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   for (uint32_t i = 0; i < L->count && ncand > 0; i++) {
     rs_track_t *y = &L->track[i];
     if (y->object < 0 || y->id == 0 || y->hits < 3 || y->t_update - y->t_birth > 1.5) continue;
-    int best = -1;
-    double best_off = INFINITY;
-    for (uint32_t q = 0; q < ncand; q++) {
-      const uint32_t j = tr->near[q];
-      const rs_track_t *o = &L->track[j];
-      if (j == i || !unseen(o)) continue;
-      const double off = blind_link(tr, o, y);
-      if (off >= 0 && off < best_off) {
-        best_off = off;
-        best = (int)j;
-      }
-    }
+    const int best = nearest_unseen(tr, i, ncand, blind_link);
     if (best < 0) continue;
     stitch(tr, objs, nobj, (uint32_t)best, y, true); /* its state is y's: o's is seconds old */
     L->track[best].blind_kept = false;
@@ -1910,18 +1922,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     rs_track_t *y = &L->track[i];
     if (y->object < 0 || y->id == 0 || y->state != RS_TRACK_TENTATIVE || y->hits < KIN_HITS || y->t_birth <= kin_first)
       continue;
-    int best = -1;
-    double best_off = INFINITY;
-    for (uint32_t q = 0; q < nkin; q++) {
-      const uint32_t j = tr->near[q];
-      const rs_track_t *o = &L->track[j];
-      if (j == i || o->id == 0 || o->object >= 0) continue; /* (taken up this frame) */
-      const double off = kin_fit(tr, o, y);
-      if (off >= 0 && off < best_off) {
-        best_off = off;
-        best = (int)j;
-      }
-    }
+    const int best = nearest_unseen(tr, i, nkin, kin_fit);
     if (best < 0) continue;
     stitch(tr, objs, nobj, (uint32_t)best, y, y->hits > L->track[best].hits);
     tr->n.stitched++;

@@ -258,8 +258,9 @@ typedef struct {
   double kin_accel;            /* m/s^2: a young track that no gate gave to an unseen track is a vehicle's unseen
                                   for a second or more when it lies in that vehicle's lane, between its prediction
                                   and where it would be had it sped up at this acceleration since it was last seen
-                                  (a car pulling away in a queue behind a bus; 0 = off; default 2.5;
-                                  docs/tracking.md, Kinematic re-acquisition) */
+                                  (a car pulling away in a queue behind a bus), or, for a bus or a truck, is its
+                                  rear part where it may be having braked (0 = off; default 2.5; docs/tracking.md,
+                                  Kinematic re-acquisition) */
   int split_full_size;         /* 1: a free object is a split part of a track when both fit in the track's
                                   full size (its largest box, falling 0.05 m an update), not only in its
                                   smoothed box, which shrinks while the object is partly hidden (default 1) */
@@ -407,8 +408,8 @@ typedef struct {
   double vmax;                         /* the fastest track's speed this frame */
   bool have_pose;
   double rot[9], trans[3];             /* sensor -> site (rs_pose_t's convention) */
-  uint16_t near[RS_TRACK_MAX];         /* scratch: tracks_near's result, and the stitching's and the blind link's
-                                          candidate lists in their passes */
+  uint16_t near[RS_TRACK_MAX];         /* scratch: tracks_near's result, and the stitching's, the blind link's and
+                                          the kinematic re-acquisition's candidate lists in their passes */
   double near_pos[RS_TRACK_MAX][2];    /* scratch: the stitching's candidates' tpos, in near's order */
   /* per object of the last frame: the held tracks (list indices) its returns are divided between */
   uint32_t hold_objects;               /* objects of the last frame */
