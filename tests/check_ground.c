@@ -13,6 +13,7 @@
 
 #define PI 3.14159265358979323846
 #define COLS 1800
+#define FAR_RISE_M 140.0
 
 static rs_sensor_t sensor;
 static rs_bg_model_t model;
@@ -29,6 +30,7 @@ typedef struct {
   bool stray;        /* two returns 1 m below the road at (15.5, 15.5) */
   bool room;         /* everything 1.5 m away */
   bool on_side;      /* the "road" is the plane x = -h: the sensor lies on its side */
+  bool far_rise;     /* the road 1 m higher from 140 m out (a step's face at 140 m), seen out to 200 m */
 } scene_t;
 
 /* the range of the first thing the beam (elevation el, azimuth az clockwise from +Y) meets; 0: none */
@@ -43,6 +45,11 @@ static double cast(const scene_t *sc, int row, int col, double *z_out) {
   } else {
     const double den = dz - sc->gx * dx - sc->gy * dy; /* t (dz - gx dx - gy dy) = -h */
     if (den < -1e-6) best = -sc->h / den;
+    if (sc->far_rise && dz < -1e-6) {
+      const double up = (1.0 - sc->h) / dz, face = FAR_RISE_M / ce; /* the raised road's range; the face's */
+      if (up * ce >= FAR_RISE_M) best = up;                            /* on the raised road */
+      else if (best * ce > FAR_RISE_M) best = face;                    /* met its face first */
+    }
   }
   if (sc->wall && dx > 1e-6) {
     const double t = 25.0 / dx, y = t * dy, z = t * dz;
@@ -52,7 +59,7 @@ static double cast(const scene_t *sc, int row, int col, double *z_out) {
     const double t = (3.0 - sc->h) / dz, x = t * dx, y = t * dy;
     if (t > 0 && x >= -50 && x <= -20 && y >= -50 && y <= -20 && (best == 0.0 || t < best)) best = t;
   }
-  if (best > 120.0) best = 0.0;
+  if (best > (sc->far_rise ? 200.0 : 120.0)) best = 0.0;
   *z_out = best * dz;
   return best;
 }
@@ -109,8 +116,26 @@ START_TEST(t_level) {
   const double at[][2] = {{0, 0}, {10, 10}, {-30, 5}, {60, -40}, {0, 3}, {-100, 90}};
   for (size_t i = 0; i < sizeof at / sizeof at[0]; i++) ck_assert_double_eq_tol(ground_at(at[i][0], at[i][1]), -4.5, 0.06);
   float z;
-  ck_assert(!rs_ground_at(&ground, 200.0, 0.0, &z)); /* off the grid */
-  ck_assert(!rs_ground_at(&ground, 0.0, -129.0, &z));
+  ck_assert_double_eq_tol(ground_at(150.0, -190.0), -4.5, 0.06); /* beyond the scene: the plane */
+  ck_assert_double_eq_tol(ground_at(0.0, 250.0), -4.5, 0.06);
+  ck_assert(!rs_ground_at(&ground, 257.0, 0.0, &z)); /* off the grid (256 m each way) */
+  ck_assert(!rs_ground_at(&ground, 0.0, -257.0, &z));
+}
+END_TEST
+
+/* a VLP-32C reaches 200 m (a VLS-128 245 m): a road 1 m higher from 140 m out, met by its beam of -1.333
+ * degrees at 150 m all round, is found there (a grid ending at 128 m said not known; the plane says 1 m lower) */
+START_TEST(t_far) {
+  const scene_t sc = {.h = 4.5, .far_rise = true};
+  make_model(&sc, RS_MODEL_VLP32C);
+  rs_ground_build(&ground, &model, &sensor);
+  ck_assert(ground.valid);
+  ck_assert_double_eq_tol(-ground.plane[0], 4.5, 0.05);
+  for (int k = 0; k < 8; k++) {
+    const double a = k * PI / 4 + 0.1, r = 3.5 / tan(1.333 * PI / 180.0);
+    ck_assert_double_eq_tol(ground_at(r * cos(a), r * sin(a)), -3.5, 0.1);
+  }
+  ck_assert_double_eq_tol(ground_at(0.0, 60.0), -4.5, 0.06); /* nearer, the road below */
 }
 END_TEST
 
@@ -229,6 +254,7 @@ int main(void) {
   TCase *tc = tcase_create("core");
   tcase_set_timeout(tc, 120);
   tcase_add_test(tc, t_level);
+  tcase_add_test(tc, t_far);
   tcase_add_test(tc, t_tilted);
   tcase_add_test(tc, t_walls_roof_stray);
   tcase_add_test(tc, t_none);

@@ -45,7 +45,7 @@
 #include <stdint.h>
 
 #define RS_GROUND_CELL_M 2.0f
-#define RS_GROUND_HALF 64 /* cells from the sensor to the grid's edge: 128 m */
+#define RS_GROUND_HALF 128 /* cells from the sensor to the grid's edge: 256 m (a VLS-128 reaches 245 m) */
 #define RS_GROUND_N (2 * RS_GROUND_HALF)
 #define RS_GROUND_KTH 3              /* a cell's ground: its k-th lowest point */
 #define RS_GROUND_FILL 2             /* cells without ground take their neighbours' this many cells away */
