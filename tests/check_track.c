@@ -1594,6 +1594,89 @@ START_TEST(t_walker_reacq) {
 }
 END_TEST
 
+/* walker_part. A walker (0.5 m x 0.4 m, 1.7 m tall) walks at 1.2 m/s along
+ * y = 2 and is hidden from 2 s to 3.5 s (behind a van at the kerb); a car
+ * drives past at 10 m/s along y = 3.8 (its near side at 2.9 m), seen whole
+ * but, from 2.9 s to 3.5 s, as its body and a piece of its near side split
+ * off by the beams (0.6 m x 0.3 m, 8 returns, 1.5 m behind its centre):
+ * inside the car's box, a metre or two from where the walker is predicted.
+ * Returns the updates of the walker's track while the piece is there, and
+ * whether its id is the walker's again at the end. */
+static int walker_and_car_piece(int on, bool *walker_kept) {
+  init_knob("walker_part", on);
+  uint32_t walker = 0, hits = 0;
+  int took = 0;
+  *walker_kept = true;
+  for (int f = 0; f < 50; f++) {
+    const double t = 0.1 * f, cx = -30.0 + 10.0 * t;
+    clear();
+    const bool walker_seen = f < 20 || f >= 35;
+    if (walker_seen) put(t, -2.0 + 1.2 * t, 2.0, 0.5, 0.4, 0.0, 1.7, 40);
+    if (f >= 29 && f < 35) {
+      put(t, cx + 0.45, 3.8, 3.6, 1.8, 0.0, 1.5, 110);
+      put(t, cx - 1.5, 3.05, 0.6, 0.3, 0.0, 0.8, 8);
+    } else {
+      car(t, cx, 3.8, 0.0);
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 19) {
+      walker = tr.list.object_track[0];
+      ck_assert_uint_ne(walker, 0);
+      ck_assert_int_eq(find_id(walker)->shape_cls, RS_CLASS_PEDESTRIAN);
+    }
+    const int up = updated_since(walker, &hits);
+    if (f >= 29 && f < 35) took += up;
+    if (f >= 40) *walker_kept = *walker_kept && tr.list.object_track[0] == walker;
+  }
+  return took;
+}
+
+/* walker_part's bounds. A walker walks at 1.2 m/s along y = wy past a car
+ * 4.5 m x 1.8 m whose near side is at y = 2.9, the car standing or driving
+ * at car_v from x0. Returns the frames (after the first 5) its track was not
+ * updated in; *kept: the walker's object has its track's id at the end. */
+static int walker_beside_car(double car_v, double x0, double wy, bool *kept) {
+  init_default();
+  uint32_t walker = 0, hits = 0;
+  int missed = 0;
+  for (int f = 0; f < 40; f++) {
+    const double t = 0.1 * f;
+    clear();
+    put(t, -4.0 + 1.2 * t, wy, 0.5, 0.4, 0.0, 1.7, 40);
+    car(t, x0 + car_v * t, 3.8, 0.0);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 5) walker = tr.list.object_track[0];
+    const int up = updated_since(walker, &hits);
+    if (f > 5) missed += !up;
+  }
+  ck_assert_uint_ne(walker, 0);
+  *kept = tr.list.object_track[0] == walker;
+  return missed;
+}
+
+START_TEST(t_walker_part) {
+  bool kept = false;
+  ck_assert_int_eq(walker_and_car_piece(1, &kept), 0);
+  ck_assert(kept); /* the walker comes back to its own track */
+  ck_assert_int_ge(walker_and_car_piece(0, &kept), 1); /* off: the walker's track takes the car's piece */
+  /* 0.3 m beside a standing car, or one creeping at 1 m/s (under 2 m/s): inside its grown box, tracked */
+  ck_assert_int_eq(walker_beside_car(0.0, -2.0, 2.6, &kept), 0);
+  ck_assert_int_eq(walker_beside_car(1.0, -2.0, 2.6, &kept), 0);
+  /* 0.9 m beside a car passing at 10 m/s (0.4 m outside its box grown by 0.5 m): tracked */
+  ck_assert_int_eq(walker_beside_car(10.0, -30.0, 2.0, &kept), 0);
+  /* 0.3 m beside it (a body 0.05 m from the car: the rule's price): not updated while the car passes,
+   * the track coasts and takes the walker again after, with its id */
+  const int missed = walker_beside_car(10.0, -30.0, 2.6, &kept);
+  ck_assert_int_gt(missed, 0);
+  ck_assert_int_le(missed, 8);
+  ck_assert(kept);
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  ck_assert_int_eq(c.walker_part, 1);
+  knob_refused("walker_part", "2");
+}
+END_TEST
+
 /* Two walkers pass each other in opposite directions, 0.4-0.9 m apart
  * across; their clusters merge while they are within 1-3 m of each other
  * along (up to 2.3 s), one cluster of both, then come apart: each keeps
@@ -2189,6 +2272,7 @@ int main(void) {
   tcase_add_test(tc, t_pedestrian_not_vehicle);
   tcase_add_test(tc, t_walked_not_vehicle);
   tcase_add_test(tc, t_walker_reacq);
+  tcase_add_test(tc, t_walker_part);
   tcase_add_test(tc, t_walkers_pass);
   tcase_add_test(tc, t_foliage_never_confirms);
   tcase_add_test(tc, t_walker_confirms_fast);

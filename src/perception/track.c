@@ -87,6 +87,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->uncover_restart = 1;
   c->merge_parts = 1;
   c->kin_accel = 2.5;
+  c->walker_part = 1;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -112,7 +113,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->twin_s >= 0 && cfg->twin_s <= 60) || !(cfg->walker_reacq_s >= 0 && cfg->walker_reacq_s <= 60) ||
       !(cfg->seen_across_m >= 0 && cfg->seen_across_m <= 20) ||
       cfg->circle_whole < 0 || cfg->circle_whole > 1 || cfg->uncover_restart < 0 || cfg->uncover_restart > 1 ||
-      cfg->merge_parts < 0 || cfg->merge_parts > 1 || !(cfg->kin_accel >= 0 && cfg->kin_accel <= 10))
+      cfg->merge_parts < 0 || cfg->merge_parts > 1 || !(cfg->kin_accel >= 0 && cfg->kin_accel <= 10) ||
+      cfg->walker_part < 0 || cfg->walker_part > 1)
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -148,6 +150,7 @@ static const rs_opt_t knobs[] = {
     KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),      KNOB(twin_s, 0.0, 60.0),
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
     KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(kin_accel, 0.0, 10.0),
+    KNOB_INT(walker_part, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -1049,6 +1052,39 @@ static bool walker_like(const rs_track_cfg_t *cf, const rs_track_t *t) {
   return t->shape_cls == RS_CLASS_PEDESTRIAN || (cf->walked_hits > 0 && t->walked >= (uint16_t)cf->walked_hits);
 }
 
+/* walker_part: object k (o, measured at tk) lies in the box of a moving vehicle's track (not a
+ * walker's; confirmed or coasting, WALKER_PART_LEN_M long or more, WALKER_PART_V or faster, seen within
+ * WALKER_PART_SEEN_S), predicted to tk, its split size grown by WALKER_PART_M each way: a part of that
+ * vehicle split off by the beams, not a walker (whose body cannot be inside a moving car). Asked only
+ * of gated pairs, answered once a frame per object (obj_part): at most objects x RS_TRACK_MAX tests */
+#define WALKER_PART_M 0.5
+#define WALKER_PART_LEN_M 3.0f
+#define WALKER_PART_V 2.0
+#define WALKER_PART_SEEN_S 0.3
+#define WALKER_PART_NEAR_M 12.0 /* m: the tracks looked at (a bus's half length, and a frame's move) */
+static bool part_of_moving_vehicle(rs_tracker_t *tr, uint32_t k, const rs_object_t *o, double tk) {
+  if (tr->obj_part[k] != 0) return tr->obj_part[k] == 2;
+  const rs_track_cfg_t *cf = &tr->cfg;
+  const double ox = o->sensor.obb_center[0], oy = o->sensor.obb_center[1];
+  const uint32_t nn = tracks_near(tr, ox, oy, WALKER_PART_NEAR_M);
+  bool part = false;
+  for (uint32_t q = 0; q < nn && !part; q++) {
+    const rs_track_t *v = &tr->list.track[tr->near[q]];
+    if (v->id == 0 || (v->state != RS_TRACK_CONFIRMED && v->state != RS_TRACK_COASTING)) continue;
+    if (walker_like(cf, v) || walker_sized(v) || v->full_length < WALKER_PART_LEN_M ||
+        tk - v->t_update > WALKER_PART_SEEN_S || norm2(v->x[2], v->x[3]) < WALKER_PART_V)
+      continue;
+    double p[2], S[3], len, wid;
+    predict_pos(tr, v, tk, p, S);
+    split_size(tr, v, &len, &wid);
+    const double dx = ox - p[0], dy = oy - p[1];
+    const double u = dx * v->hcd + dy * v->hsd, w = -dx * v->hsd + dy * v->hcd;
+    part = fabs(u) <= 0.5 * len + WALKER_PART_M && fabs(w) <= 0.5 * wid + WALKER_PART_M;
+  }
+  tr->obj_part[k] = part ? 2 : 1;
+  return part;
+}
+
 /* gated pairs of the tracks selected by `want` and the free objects */
 static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_round) {
   tr->edges = 0;
@@ -1086,6 +1122,10 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
        * (walker_body) does not take a vehicle-sized object of many times its returns after walker_reacq_s
        * unseen (a car coming out of the circle below the lowest beam where a walker went in) */
       if (walker_reacq(cf, t, unseen, o->sensor.obb_length, o->sensor.obb_width, o->points)) continue;
+      /* nor a part of a moving vehicle (walker_part): a walker's track, lost among the traffic, took the
+       * piece of a passing car or truck split off by the beams, followed it at the vehicle's speed, and
+       * counted it */
+      if (cf->walker_part && walker_like(cf, t) && part_of_moving_vehicle(tr, (uint32_t)k, o, tk)) continue;
       /* and how unlike the track's last object it is: a track keeps its object, not a fragment beside it */
       /* (beyond what counting noise explains: 3 sd of the smaller count) */
       const double lo = o->points < t->points ? o->points : t->points, hi = o->points < t->points ? t->points : o->points;
@@ -1729,6 +1769,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     const rs_object_t *o = &objs->obj[k];
     tr->taken_by[k] = -1;
     tr->shared[k] = 0;
+    tr->obj_part[k] = 0;
     L->object_track[k] = 0;
     tr->obj_t[k] = obj_time(o, t_frame);
     if (tr->obj_t[k] < t_frame - 1.0 || tr->obj_t[k] > t_frame + 1.0) tr->obj_t[k] = t_frame;

@@ -261,6 +261,10 @@ typedef struct {
                                   (a car pulling away in a queue behind a bus), or, for a bus or a truck, is its
                                   rear part where it may be having braked (0 = off; default 2.5; docs/tracking.md,
                                   Kinematic re-acquisition) */
+  int walker_part;             /* 1: a walker's track (a pedestrian by its shape, or walked like one) takes no object
+                                  lying in the box of a moving vehicle's track (confirmed or coasting, 3 m long or more, 2 m/s
+                                  or faster, seen within 0.3 s), predicted to the object's time and grown by 0.5 m:
+                                  a part of that vehicle split off by the beams (default 1; docs/tracking.md) */
   int split_full_size;         /* 1: a free object is a split part of a track when both fit in the track's
                                   full size (its largest box, falling 0.05 m an update), not only in its
                                   smoothed box, which shrinks while the object is partly hidden (default 1) */
@@ -386,6 +390,7 @@ typedef struct {
   /* work areas */
   int32_t taken_by[RS_OBJ_MAX];        /* object -> track index, -1 */
   uint8_t shared[RS_OBJ_MAX];          /* object box holds >= 2 confirmed predictions */
+  uint8_t obj_part[RS_OBJ_MAX];        /* walker_part, this frame: 0 not asked yet, 1 no, 2 a moving vehicle's part */
   double obj_t[RS_OBJ_MAX];
   double obj_cs[RS_OBJ_MAX][2];        /* cosine and sine of the object's box heading */
   const rs_object_t *obj_base;         /* the frame's objects (obj_cs's), obj_n of them */
