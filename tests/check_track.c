@@ -1119,6 +1119,50 @@ START_TEST(t_speed_imm) {
 }
 END_TEST
 
+/* speed_full_length. A van 7 m long drives at 8 m/s along y = 10 towards
+ * the sensor's side (-x) from x = 60, seen whole for 3 s, then for 2 s only
+ * its front 3 m (the part nearer the sensor; no end marked hidden: say its
+ * rear rows fall between two beams). Measured by the smoothed length, which
+ * shrinks towards the 3 m seen by 5 % of the gap an update, the centre of
+ * the partial view is moved back by less and less: it slides towards the
+ * sensor, 1 m/s faster than the van at first. Measured by the full length
+ * (falling 0.05 m an update) it slides 0.25 m/s: 0.37 m/s off at most, 1.03
+ * by the smoothed length. Returns the largest speed
+ * error from 0.5 s into the partial view to its end; *filter_vx: the
+ * filter's velocity along x at the end (the knob must not touch it). */
+static double partial_van_error(int on, double *filter_vx) {
+  init_knob("speed_full_length", on);
+  const double v = 8.0;
+  double worst = 0;
+  for (int f = 0; f < 50; f++) {
+    const double t = 0.1 * f, xc = 60.0 - v * t, front = xc - 3.5;
+    clear();
+    if (f < 30) put(t, xc, 10.0, 7.0, 2.2, 3.14159265, 2.6, 300);
+    else put(t, front + 1.5, 10.0, 3.0, 2.2, 3.14159265, 2.6, 130);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    ck_assert_uint_eq(tr.list.count, 1);
+    if (f >= 35) worst = fmax(worst, fabs(tr.list.track[0].speed - v));
+  }
+  ck_assert_uint_eq(tr.n.born, 1);
+  ck_assert_uint_eq(tr.list.track[0].state, RS_TRACK_CONFIRMED);
+  *filter_vx = tr.list.track[0].x[2];
+  return worst;
+}
+
+START_TEST(t_speed_full_length) {
+  double vx_on, vx_off;
+  const double full = partial_van_error(1, &vx_on), smoothed = partial_van_error(0, &vx_off);
+  ck_assert_msg(full <= 0.45, "a van seen by its front 3 m: speed %.2f m/s off by its full length (%.2f by the smoothed)", full, smoothed);
+  ck_assert_msg(smoothed >= 2.0 * full, "by the smoothed length %.2f m/s off, by the full length %.2f", smoothed, full);
+  ck_assert_double_eq(vx_on, vx_off); /* only what the track reports: the filter is the same */
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  ck_assert_int_eq(c.speed_full_length, 1);
+  knob_refused("speed_full_length", "2");
+  knob_refused("speed_full_length", "-1");
+}
+END_TEST
+
 /* A car at 6 m/s: 3 s straight on, a quarter circle of 8 m (0.75 rad/s clockwise, 2.1 s), then
  * straight on again, seen in every frame but for 0.4 s in the middle of the turn (box centres with
  * noise of sd 0.05 m). Over the turn and the 1 s after it, from 0.5 s into the turn: the RMSE of
@@ -2263,6 +2307,7 @@ int main(void) {
   tcase_add_test(tc, t_merge_parts);
   tcase_add_test(tc, t_speed_follows);
   tcase_add_test(tc, t_speed_imm);
+  tcase_add_test(tc, t_speed_full_length);
   tcase_add_test(tc, t_turn_rate);
   tcase_add_test(tc, t_hidden_end);
   tcase_add_test(tc, t_near_side);

@@ -88,6 +88,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->merge_parts = 1;
   c->kin_accel = 2.5;
   c->walker_part = 1;
+  c->speed_full_length = 1;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -114,7 +115,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->seen_across_m >= 0 && cfg->seen_across_m <= 20) ||
       cfg->circle_whole < 0 || cfg->circle_whole > 1 || cfg->uncover_restart < 0 || cfg->uncover_restart > 1 ||
       cfg->merge_parts < 0 || cfg->merge_parts > 1 || !(cfg->kin_accel >= 0 && cfg->kin_accel <= 10) ||
-      cfg->walker_part < 0 || cfg->walker_part > 1)
+      cfg->walker_part < 0 || cfg->walker_part > 1 || cfg->speed_full_length < 0 || cfg->speed_full_length > 1)
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -150,7 +151,7 @@ static const rs_opt_t knobs[] = {
     KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),      KNOB(twin_s, 0.0, 60.0),
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
     KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(kin_accel, 0.0, 10.0),
-    KNOB_INT(walker_part, 0, 1),
+    KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -423,10 +424,14 @@ static bool below_beam_view(const rs_tracker_t *tr, const rs_track_t *t, const r
  * behind its centre lies). With below_beam, a box partly nearer than the
  * lowest beam reaches is measured by its seen part instead (below_beam_view).
  * *misfit: how far the box's extents are from the track's size (m, both
- * axes; -1 when the size is not known). */
-static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o, double *z, double *sd, double *misfit) {
+ * axes; -1 when the size is not known). zs (NULL: not wanted): the speed
+ * estimator's measurement, z with the centre moved along the track's axis by
+ * what the box misses of its full length instead (speed_full_length). */
+static void meas_on(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o, double *z, double *sd, double *misfit,
+                    double *sf) {
   meas(tr, o, z, sd);
   *misfit = -1.0;
+  *sf = 0.0;
   if (t == NULL || t->hits == 0) return;
   const double c = t->hcos, s = t->hsin;
   double e[4];
@@ -450,6 +455,17 @@ static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_objec
   z[0] += su * c - sv * s;
   z[1] += su * s + sv * c;
   *sd += 0.5 * (miss_u + miss_v); /* the move is a guess: less sure the more it moves */
+  if (!tr->cfg.speed_full_length || !(t->full_length > t->length)) return;
+  const double miss_f = fmin(MAX_SHIFT, fmax(0.0, 0.5 * ((double)t->full_length - ext_u)));
+  *sf = (hidden ? hidden * miss_f : pu >= 0 ? miss_f : -miss_f) - su;
+}
+static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o, double *z, double *sd, double *misfit,
+                     double *zs) {
+  double sf;
+  meas_on(tr, t, o, z, sd, misfit, &sf);
+  if (zs == NULL) return;
+  zs[0] = z[0] + (sf != 0.0 ? sf * t->hcos : 0.0);
+  zs[1] = z[1] + (sf != 0.0 ? sf * t->hsin : 0.0);
 }
 
 /* A moving vehicle's track t, unseen for `unseen` s, seen again (dx, dy)
@@ -1102,7 +1118,7 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
       const rs_object_t *o = &objs->obj[k];
       if (tr->taken_by[k] >= 0 || tr->shared[k]) continue;
       double z[2], sd, p[2], S[3], misfit;
-      meas_for(tr, t, o, z, &sd, &misfit);
+      meas_for(tr, t, o, z, &sd, &misfit, NULL);
       const double tk = tr->obj_t[k];
       predict_pos(tr, t, tk, p, S);
       const double dx = z[0] - p[0], dy = z[1] - p[1], d = sqrt(dx * dx + dy * dy);
@@ -1375,7 +1391,8 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   double z[2], sd, misfit;
   const bool whole = made_whole(tr, t, o); /* on the box's axes: meas_for's misfit is against them */
   const bool grown = uncovered(tr, t, o);
-  meas_for(tr, t, o, z, &sd, &misfit);
+  double zs[2]; /* the speed estimator's */
+  meas_for(tr, t, o, z, &sd, &misfit, zs);
   t->last_z[0] = z[0];
   t->last_z[1] = z[1];
   t->t_z = tk;
@@ -1386,7 +1403,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   update(t, z, sdu);
   const bool first = t->hits == 0;
   double zi[2];
-  ref_meas(tr, t, o, z, tk, first, zi);
+  ref_meas(tr, t, o, zs, tk, first, zi);
   if (first || whole || grown) {
     imm_start(t);
     for (int j = 0; j < 2; j++)

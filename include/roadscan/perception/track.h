@@ -265,6 +265,11 @@ typedef struct {
                                   lying in the box of a moving vehicle's track (confirmed or coasting, 3 m long or more, 2 m/s
                                   or faster, seen within 0.3 s), predicted to the object's time and grown by 0.5 m:
                                   a part of that vehicle split off by the beams (default 1; docs/tracking.md) */
+  int speed_full_length;       /* 1: the speed estimator measures a vehicle seen in part by its full length (its largest
+                                  smoothed length, falling 0.05 m an update): the box's centre moved by half of what
+                                  the box misses of it, not of the smoothed length, which shrinks while the view
+                                  stays partial; the filter, gates and ids keep the smoothed length (default 1;
+                                  docs/tracking.md, Speed estimator) */
   int split_full_size;         /* 1: a free object is a split part of a track when both fit in the track's
                                   full size (its largest box, falling 0.05 m an update), not only in its
                                   smoothed box, which shrinks while the object is partly hidden (default 1) */
