@@ -88,6 +88,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->merge_parts = 1;
   c->kin_accel = 2.5;
   c->walker_part = 1;
+  c->blind_walker = 1;
   c->speed_full_length = 1;
 }
 
@@ -115,7 +116,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->seen_across_m >= 0 && cfg->seen_across_m <= 20) ||
       cfg->circle_whole < 0 || cfg->circle_whole > 1 || cfg->uncover_restart < 0 || cfg->uncover_restart > 1 ||
       cfg->merge_parts < 0 || cfg->merge_parts > 1 || !(cfg->kin_accel >= 0 && cfg->kin_accel <= 10) ||
-      cfg->walker_part < 0 || cfg->walker_part > 1 || cfg->speed_full_length < 0 || cfg->speed_full_length > 1)
+      cfg->walker_part < 0 || cfg->walker_part > 1 || cfg->speed_full_length < 0 || cfg->speed_full_length > 1 ||
+      cfg->blind_walker < 0 || cfg->blind_walker > 1)
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -151,7 +153,7 @@ static const rs_opt_t knobs[] = {
     KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),      KNOB(twin_s, 0.0, 60.0),
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
     KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(kin_accel, 0.0, 10.0),
-    KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1),
+    KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -367,6 +369,49 @@ static double blind_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_t
   const double qx = ax + sa * hox, qy = ay + sa * hoy;
   if (fmin(seg_near(ax, ay, qx, qy), seg_near(qx, qy, y->px0, y->py0)) >= rb + BLIND_WAY_M) return -1.0;
   return 1.0 + fabs((sa + ra) / vo - dt);
+}
+
+/* blind_walker: young walker's track y is walker o come out of the blind
+ * circle under the sensor (a sidewalk beside the pole: a walker's head is
+ * below the lowest beam within a few metres, and crossing that takes 5-8 s).
+ * o last seen at the circle's edge walking (WBLIND_MIN_V or faster), y born
+ * near it, at least 2 m on, both walking along the straight way between them
+ * (within 40 degrees), that way passing near the circle, and the time between
+ * within WBLIND_TIME_SHARE (+ WBLIND_TIME_S) of the way's length at o's
+ * speed. Returns how far the time is from that (the least wins: of walkers
+ * in a line a few seconds apart, the one whose time fits), or -1. */
+#define WBLIND_MIN_V 0.5      /* m/s */
+#define WBLIND_TIME_SHARE 0.3 /* of the time expected */
+#define WBLIND_TIME_S 1.0     /* s */
+static double blind_walk_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_track_t *y) {
+  const double dt = y->t_birth - o->t_update;
+  if (!(dt > 0) || dt > tr->cfg.blind_s || !at_blind_edge(tr, o)) return -1.0;
+  if (!(y->full_length < WALKER_M && y->full_width < WALKER_M)) return -1.0;
+  const double rb = blind_reach(tr, o);
+  if (norm2(y->px0, y->py0) > rb + BLIND_BIRTH_M) return -1.0;
+  const double ax = o->last_z[0], ay = o->last_z[1], dx = y->px0 - ax, dy = y->py0 - ay, d = norm2(dx, dy);
+  const double vo = norm2(o->x[2], o->x[3]), vy = norm2(y->x[2], y->x[3]);
+  if (d < 2.0 || !(vo >= WBLIND_MIN_V) || !(vy >= WBLIND_MIN_V)) return -1.0;
+  if (o->x[2] * dx + o->x[3] * dy < BLIND_COS * vo * d || y->x[2] * dx + y->x[3] * dy < BLIND_COS * vy * d) return -1.0;
+  if (seg_near(ax, ay, y->px0, y->py0) >= rb + BLIND_WAY_M) return -1.0;
+  const double expect = d / vo, off = fabs(dt - expect);
+  return off <= WBLIND_TIME_SHARE * expect + WBLIND_TIME_S ? off : -1.0;
+}
+
+/* blind_walker: walker's track t was last seen at the blind circle's edge walking into it (towards the
+ * sensor) */
+static bool gone_in(const rs_tracker_t *tr, const rs_track_t *t) {
+  if (!(t->full_length < WALKER_M && t->full_width < WALKER_M) || !at_blind_edge(tr, t)) return false;
+  const double vx = t->x[2], vy = t->x[3], v = norm2(vx, vy);
+  return v >= WBLIND_MIN_V && t->last_z[0] * vx + t->last_z[1] * vy < 0.0;
+}
+/* ... and z lies before the point of its way (from where it was last seen, along its velocity) nearest
+ * the sensor */
+static bool before_nearest(const rs_track_t *t, const double z[2]) {
+  const double vx = t->x[2], vy = t->x[3], v = norm2(vx, vy);
+  const double ux = vx / v, uy = vy / v;
+  const double s_near = -(t->last_z[0] * ux + t->last_z[1] * uy); /* along the way, from last_z */
+  return (z[0] - t->last_z[0]) * ux + (z[1] - t->last_z[1]) * uy < s_near;
 }
 
 /* Below the lowest beam. A point of height z (sensor frame, below the
@@ -1142,6 +1187,9 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
        * piece of a passing car or truck split off by the beams, followed it at the vehicle's speed, and
        * counted it */
       if (cf->walker_part && walker_like(cf, t) && part_of_moving_vehicle(tr, (uint32_t)k, o, tk)) continue;
+      /* nor, with blind_walker, does a walker's track gone into the blind circle take anything before the
+       * point of its way nearest the sensor (a walker coming out towards it the other way) */
+      if (cf->blind_walker && unseen > 0.2 && gone_in(tr, t) && (before_nearest(t, z) || d > cf->gate_m)) continue;
       /* and how unlike the track's last object it is: a track keeps its object, not a fragment beside it */
       /* (beyond what counting noise explains: 3 sd of the smaller count) */
       const double lo = o->points < t->points ? o->points : t->points, hi = o->points < t->points ? t->points : o->points;
@@ -1692,11 +1740,11 @@ static double kin_fit(const rs_tracker_t *tr, const rs_track_t *o, const rs_trac
  * when it does not fit; the first in index order of equals); -1 none. The blind-circle link and the
  * kinematic re-acquisition */
 typedef double (*link_fit_t)(const rs_tracker_t *tr, const rs_track_t *o, const rs_track_t *y);
-static int nearest_unseen(const rs_tracker_t *tr, uint32_t i, uint32_t n, link_fit_t fit) {
+static int nearest_unseen_from(const rs_tracker_t *tr, uint32_t i, uint32_t q0, uint32_t n, link_fit_t fit) {
   const rs_track_t *y = &tr->list.track[i];
   int best = -1;
   double best_fit = INFINITY;
-  for (uint32_t q = 0; q < n; q++) {
+  for (uint32_t q = q0; q < n; q++) {
     const uint32_t j = tr->near[q];
     const rs_track_t *o = &tr->list.track[j];
     if (j == i || !unseen(o)) continue;
@@ -1707,6 +1755,9 @@ static int nearest_unseen(const rs_tracker_t *tr, uint32_t i, uint32_t n, link_f
     }
   }
   return best;
+}
+static int nearest_unseen(const rs_tracker_t *tr, uint32_t i, uint32_t n, link_fit_t fit) {
+  return nearest_unseen_from(tr, i, 0, n, fit);
 }
 
 /* merge_parts: track i (t, of a long vehicle) took object o; the free thin
@@ -1888,10 +1939,11 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
    * older track takes the object over (its id continues), the younger one
    * ends without an event */
   const double gr = 2.0 * cf->gate_m + 0.15 * cf->max_speed;
-  uint32_t nunseen = 0; /* the coasting and lost tracks not held, in index order */
+  uint32_t nunseen = 0; /* the coasting and lost tracks not held, in index order (not a walker's gone into the
+                          * blind circle, with blind_walker: it comes out by blind_walk_link alone) */
   for (uint32_t j = 0; j < L->count; j++) {
     const rs_track_t *o = &L->track[j];
-    if (unseen(o) && !o->blind_kept) {
+    if (unseen(o) && !o->blind_kept && !(cf->blind_walker && gone_in(tr, o))) {
       tr->near_pos[nunseen][0] = tr->tpos[j][0];
       tr->near_pos[nunseen][1] = tr->tpos[j][1];
       tr->near[nunseen++] = (uint16_t)j;
@@ -1948,7 +2000,9 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
    * walker's size (the sidewalks pass the pole and walkers cross them in
    * groups, slowly, seconds in the circle; a young walker's track is no
    * better sign of which one came out than a still one's of which one went
-   * in: held-out site 13, VLP-16 rush, three walkers' ids given to others).
+   * in: held-out site 13, VLP-16 rush, three walkers' ids given to others);
+   * with blind_walker the walkers' tracks after them, by their own test
+   * (blind_walk_link: the time unseen must fit the way at the walker's pace).
    * A link only takes tracks out of that set (the linked one is seen, the
    * young one ends), so each is checked again when tried */
   uint32_t ncand = 0;
@@ -1956,10 +2010,16 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     const rs_track_t *o = &L->track[j];
     if (unseen(o) && !(o->full_length < WALKER_M && o->full_width < WALKER_M)) tr->near[ncand++] = (uint16_t)j;
   }
-  for (uint32_t i = 0; i < L->count && ncand > 0; i++) {
+  uint32_t nwalk = 0; /* blind_walker: the walkers' candidates, after the vehicles' in the same scratch */
+  for (uint32_t j = 0; j < L->count && tr->cfg.blind_s > 0 && tr->cfg.blind_walker; j++) {
+    const rs_track_t *o = &L->track[j];
+    if (unseen(o) && o->full_length < WALKER_M && o->full_width < WALKER_M) tr->near[ncand + nwalk++] = (uint16_t)j;
+  }
+  for (uint32_t i = 0; i < L->count && ncand + nwalk > 0; i++) {
     rs_track_t *y = &L->track[i];
     if (y->object < 0 || y->id == 0 || y->hits < 3 || y->t_update - y->t_birth > 1.5) continue;
-    const int best = nearest_unseen(tr, i, ncand, blind_link);
+    int best = ncand > 0 ? nearest_unseen(tr, i, ncand, blind_link) : -1;
+    if (best < 0 && nwalk > 0) best = nearest_unseen_from(tr, i, ncand, ncand + nwalk, blind_walk_link);
     if (best < 0) continue;
     stitch(tr, objs, nobj, (uint32_t)best, y, true); /* its state is y's: o's is seconds old */
     L->track[best].blind_kept = false;

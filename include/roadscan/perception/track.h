@@ -265,6 +265,11 @@ typedef struct {
                                   lying in the box of a moving vehicle's track (confirmed or coasting, 3 m long or more, 2 m/s
                                   or faster, seen within 0.3 s), predicted to the object's time and grown by 0.5 m:
                                   a part of that vehicle split off by the beams (default 1; docs/tracking.md) */
+  int blind_walker;            /* 1: a walker's track gone into the blind circle under the sensor takes nothing before
+                                  the point of its way nearest the sensor, and is linked to a young walker's track born
+                                  at the circle's other side on its way, moving that way, when the time between fits the
+                                  way's length at its walking speed (the best fit wins: of walkers in a line, the first
+                                  in is the first out; default 1; docs/tracking.md, The blind circle) */
   int speed_full_length;       /* 1: the speed estimator measures a vehicle seen in part by its full length (its largest
                                   smoothed length, falling 0.05 m an update): the box's centre moved by half of what
                                   the box misses of it, not of the smoothed length, which shrinks while the view
