@@ -504,6 +504,33 @@ static int walkers_under_sensor(int on, uint32_t *links) {
   return kept;
 }
 
+/* blind_walker_s: one walker of walkers_under_sensor, at 0.9 m/s along y = 2, is unseen for 9.8 s
+ * under the sensor; returns whether its track keeps one id */
+static bool slow_walker_kept(double keep_s) {
+  init_knob("blind_walker_s", keep_s);
+  const double rb = 1.3 / tan(15.0 * M_PI / 180.0);
+  uint32_t first = 0, last = 0;
+  for (int f = 0; f < 300; f++) {
+    const double t = 0.1 * f, x = -10.0 + 0.9 * t;
+    clear();
+    objs.lowest_beam_deg = -15.0f;
+    if (hypot(x, 2.0) > rb + 0.1) {
+      put(t, x, 2.0, 0.5, 0.5, 0.0, 1.7, 30);
+      objs.obj[0].sensor.box_min[2] = -3.0f;
+      objs.obj[0].sensor.box_max[2] = -1.3f;
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    for (uint32_t i = 0; i < tr.list.count; i++) {
+      const rs_track_t *k = &tr.list.track[i];
+      if (k->state != RS_TRACK_CONFIRMED || k->object < 0) continue;
+      if (first == 0) first = k->id;
+      last = k->id;
+    }
+  }
+  ck_assert_uint_ne(first, 0);
+  return first == last;
+}
+
 START_TEST(t_blind_walker) {
   uint32_t links_on, links_off;
   ck_assert_int_eq(walkers_under_sensor(1, &links_on), 3);
@@ -514,6 +541,10 @@ START_TEST(t_blind_walker) {
   rs_track_cfg_default(&c);
   ck_assert_int_eq(c.blind_walker, 1);
   knob_refused("blind_walker", "2");
+  ck_assert(slow_walker_kept(12.0)); /* the default: kept 12 s */
+  ck_assert(!slow_walker_kept(8.0));
+  ck_assert_double_eq(c.blind_walker_s, 12.0);
+  knob_refused("blind_walker_s", "61");
 }
 END_TEST
 

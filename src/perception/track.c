@@ -89,6 +89,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->kin_accel = 2.5;
   c->walker_part = 1;
   c->blind_walker = 1;
+  c->blind_walker_s = 12.0;
   c->speed_full_length = 1;
 }
 
@@ -117,7 +118,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->circle_whole < 0 || cfg->circle_whole > 1 || cfg->uncover_restart < 0 || cfg->uncover_restart > 1 ||
       cfg->merge_parts < 0 || cfg->merge_parts > 1 || !(cfg->kin_accel >= 0 && cfg->kin_accel <= 10) ||
       cfg->walker_part < 0 || cfg->walker_part > 1 || cfg->speed_full_length < 0 || cfg->speed_full_length > 1 ||
-      cfg->blind_walker < 0 || cfg->blind_walker > 1)
+      cfg->blind_walker < 0 || cfg->blind_walker > 1 || !(cfg->blind_walker_s >= 0 && cfg->blind_walker_s <= 60))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -153,7 +154,7 @@ static const rs_opt_t knobs[] = {
     KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),      KNOB(twin_s, 0.0, 60.0),
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
     KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(kin_accel, 0.0, 10.0),
-    KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1),
+    KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1), KNOB(blind_walker_s, 0.0, 60.0),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -385,7 +386,7 @@ static double blind_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_t
 #define WBLIND_TIME_S 1.0     /* s */
 static double blind_walk_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_track_t *y) {
   const double dt = y->t_birth - o->t_update;
-  if (!(dt > 0) || dt > tr->cfg.blind_s || !at_blind_edge(tr, o)) return -1.0;
+  if (!(dt > 0) || dt > tr->cfg.blind_walker_s || !at_blind_edge(tr, o)) return -1.0;
   if (!(y->full_length < WALKER_M && y->full_width < WALKER_M)) return -1.0;
   const double rb = blind_reach(tr, o);
   if (norm2(y->px0, y->py0) > rb + BLIND_BIRTH_M) return -1.0;
@@ -2129,7 +2130,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       }
     } else {
       const double lost = t->shape_cls == RS_CLASS_PEDESTRIAN ? fmax(cf->lost_s, cf->lost_walker_s) : cf->lost_s;
-      t->blind_kept = !updated && since > cf->coast_s + lost && since <= cf->blind_s && at_blind_edge(tr, t);
+      const double keep = cf->blind_walker && t->full_length < WALKER_M && t->full_width < WALKER_M ? cf->blind_walker_s : cf->blind_s;
+      t->blind_kept = !updated && since > cf->coast_s + lost && since <= keep && at_blind_edge(tr, t);
       if (since > cf->coast_s + lost && !t->blind_kept) ends = true;
       else if (updated || rs_track_held(t)) t->state = RS_TRACK_CONFIRMED;
       else t->state = since > cf->coast_s ? RS_TRACK_LOST : RS_TRACK_COASTING;

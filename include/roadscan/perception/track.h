@@ -270,6 +270,9 @@ typedef struct {
                                   at the circle's other side on its way, moving that way, when the time between fits the
                                   way's length at its walking speed (the best fit wins: of walkers in a line, the first
                                   in is the first out; default 1; docs/tracking.md, The blind circle) */
+  double blind_walker_s;       /* s: with blind_walker, how long a walker's track gone into the blind circle is kept
+                                  for the link (blind_s for vehicles; a walker crosses a 10 m circle at 1 m/s in
+                                  10 s; default 12) */
   int speed_full_length;       /* 1: the speed estimator measures a vehicle seen in part by its full length (its largest
                                   smoothed length, falling 0.05 m an update): the box's centre moved by half of what
                                   the box misses of it, not of the smoothed length, which shrinks while the view
