@@ -94,6 +94,20 @@ static int confirmed_count(void) {
   return n;
 }
 
+/* a frame of a sequence of one road user, at time t: the tracker run on objs, one track listed; its
+ * speed's error against v (m/s) */
+static double lone_speed_error(double t, double v) {
+  rs_track_frame(&tr, &objs, t + 0.05);
+  ck_assert_uint_eq(tr.list.count, 1);
+  return fabs(tr.list.track[0].speed - v);
+}
+
+/* ... and at its end: one track born in all, confirmed if asked */
+static void lone_track_ended(bool confirmed) {
+  ck_assert_uint_eq(tr.n.born, 1);
+  if (confirmed) ck_assert_uint_eq(tr.list.track[0].state, RS_TRACK_CONFIRMED);
+}
+
 START_TEST(t_constant_velocity) {
   init_default();
   uint32_t id = 0;
@@ -692,11 +706,10 @@ static double accel_lag(double fit) {
      * x < 0, the front one after */
     if (f % 3 == 2) put(t, x + (x < 0 ? -1.1 : 1.1), 8.0, 2.3, 1.8, 0.0, 1.5, 60);
     else car(t, x, 8.0, 0.0);
-    rs_track_frame(&tr, &objs, t + 0.05);
-    ck_assert_uint_eq(tr.list.count, 1);
-    if (t >= 3.0) worst = fmax(worst, fabs(tr.list.track[0].speed - v));
+    const double e = lone_speed_error(t, v);
+    if (t >= 3.0) worst = fmax(worst, e);
   }
-  ck_assert_uint_eq(tr.n.born, 1);
+  lone_track_ended(false);
   return worst;
 }
 
@@ -720,12 +733,10 @@ static double hiding_error(int anchor) {
     clear();
     put(t, 0.5 * (rear + hi), 8.0, fmax(len, 1.8), fmin(len, 1.8), len >= 1.8 ? 0.0 : 1.5707963, 1.5, (uint32_t)(25 * len));
     if (front > edge) objs.obj[0].occluded = RS_OBJ_HIDDEN_END;
-    rs_track_frame(&tr, &objs, t + 0.05);
-    ck_assert_uint_eq(tr.list.count, 1);
-    if (front > edge) worst = fmax(worst, fabs(tr.list.track[0].speed - v));
+    const double e = lone_speed_error(t, v);
+    if (front > edge) worst = fmax(worst, e);
   }
-  ck_assert_uint_eq(tr.n.born, 1);
-  ck_assert_uint_eq(tr.list.track[0].state, RS_TRACK_CONFIRMED);
+  lone_track_ended(true);
   return worst;
 }
 
@@ -757,12 +768,10 @@ static double coming_into_view_error(const char *knob, double value, int hidden_
     clear();
     put(t, front + 0.5 * seen, 3.0, seen, 1.8, 0.0, 1.5, (uint32_t)(8 * seen));
     if (f < hidden_first) objs.obj[0].occluded = RS_OBJ_HIDDEN_START; /* its front, the smaller azimuth */
-    rs_track_frame(&tr, &objs, t + 0.05);
-    ck_assert_uint_eq(tr.list.count, 1);
-    if (f >= 3) worst = fmax(worst, fabs(tr.list.track[0].speed - v));
+    const double e = lone_speed_error(t, v);
+    if (f >= 3) worst = fmax(worst, e);
   }
-  ck_assert_uint_eq(tr.n.born, 1);
-  ck_assert_uint_eq(tr.list.track[0].state, RS_TRACK_CONFIRMED);
+  lone_track_ended(true);
   return worst;
 }
 static double car_into_view_error(double near_ref_m, int hidden_first) {
@@ -919,11 +928,10 @@ static double uncovered_error(int on, double v, bool hidden) {
     } else {
       put(t, x, 13.2, 4.8, 2.0, 0.0, 2.2, 150);
     }
-    rs_track_frame(&tr, &objs, t + 0.05);
-    ck_assert_uint_eq(tr.list.count, 1);
-    if (f >= 3) worst = fmax(worst, fabs(tr.list.track[0].speed - v));
+    const double e = lone_speed_error(t, v);
+    if (f >= 3) worst = fmax(worst, e);
   }
-  ck_assert_uint_eq(tr.n.born, 1);
+  lone_track_ended(false);
   return worst;
 }
 
@@ -1235,12 +1243,10 @@ static double partial_van_error(int on, double *filter_vx) {
     clear();
     if (f < 30) put(t, xc, 10.0, 7.0, 2.2, 3.14159265, 2.6, 300);
     else put(t, front + 1.5, 10.0, 3.0, 2.2, 3.14159265, 2.6, 130);
-    rs_track_frame(&tr, &objs, t + 0.05);
-    ck_assert_uint_eq(tr.list.count, 1);
-    if (f >= 35) worst = fmax(worst, fabs(tr.list.track[0].speed - v));
+    const double e = lone_speed_error(t, v);
+    if (f >= 35) worst = fmax(worst, e);
   }
-  ck_assert_uint_eq(tr.n.born, 1);
-  ck_assert_uint_eq(tr.list.track[0].state, RS_TRACK_CONFIRMED);
+  lone_track_ended(true);
   *filter_vx = tr.list.track[0].x[2];
   return worst;
 }

@@ -225,6 +225,8 @@ static bool vehicle_sized(float length, float width) {
 
 /* track t's smoothed box is a walker's size (q_small, the speed estimator, the walker's confirmation) */
 static bool walker_sized(const rs_track_t *t) { return t->length < WALKER_M && t->width < WALKER_M; }
+/* ... and so was its largest box (the blind circle's walkers: a walker's box shrinks as it goes under the beam) */
+static bool walker_full_sized(const rs_track_t *t) { return t->full_length < WALKER_M && t->full_width < WALKER_M; }
 
 /* track t knows the size of what it follows: confirmed, 5 hits, a vehicle's length */
 static bool size_known(const rs_track_t *t) { return t->state != RS_TRACK_TENTATIVE && t->hits >= 5 && t->length >= 1.5f; }
@@ -387,7 +389,7 @@ static double blind_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_t
 static double blind_walk_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_track_t *y) {
   const double dt = y->t_birth - o->t_update;
   if (!(dt > 0) || dt > tr->cfg.blind_walker_s || !at_blind_edge(tr, o)) return -1.0;
-  if (!(y->full_length < WALKER_M && y->full_width < WALKER_M)) return -1.0;
+  if (!walker_full_sized(y)) return -1.0;
   const double rb = blind_reach(tr, o);
   if (norm2(y->px0, y->py0) > rb + BLIND_BIRTH_M) return -1.0;
   const double ax = o->last_z[0], ay = o->last_z[1], dx = y->px0 - ax, dy = y->py0 - ay, d = norm2(dx, dy);
@@ -402,12 +404,12 @@ static double blind_walk_link(const rs_tracker_t *tr, const rs_track_t *o, const
 /* blind_walker: walker's track t was last seen at the blind circle's edge walking into it (towards the
  * sensor) */
 static bool gone_in(const rs_tracker_t *tr, const rs_track_t *t) {
-  if (!(t->full_length < WALKER_M && t->full_width < WALKER_M) || !at_blind_edge(tr, t)) return false;
+  if (!walker_full_sized(t) || !at_blind_edge(tr, t)) return false;
   const double vx = t->x[2], vy = t->x[3], v = norm2(vx, vy);
   return v >= WBLIND_MIN_V && t->last_z[0] * vx + t->last_z[1] * vy < 0.0;
 }
-/* ... and z lies before the point of its way (from where it was last seen, along its velocity) nearest
- * the sensor */
+/* ... and z lies before the point of its way (from where it was last seen, along its velocity, which
+ * gone_in found non-zero) nearest the sensor */
 static bool before_nearest(const rs_track_t *t, const double z[2]) {
   const double vx = t->x[2], vy = t->x[3], v = norm2(vx, vy);
   const double ux = vx / v, uy = vy / v;
@@ -510,8 +512,8 @@ static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_objec
   double sf;
   meas_on(tr, t, o, z, sd, misfit, &sf);
   if (zs == NULL) return;
-  zs[0] = z[0] + (sf != 0.0 ? sf * t->hcos : 0.0);
-  zs[1] = z[1] + (sf != 0.0 ? sf * t->hsin : 0.0);
+  zs[0] = z[0] + sf * t->hcos;
+  zs[1] = z[1] + sf * t->hsin;
 }
 
 /* A moving vehicle's track t, unseen for `unseen` s, seen again (dx, dy)
@@ -1189,7 +1191,9 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
        * counted it */
       if (cf->walker_part && walker_like(cf, t) && part_of_moving_vehicle(tr, (uint32_t)k, o, tk)) continue;
       /* nor, with blind_walker, does a walker's track gone into the blind circle take anything before the
-       * point of its way nearest the sensor (a walker coming out towards it the other way) */
+       * point of its way nearest the sensor (a walker coming out towards it the other way) or farther from
+       * its prediction than gate_m (its gate grows while unseen; the next walker in a line comes out in it):
+       * it comes out by blind_walk_link */
       if (cf->blind_walker && unseen > 0.2 && gone_in(tr, t) && (before_nearest(t, z) || d > cf->gate_m)) continue;
       /* and how unlike the track's last object it is: a track keeps its object, not a fragment beside it */
       /* (beyond what counting noise explains: 3 sd of the smaller count) */
@@ -1736,12 +1740,12 @@ static double kin_fit(const rs_tracker_t *tr, const rs_track_t *o, const rs_trac
   return fabs(off);
 }
 
-/* Of the candidates tr->near[0..n) (list indices) still unseen (a link made earlier in the same pass
+/* Of the candidates tr->near[q0..n) (list indices) still unseen (a link made earlier in the same pass
  * takes one up) and other than track i (y), the one whose fit to y is least (fit: a distance, < 0
  * when it does not fit; the first in index order of equals); -1 none. The blind-circle link and the
  * kinematic re-acquisition */
 typedef double (*link_fit_t)(const rs_tracker_t *tr, const rs_track_t *o, const rs_track_t *y);
-static int nearest_unseen_from(const rs_tracker_t *tr, uint32_t i, uint32_t q0, uint32_t n, link_fit_t fit) {
+static int nearest_unseen(const rs_tracker_t *tr, uint32_t i, uint32_t q0, uint32_t n, link_fit_t fit) {
   const rs_track_t *y = &tr->list.track[i];
   int best = -1;
   double best_fit = INFINITY;
@@ -1756,9 +1760,6 @@ static int nearest_unseen_from(const rs_tracker_t *tr, uint32_t i, uint32_t q0, 
     }
   }
   return best;
-}
-static int nearest_unseen(const rs_tracker_t *tr, uint32_t i, uint32_t n, link_fit_t fit) {
-  return nearest_unseen_from(tr, i, 0, n, fit);
 }
 
 /* merge_parts: track i (t, of a long vehicle) took object o; the free thin
@@ -2009,18 +2010,18 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   uint32_t ncand = 0;
   for (uint32_t j = 0; j < L->count && tr->cfg.blind_s > 0; j++) {
     const rs_track_t *o = &L->track[j];
-    if (unseen(o) && !(o->full_length < WALKER_M && o->full_width < WALKER_M)) tr->near[ncand++] = (uint16_t)j;
+    if (unseen(o) && !walker_full_sized(o)) tr->near[ncand++] = (uint16_t)j;
   }
   uint32_t nwalk = 0; /* blind_walker: the walkers' candidates, after the vehicles' in the same scratch */
   for (uint32_t j = 0; j < L->count && tr->cfg.blind_s > 0 && tr->cfg.blind_walker; j++) {
     const rs_track_t *o = &L->track[j];
-    if (unseen(o) && o->full_length < WALKER_M && o->full_width < WALKER_M) tr->near[ncand + nwalk++] = (uint16_t)j;
+    if (unseen(o) && walker_full_sized(o)) tr->near[ncand + nwalk++] = (uint16_t)j;
   }
   for (uint32_t i = 0; i < L->count && ncand + nwalk > 0; i++) {
     rs_track_t *y = &L->track[i];
     if (y->object < 0 || y->id == 0 || y->hits < 3 || y->t_update - y->t_birth > 1.5) continue;
-    int best = ncand > 0 ? nearest_unseen(tr, i, ncand, blind_link) : -1;
-    if (best < 0 && nwalk > 0) best = nearest_unseen_from(tr, i, ncand, ncand + nwalk, blind_walk_link);
+    int best = nearest_unseen(tr, i, 0, ncand, blind_link);
+    if (best < 0) best = nearest_unseen(tr, i, ncand, ncand + nwalk, blind_walk_link);
     if (best < 0) continue;
     stitch(tr, objs, nobj, (uint32_t)best, y, true); /* its state is y's: o's is seconds old */
     L->track[best].blind_kept = false;
@@ -2041,7 +2042,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     rs_track_t *y = &L->track[i];
     if (y->object < 0 || y->id == 0 || y->state != RS_TRACK_TENTATIVE || y->hits < KIN_HITS || y->t_birth <= kin_first)
       continue;
-    const int best = nearest_unseen(tr, i, nkin, kin_fit);
+    const int best = nearest_unseen(tr, i, 0, nkin, kin_fit);
     if (best < 0) continue;
     stitch(tr, objs, nobj, (uint32_t)best, y, y->hits > L->track[best].hits);
     tr->n.stitched++;
@@ -2130,7 +2131,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       }
     } else {
       const double lost = t->shape_cls == RS_CLASS_PEDESTRIAN ? fmax(cf->lost_s, cf->lost_walker_s) : cf->lost_s;
-      const double keep = cf->blind_walker && t->full_length < WALKER_M && t->full_width < WALKER_M ? cf->blind_walker_s : cf->blind_s;
+      const double keep = cf->blind_walker && walker_full_sized(t) ? cf->blind_walker_s : cf->blind_s;
       t->blind_kept = !updated && since > cf->coast_s + lost && since <= keep && at_blind_edge(tr, t);
       if (since > cf->coast_s + lost && !t->blind_kept) ends = true;
       else if (updated || rs_track_held(t)) t->state = RS_TRACK_CONFIRMED;
