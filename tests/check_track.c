@@ -1128,6 +1128,53 @@ static int next_lane_cluster(double seen_across, double x0) {
   return took;
 }
 
+/* still_lane. Two vans wait side by side in two lanes running along y (x = 6.2 and 9.7 m, 28 m
+ * out), seen every frame for 3 s (their side views give the lanes' axis), then both hidden for 2.3 s
+ * (a bus passing in front). The one at x = 6.2 comes back first, split in two (its front and its
+ * rear, 2.2 m each); the other comes back 0.3 s later, whole. With the rule the second van's track
+ * keeps its id (the first van's front is a split part of the first); without it, that track takes
+ * the first van's front, 3.5 m across its lane, and the second van gets a new id. `along`: the second van comes back that far along
+ * its lane (it pulled away while hidden). Returns whether the second van kept its id. */
+static bool vans_uncovered(int still_lane, double along) {
+  init_knob("still_lane", still_lane);
+  const double h = M_PI / 2; /* the lanes' axis */
+  uint32_t a = 0, b = 0;
+  for (int f = 0; f < 60; f++) {
+    const double t = 0.1 * f;
+    clear();
+    if (f < 30) {
+      put(t, 6.2, 28.0, 4.9, 2.0, h, 1.9, 280);
+      put(t, 9.7, 28.0, 4.9, 2.0, h, 1.9, 280);
+    } else if (f >= 53) {
+      put(t, 6.2, 29.3, 2.2, 2.0, h, 1.9, 130);
+      put(t, 6.2, 26.7, 2.2, 2.0, h, 1.9, 130);
+      if (f >= 56) put(t, 9.7, 28.0 + along, 4.9, 2.0, h, 1.9, 280);
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 29) {
+      a = tr.list.object_track[0];
+      b = tr.list.object_track[1];
+      ck_assert(a != 0 && b != 0 && a != b);
+      ck_assert_int_eq(find_id(b)->state, RS_TRACK_CONFIRMED);
+      ck_assert_uint_ge(find_id(b)->axis_n, 3);
+    }
+  }
+  ck_assert_uint_eq(tr.list.object_track[1], a); /* the first van's rear keeps its id either way */
+  return tr.list.object_track[2] == b;
+}
+
+START_TEST(t_still_lane) {
+  ck_assert(vans_uncovered(1, 0.0));
+  ck_assert(!vans_uncovered(0, 0.0));
+  /* pulled away along its lane while hidden, 3 m: still its own */
+  ck_assert(vans_uncovered(1, 3.0));
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  ck_assert_int_eq(c.still_lane, 1);
+  knob_refused("still_lane", "2");
+}
+END_TEST
+
 START_TEST(t_seen_across) {
   ck_assert_int_eq(next_lane_cluster(2.0, -10.0), 0);
   ck_assert_uint_ne(tr.list.object_track[0], 0); /* the cluster has a track of its own */
@@ -2435,6 +2482,7 @@ int main(void) {
   tcase_add_test(tc, t_across_column_zero);
   tcase_add_test(tc, t_lost_frame_dt);
   tcase_add_test(tc, t_capacity);
+  tcase_add_test(tc, t_still_lane);
   tcase_add_test(tc, t_crowd_and_config);
   tcase_add_test(tc, t_deterministic);
   tcase_add_test(tc, t_site_frame);

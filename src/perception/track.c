@@ -73,6 +73,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->dup_box = 1;
   c->lost_walker_s = 4.0;
   c->below_beam = 1;
+  c->still_lane = 1;
   c->walked_hits = 10;
   c->blind_s = 8.0;
   c->speed_imm = 1;
@@ -108,7 +109,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
       cfg->blind_turn < 0 || cfg->blind_turn > 1 || cfg->split_object_axis < 0 || cfg->split_object_axis > 1 ||
       cfg->split_near_circle < 0 || cfg->split_near_circle > 1 || cfg->dup_box < 0 || cfg->dup_box > 1 ||
-      !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 ||
+      !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 || cfg->still_lane < 0 || cfg->still_lane > 1 ||
       !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 ||
       cfg->speed_imm < 0 || cfg->speed_imm > 1 ||
       !(cfg->q_jerk > 0 && cfg->q_jerk <= 100) || !(cfg->turn_rate >= 0 && cfg->turn_rate <= 2) ||
@@ -155,6 +156,7 @@ static const rs_opt_t knobs[] = {
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
     KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(kin_accel, 0.0, 10.0),
     KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1), KNOB(blind_walker_s, 0.0, 60.0),
+    KNOB_INT(still_lane, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -516,6 +518,35 @@ static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_objec
   zs[1] = z[1] + sf * t->hsin;
 }
 
+/* the axis of track t's whole side views (take: AXIS_*) as the lane's: known once LANE_AXIS_VIEWS of
+ * them agree (their mean vector LANE_AXIS_AGREE long or more: one axis, not a turn); (c, s) a unit
+ * vector along it, either way; false when not known (kin_dir, still_lane) */
+#define LANE_AXIS_VIEWS 3   /* side views before the axis is the lane's */
+#define LANE_AXIS_AGREE 0.8 /* their mean vector's length at least (1: all one axis) */
+static bool lane_axis(const rs_track_t *t, double *c, double *s) {
+  if (t->axis_n < LANE_AXIS_VIEWS || norm2(t->axis_c2, t->axis_s2) < LANE_AXIS_AGREE) return false;
+  const double a = 0.5 * atan2(t->axis_s2, t->axis_c2);
+  *c = cos(a);
+  *s = sin(a);
+  return true;
+}
+
+/* still_lane: a standing vehicle's track (size known, STILL_LANE_LEN_M long or more, its velocity
+ * under STILL_LANE_V) unseen for more than 0.5 s, whose side views give its lane's axis (lane_axis), leaves along that axis if at
+ * all: an object farther across it than reacq_across_m plus half its width (plus a tenth of how far
+ * along, the axis's error) is another vehicle (the one waiting in the next lane, uncovered in the
+ * same frame when a bus passing in front of both has gone: its track took a part of this one's,
+ * 3.4 m across, and was ended as its duplicate; docs/tracking.md) */
+#define STILL_LANE_LEN_M 2.5
+#define STILL_LANE_V 0.5 /* m/s: standing */
+static bool off_still_lane(const rs_track_cfg_t *cf, const rs_track_t *t, double dx, double dy, double unseen) {
+  if (!cf->still_lane || !(cf->reacq_across_m > 0) || unseen <= 0.5 || !size_known(t) || t->full_length < STILL_LANE_LEN_M)
+    return false;
+  double c, s;
+  if (!lane_axis(t, &c, &s)) return false;
+  const double along = dx * c + dy * s, across = fabs(-dx * s + dy * c);
+  return across > cf->reacq_across_m + 0.5 * t->width + 0.1 * fabs(along);
+}
 /* A moving vehicle's track t, unseen for `unseen` s, seen again (dx, dy)
  * from its prediction: it stays in its lane, so across its heading it is at
  * most reacq_across_m plus half its width away, growing by 0.5 m a second
@@ -523,9 +554,13 @@ static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_objec
  * coming out from behind the same bus). Seen within the last 0.5 s, within
  * SEEN_ACROSS_RANGE_M of the sensor and not turning (its speed estimator's
  * turn rate under SEEN_ACROSS_TURN): at most seen_across_m (a cluster of the
- * next lane's vehicle, or of it and this one together, is not this one) */
+ * next lane's vehicle, or of it and this one together, is not this one). A
+ * standing one: off_still_lane */
 static bool off_lane(const rs_track_cfg_t *cf, const rs_track_t *t, double dx, double dy, double unseen) {
-  if (!size_known(t) || norm2(t->x[2], t->x[3]) <= 2.0) return false;
+  if (!size_known(t)) return false;
+  const double v = norm2(t->x[2], t->x[3]);
+  if (v <= STILL_LANE_V) return off_still_lane(cf, t, dx, dy, unseen);
+  if (v <= 2.0) return false;
   const double across = fabs(-dx * t->hsin + dy * t->hcos);
   if (unseen <= 0.5)
     return cf->seen_across_m > 0 && across > cf->seen_across_m && norm2(t->x[0], t->x[1]) < SEEN_ACROSS_RANGE_M &&
@@ -1682,22 +1717,18 @@ static bool unseen(const rs_track_t *o) {
 #define KIN_MOVING 1.0   /* m/s along its heading when last seen */
 #define KIN_LONG_M 8.0   /* m: a bus's or a truck's full length (kin_rear) */
 #define KIN_BRAKE 4.0    /* m/s^2: the hardest it may have braked (kin_rear) */
-#define KIN_AXIS_VIEWS 3     /* side views (AXIS_*) before its axis is the lane's */
-#define KIN_AXIS_AGREE 0.8   /* their mean vector's length at least (1: all one axis) */
 #define KIN_AXIS_DEG 45.0    /* its axis within this of its heading */
 static bool kin_vehicle(const rs_track_cfg_t *cf, const rs_track_t *t) {
   return cf->kin_accel > 0 && t->state != RS_TRACK_TENTATIVE && size_known(t) && t->full_length >= KIN_LEN_M &&
          t->shape_cls != RS_CLASS_PEDESTRIAN && !walker_like(cf, t);
 }
 /* the direction vehicle track o's lane runs in (unit vector, the way it goes): its side's axis
- * (take: AXIS_*) when known from KIN_AXIS_VIEWS views, their average KIN_AXIS_AGREE or more (one
- * axis, not a turn), and within KIN_AXIS_DEG of its heading; its heading otherwise */
+ * (lane_axis) when known, and within KIN_AXIS_DEG of its heading; its heading otherwise */
 static void kin_dir(const rs_track_t *o, double *c, double *s) {
   *c = o->hcd;
   *s = o->hsd;
-  if (o->axis_n < KIN_AXIS_VIEWS || norm2(o->axis_c2, o->axis_s2) < KIN_AXIS_AGREE) return;
-  const double a = 0.5 * atan2(o->axis_s2, o->axis_c2);
-  double ca = cos(a), sa = sin(a);
+  double ca, sa;
+  if (!lane_axis(o, &ca, &sa)) return;
   if (ca * *c + sa * *s < 0) ca = -ca, sa = -sa;
   if (ca * *c + sa * *s < cos(KIN_AXIS_DEG * PI / 180.0)) return;
   *c = ca;

@@ -183,6 +183,10 @@ typedef struct {
                                   lowest beam reaches at the track's top, is measured by the part that beam can
                                   see; its top is midway between its returns' top and the row above (default 1;
                                   docs/tracking.md) */
+  int still_lane;              /* 1: a standing vehicle's track (slower than 0.5 m/s) unseen for over 0.5 s whose
+                                  side views agree on an axis takes no object farther across that axis than
+                                  reacq_across_m plus half its width plus a tenth of how far along it (the
+                                  vehicle waiting in the next lane; default 1; docs/tracking.md) */
   double blind_s;              /* a track last seen at the edge of the circle its top is below the lowest beam
                                   in is kept, unpublished, until this long after it was last seen, and a young moving track born at the
                                   circle's other side, in its lane, heading away from it, takes its id: a
