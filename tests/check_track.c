@@ -65,6 +65,13 @@ static void init_knobs(const char *a, double va, const char *b, double vb) {
   ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
 }
 
+/* the default parameters */
+static rs_track_cfg_t defaults(void) {
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  return c;
+}
+
 /* value refused for the parameter name, by a message that names it */
 static void knob_refused(const char *name, const char *value) {
   rs_track_cfg_t c;
@@ -1168,10 +1175,73 @@ START_TEST(t_still_lane) {
   ck_assert(!vans_uncovered(0, 0.0));
   /* pulled away along its lane while hidden, 3 m: still its own */
   ck_assert(vans_uncovered(1, 3.0));
-  rs_track_cfg_t c;
-  rs_track_cfg_default(&c);
-  ck_assert_int_eq(c.still_lane, 1);
+  ck_assert_int_eq(defaults().still_lane, 1);
   knob_refused("still_lane", "2");
+}
+END_TEST
+
+/* brake_coast. A car at 8 m/s along y = 8 brakes at 2.5 m/s^2 from t = 1 s; from t = 2 s (at 5.5
+ * m/s) it is hidden (a bus in the near lane) and stops 6.05 m on, at t = 4.2 s; seen again standing
+ * from t = 4.6 s. Predicted on at 5.5 m/s it would be 14 m on, 8 m past it, out of the gate; a car
+ * waiting ahead in the lane (`ahead`: 7 m past where it stops, seen from the start, hidden with it)
+ * is where that prediction lands. Returns whether the braking car kept its id. */
+static bool braked_hidden(int brake_coast, bool ahead) {
+  init_knob("brake_coast", brake_coast);
+  const double stop = 8.0 + 6.05 + 0.5 * (8.0 + 5.5); /* where it stops: 1 s at 8, 1 s braking, then to a stop */
+  uint32_t id = 0, ahead_id = 0;
+  for (int f = 0; f < 56; f++) {
+    const double t = 0.1 * f;
+    const double x = t <= 1.0 ? 8.0 * t : t <= 4.2 ? 8.0 + 8.0 * (t - 1.0) - 1.25 * (t - 1.0) * (t - 1.0) : stop;
+    clear();
+    if (t < 2.0 - 1e-9 || t > 4.6 - 1e-9) car(t, x, 8.0, 0.0);
+    if (ahead && (t < 2.0 - 1e-9 || t > 4.6 - 1e-9)) car(t, stop + 7.0, 8.0, 0.0);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 19) {
+      id = tr.list.object_track[0];
+      ahead_id = ahead ? tr.list.object_track[1] : 0;
+      ck_assert_int_eq(find_id(id)->state, RS_TRACK_CONFIRMED);
+      if (brake_coast) ck_assert_float_gt(find_id(id)->brake, 1.0f); /* it learned that it brakes (the estimator: 1.5 of 2.5) */
+    }
+  }
+  if (ahead) ck_assert_uint_ne(tr.list.object_track[1], id); /* the waiting car is not given its id */
+  (void)ahead_id;
+  return tr.list.object_track[0] == id;
+}
+
+START_TEST(t_brake_coast) {
+  ck_assert(braked_hidden(1, false));
+  ck_assert(!braked_hidden(0, false));
+  ck_assert(braked_hidden(1, true));
+  ck_assert(!braked_hidden(0, true));
+  ck_assert_int_eq(defaults().brake_coast, 1);
+  knob_refused("brake_coast", "-1");
+}
+END_TEST
+
+/* ... not at the blind circle's edge. A sensor whose lowest beam points 15 degrees down sees a car's
+ * roof, 3.0 m below it, only from 11.2 m on. A car at 8 m/s along y = 6 brakes at 2 m/s^2 from t =
+ * 1.5 s: at t = 4.0 s (3 m/s) its box is still 13 m from the sensor, at t = 4.5 s (2 m/s) within a
+ * metre of the circle. Returns how hard its track brakes at `at` s (0: its prediction goes straight). */
+static float brake_near_circle(double at) {
+  init_default();
+  const double rb = 3.0 / tan(15.0 * M_PI / 180.0);
+  float brake = -1.0f;
+  for (int f = 0; f <= (int)lround(10.0 * at); f++) {
+    const double t = 0.1 * f, tb = fmax(0.0, t - 1.5);
+    const double x = t < 1.5 ? -40.0 + 8.0 * t : -28.0 + 8.0 * tb - tb * tb;
+    clear();
+    objs.lowest_beam_deg = -15.0f;
+    put_seen_part(t, x, 6.0, rb, -4.3f, -3.0f, 0.4f);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    ck_assert_uint_eq(tr.list.count, 1);
+    brake = tr.list.track[0].brake;
+  }
+  return brake;
+}
+
+START_TEST(t_brake_not_at_circle) {
+  ck_assert_float_gt(brake_near_circle(4.0), 1.0f);
+  ck_assert_float_eq(brake_near_circle(4.5), 0.0f);
 }
 END_TEST
 
@@ -2483,6 +2553,8 @@ int main(void) {
   tcase_add_test(tc, t_lost_frame_dt);
   tcase_add_test(tc, t_capacity);
   tcase_add_test(tc, t_still_lane);
+  tcase_add_test(tc, t_brake_coast);
+  tcase_add_test(tc, t_brake_not_at_circle);
   tcase_add_test(tc, t_crowd_and_config);
   tcase_add_test(tc, t_deterministic);
   tcase_add_test(tc, t_site_frame);

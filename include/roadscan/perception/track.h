@@ -187,6 +187,10 @@ typedef struct {
                                   side views agree on an axis takes no object farther across that axis than
                                   reacq_across_m plus half its width plus a tenth of how far along it (the
                                   vehicle waiting in the next lane; default 1; docs/tracking.md) */
+  int brake_coast;             /* 1: a vehicle's track braking when last seen (its speed estimator's
+                                  acceleration along its velocity, 0.5 m/s^2 or more; not at the blind
+                                  circle's edge) is predicted braking at that rate while unseen, to a stop,
+                                  not on at its last speed (default 1; docs/tracking.md) */
   double blind_s;              /* a track last seen at the edge of the circle its top is below the lowest beam
                                   in is kept, unpublished, until this long after it was last seen, and a young moving track born at the
                                   circle's other side, in its lane, heading away from it, takes its id: a
@@ -313,6 +317,9 @@ typedef struct {
   double px0, py0;           /* where it was born */
   double spread;             /* the farthest measurement from there, m */
   double last_z[2];          /* the last measurement */
+  double x_seen[4];          /* the filter's state when last updated (brake_coast: no longer its prediction's start) */
+  float brake;               /* m/s^2 (>= 0): how hard it was braking when last updated (brake_coast) */
+  bool braked;               /* predicted braking since it was last updated (brake_coast) */
   double t_z;                /* its time (a held track's t_update moves on without one) */
   double prev[2];            /* position at the previous frame (path length) */
   float length, width, height, z_min; /* smoothed box */
