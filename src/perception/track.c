@@ -110,7 +110,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
       cfg->blind_turn < 0 || cfg->blind_turn > 1 || cfg->split_object_axis < 0 || cfg->split_object_axis > 1 ||
       cfg->split_near_circle < 0 || cfg->split_near_circle > 1 || cfg->dup_box < 0 || cfg->dup_box > 1 ||
-      !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 || cfg->still_lane < 0 || cfg->still_lane > 1 || cfg->brake_coast < 0 || cfg->brake_coast > 1 ||
+      !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 ||
+      cfg->still_lane < 0 || cfg->still_lane > 1 || cfg->brake_coast < 0 || cfg->brake_coast > 1 ||
       !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 ||
       cfg->speed_imm < 0 || cfg->speed_imm > 1 ||
       !(cfg->q_jerk > 0 && cfg->q_jerk <= 100) || !(cfg->turn_rate >= 0 && cfg->turn_rate <= 2) ||
@@ -533,11 +534,11 @@ static bool lane_axis(const rs_track_t *t, double *c, double *s) {
 }
 
 /* still_lane: a standing vehicle's track (size known, STILL_LANE_LEN_M long or more, its velocity
- * under STILL_LANE_V) unseen for more than 0.5 s, whose side views give its lane's axis (lane_axis), leaves along that axis if at
- * all: an object farther across it than reacq_across_m plus half its width (plus a tenth of how far
- * along, the axis's error) is another vehicle (the one waiting in the next lane, uncovered in the
- * same frame when a bus passing in front of both has gone: its track took a part of this one's,
- * 3.4 m across, and was ended as its duplicate; docs/tracking.md) */
+ * under STILL_LANE_V) unseen for more than 0.5 s, whose side views give its lane's axis (lane_axis),
+ * leaves along that axis if at all: an object farther across it than reacq_across_m plus half its
+ * width (plus a tenth of how far along, the axis's error) is another vehicle (the one waiting in the
+ * next lane, uncovered in the same frame when a bus passing in front of both has gone: its track
+ * took a part of this one's, 3.4 m across, and was ended as its duplicate; docs/tracking.md) */
 #define STILL_LANE_LEN_M 2.5
 #define STILL_LANE_V 0.5 /* m/s: standing */
 static bool off_still_lane(const rs_track_cfg_t *cf, const rs_track_t *t, double dx, double dy, double unseen) {
@@ -1803,15 +1804,18 @@ static double kin_fit(const rs_tracker_t *tr, const rs_track_t *o, const rs_trac
   const double dt = y->t_state - o->t_update;
   if (dt < KIN_MIN_S || y->hits < KIN_HITS || y->t_birth <= o->t_update || !kin_vehicle(cf, o)) return -1.0;
   if (y->length > o->full_length + 1.0f || y->width > o->full_width + 1.0f) return -1.0;
-  /* where o was last seen: its state is predicted straight on from there while unseen */
+  /* where o was last seen: its state is predicted straight on from there while unseen, or braking
+   * (brake_coast: then its state when last updated) */
   const double back = o->t_state - o->t_update;
-  const double lx = o->braked ? o->x_seen[0] : o->x[0] - o->x[2] * back, ly = o->braked ? o->x_seen[1] : o->x[1] - o->x[3] * back;
+  const double lx = o->braked ? o->x_seen[0] : o->x[0] - o->x[2] * back;
+  const double ly = o->braked ? o->x_seen[1] : o->x[1] - o->x[3] * back;
   double c, s;
   kin_dir(o, &c, &s);
   const double dx = y->x[0] - lx, dy = y->x[1] - ly;
   const double along = dx * c + dy * s, across = -dx * s + dy * c;
   if (fabs(across) > cf->reacq_across_m + 0.5 * o->width + KIN_LANE_M) return -1.0;
-  const double v = o->braked ? o->x_seen[2] * c + o->x_seen[3] * s : o->x[2] * c + o->x[3] * s; /* its speed along the lane when last seen */
+  const double *vs = o->braked ? &o->x_seen[2] : &o->x[2];
+  const double v = vs[0] * c + vs[1] * s; /* its speed along the lane when last seen */
   if (v < KIN_MOVING) return -1.0;
   const double ahead = 0.5 * cf->kin_accel * dt * dt, m = KIN_MARGIN_M + 0.25 * o->full_length;
   const double off = along - v * dt; /* from the prediction */
