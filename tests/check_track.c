@@ -473,6 +473,25 @@ START_TEST(t_blind_circle) {
 }
 END_TEST
 
+/* a walker of a frame at time t: 0.5 m wide, 1.7 m tall, standing on the ground `up` m below the sensor */
+static void put_walker(double t, double x, double y, double head, double up) {
+  put(t, x, y, 0.5, 0.5, head, 1.7, 30);
+  objs.obj[objs.count - 1].sensor.box_min[2] = (float)-up;
+  objs.obj[objs.count - 1].sensor.box_max[2] = (float)(1.7 - up);
+}
+
+/* after a frame whose objects 0..n-1 are walkers who[]: the first and the last id of a confirmed track
+ * on each walker */
+static void note_walkers(const int *who, int n, uint32_t *first, uint32_t *last) {
+  for (uint32_t i = 0; i < tr.list.count; i++) {
+    const rs_track_t *k = &tr.list.track[i];
+    if (k->state != RS_TRACK_CONFIRMED || k->object < 0 || k->object >= n) continue;
+    const int w = who[k->object];
+    if (first[w] == 0) first[w] = k->id;
+    last[w] = k->id;
+  }
+}
+
 /* blind_walker. A sensor 3 m up whose lowest beam points 15 degrees down
  * sees a walker's head (1.7 m) only beyond 4.85 m. Walkers A and B walk in
  * a line 4.8 m apart (4 s) along y = 2 towards +x at 1.2 m/s, under the
@@ -499,19 +518,11 @@ static int walkers_under_sensor(int on, uint32_t *links) {
     for (int w = 0; w < 3; w++) {
       const double x = wx[w] + dir[w] * v * t;
       if (hypot(x, wy[w]) <= rb + 0.1) continue; /* its head below the lowest beam */
-      put(t, x, wy[w], 0.5, 0.5, dir[w] > 0 ? 0.0 : M_PI, 1.7, 30);
-      objs.obj[n].sensor.box_min[2] = -3.0f;
-      objs.obj[n].sensor.box_max[2] = -1.3f;
+      put_walker(t, x, wy[w], dir[w] > 0 ? 0.0 : M_PI, 3.0);
       who[n++] = w;
     }
     rs_track_frame(&tr, &objs, t + 0.05);
-    for (uint32_t i = 0; i < tr.list.count; i++) {
-      const rs_track_t *k = &tr.list.track[i];
-      if (k->state != RS_TRACK_CONFIRMED || k->object < 0 || k->object >= n) continue;
-      const int w = who[k->object];
-      if (first[w] == 0) first[w] = k->id;
-      last[w] = k->id;
-    }
+    note_walkers(who, n, first, last);
   }
   int kept = 0;
   for (int w = 0; w < 3; w++) {
@@ -535,11 +546,7 @@ static bool slow_walker_kept(double keep_s) {
     const double t = 0.1 * f, x = -10.0 + 0.9 * t;
     clear();
     objs.lowest_beam_deg = -15.0f;
-    if (hypot(x, 2.0) > rb + 0.1) {
-      put(t, x, 2.0, 0.5, 0.5, 0.0, 1.7, 30);
-      objs.obj[0].sensor.box_min[2] = -3.0f;
-      objs.obj[0].sensor.box_max[2] = -1.3f;
-    }
+    if (hypot(x, 2.0) > rb + 0.1) put_walker(t, x, 2.0, 0.0, 3.0);
     rs_track_frame(&tr, &objs, t + 0.05);
     for (uint32_t i = 0; i < tr.list.count; i++) {
       const rs_track_t *k = &tr.list.track[i];
@@ -566,6 +573,61 @@ START_TEST(t_blind_walker) {
   ck_assert(!slow_walker_kept(8.0));
   ck_assert_double_eq(c.blind_walker_s, 12.0);
   knob_refused("blind_walker_s", "61");
+}
+END_TEST
+
+/* blind_walker_fifo. Walkers A and B walk in a line towards +x along a
+ * sidewalk y off a pole `up` m high whose lowest beam points 15 degrees down
+ * (a 1.7 m head is unseen within (up - 1.7) / tan 15), at ve[w] m/s before
+ * the circle's edge (reached at t_edge + lag[w]) and at vi inside; both come
+ * out, in the order they went in. Returns how many of the two keep one id
+ * from start to end. */
+static int walkers_in_order(int fifo, double up, double y, const double ve[2], const double lag[2], double vi,
+                            double t_edge) {
+  init_knob("blind_walker_fifo", fifo);
+  const double rb = (up - 1.7) / tan(15.0 * M_PI / 180.0), edge = -sqrt((rb + 0.1) * (rb + 0.1) - y * y);
+  uint32_t first[2] = {0, 0}, last[2] = {0, 0};
+  for (int f = 0; f < 400; f++) {
+    const double t = 0.1 * f;
+    clear();
+    objs.lowest_beam_deg = -15.0f;
+    int who[2], n = 0;
+    for (int w = 0; w < 2; w++) {
+      const double te = t_edge + lag[w]; /* at the circle's edge */
+      const double x = t < te ? edge - ve[w] * (te - t) : edge + vi * (t - te);
+      if (hypot(x, y) <= rb + 0.1) continue; /* its head below the lowest beam */
+      put_walker(t, x, y, 0.0, up);
+      who[n++] = w;
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    note_walkers(who, n, first, last);
+  }
+  ck_assert_msg(first[0] != 0 && first[1] != 0 && first[0] != first[1], "two walkers, two tracks");
+  return (first[0] == last[0]) + (first[1] == last[1]);
+}
+
+/* The link: a VLP-16 5 m up, the sidewalk 10 m from the pole (unseen for
+ * 14.6 m of it). A slowed to 0.9 m/s at the edge, B 1.1 s behind it to 1.0,
+ * both at 1.3 inside: they come out 11.2 s later, 4 m or more ahead of their
+ * tracks' predictions (out of the gates). By the time each track's pace
+ * gives, A's young track fits B's track better (B went in later and walks
+ * faster); the first gone in is A's. The gate: a 2.5 m pole (a cabinet
+ * mount), the sidewalk 1.5 m off, unseen for 5.4 m of it, 4.5 s: the tracks
+ * are still open to the gate. A walks at 0.75 m/s, B 1.2 s behind it at
+ * 1.2, both 1.2 inside: when A comes out B's track is predicted 1.4 m
+ * behind it, A's 2 m; without the rule B's track takes A by the gate, and
+ * A's takes B when it comes out; with it A's takes A. */
+START_TEST(t_blind_walker_fifo) {
+  const double link_ve[2] = {0.9, 1.0}, link_lag[2] = {0.0, 1.1};
+  ck_assert_int_eq(walkers_in_order(1, 5.0, 10.0, link_ve, link_lag, 1.3, 20.0), 2);
+  ck_assert_uint_eq(tr.n.blind_linked, 2);
+  ck_assert_int_eq(walkers_in_order(0, 5.0, 10.0, link_ve, link_lag, 1.3, 20.0), 0);
+  const double gate_ve[2] = {0.75, 1.2}, gate_lag[2] = {0.0, 1.2};
+  ck_assert_int_eq(walkers_in_order(1, 2.5, 1.5, gate_ve, gate_lag, 1.2, 8.0), 2);
+  ck_assert_int_eq(walkers_in_order(0, 2.5, 1.5, gate_ve, gate_lag, 1.2, 8.0), 0);
+  rs_track_cfg_t c = defaults();
+  ck_assert_int_eq(c.blind_walker_fifo, 1);
+  knob_refused("blind_walker_fifo", "2");
 }
 END_TEST
 
@@ -2513,6 +2575,7 @@ int main(void) {
   tcase_add_test(tc, t_below_beam_top);
   tcase_add_test(tc, t_blind_circle);
   tcase_add_test(tc, t_blind_walker);
+  tcase_add_test(tc, t_blind_walker_fifo);
   tcase_add_test(tc, t_blind_circle_crossing);
   tcase_add_test(tc, t_blind_circle_turn);
   tcase_add_test(tc, t_queued_merge);

@@ -92,6 +92,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->walker_part = 1;
   c->blind_walker = 1;
   c->blind_walker_s = 12.0;
+  c->blind_walker_fifo = 1;
   c->speed_full_length = 1;
 }
 
@@ -121,7 +122,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->circle_whole < 0 || cfg->circle_whole > 1 || cfg->uncover_restart < 0 || cfg->uncover_restart > 1 ||
       cfg->merge_parts < 0 || cfg->merge_parts > 1 || !(cfg->kin_accel >= 0 && cfg->kin_accel <= 10) ||
       cfg->walker_part < 0 || cfg->walker_part > 1 || cfg->speed_full_length < 0 || cfg->speed_full_length > 1 ||
-      cfg->blind_walker < 0 || cfg->blind_walker > 1 || !(cfg->blind_walker_s >= 0 && cfg->blind_walker_s <= 60))
+      cfg->blind_walker < 0 || cfg->blind_walker > 1 || !(cfg->blind_walker_s >= 0 && cfg->blind_walker_s <= 60) ||
+      cfg->blind_walker_fifo < 0 || cfg->blind_walker_fifo > 1)
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -158,6 +160,7 @@ static const rs_opt_t knobs[] = {
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
     KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(kin_accel, 0.0, 10.0),
     KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1), KNOB(blind_walker_s, 0.0, 60.0),
+    KNOB_INT(blind_walker_fifo, 0, 1),
     KNOB_INT(still_lane, 0, 1), KNOB_INT(brake_coast, 0, 1),
 };
 
@@ -385,24 +388,36 @@ static double blind_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_t
  * near it, at least 2 m on, both walking along the straight way between them
  * (within 40 degrees), that way passing near the circle, and the time between
  * within WBLIND_TIME_SHARE (+ WBLIND_TIME_S) of the way's length at o's
- * speed. Returns how far the time is from that (the least wins: of walkers
- * in a line a few seconds apart, the one whose time fits), or -1. */
+ * speed. Returns, the least winning: with blind_walker_fifo, how long before
+ * the longest wait (blind_walker_s) o went in (of walkers in a line whose
+ * times fit, the first in is the first out: their paces at the edge, slowed
+ * by the walker ahead, tell less than their order); without it, how far the
+ * time is from that; or -1. */
 #define WBLIND_MIN_V 0.5      /* m/s */
 #define WBLIND_TIME_SHARE 0.3 /* of the time expected */
 #define WBLIND_TIME_S 1.0     /* s */
-static double blind_walk_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_track_t *y) {
-  const double dt = y->t_birth - o->t_update;
+/* the part of blind_walk_link that asks of o alone: might walker o, gone in, come out at (px, py) at time
+ * t? how far the time is from its way's length at its pace, or -1 */
+static double out_fit(const rs_tracker_t *tr, const rs_track_t *o, double px, double py, double t) {
+  const double dt = t - o->t_update;
   if (!(dt > 0) || dt > tr->cfg.blind_walker_s || !at_blind_edge(tr, o)) return -1.0;
-  if (!walker_full_sized(y)) return -1.0;
   const double rb = blind_reach(tr, o);
-  if (norm2(y->px0, y->py0) > rb + BLIND_BIRTH_M) return -1.0;
-  const double ax = o->last_z[0], ay = o->last_z[1], dx = y->px0 - ax, dy = y->py0 - ay, d = norm2(dx, dy);
-  const double vo = norm2(o->x[2], o->x[3]), vy = norm2(y->x[2], y->x[3]);
-  if (d < 2.0 || !(vo >= WBLIND_MIN_V) || !(vy >= WBLIND_MIN_V)) return -1.0;
-  if (o->x[2] * dx + o->x[3] * dy < BLIND_COS * vo * d || y->x[2] * dx + y->x[3] * dy < BLIND_COS * vy * d) return -1.0;
-  if (seg_near(ax, ay, y->px0, y->py0) >= rb + BLIND_WAY_M) return -1.0;
+  if (norm2(px, py) > rb + BLIND_BIRTH_M) return -1.0;
+  const double ax = o->last_z[0], ay = o->last_z[1], dx = px - ax, dy = py - ay, d = norm2(dx, dy);
+  const double vo = norm2(o->x[2], o->x[3]);
+  if (d < 2.0 || !(vo >= WBLIND_MIN_V) || o->x[2] * dx + o->x[3] * dy < BLIND_COS * vo * d) return -1.0;
+  if (seg_near(ax, ay, px, py) >= rb + BLIND_WAY_M) return -1.0;
   const double expect = d / vo, off = fabs(dt - expect);
   return off <= WBLIND_TIME_SHARE * expect + WBLIND_TIME_S ? off : -1.0;
+}
+static double blind_walk_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_track_t *y) {
+  if (!walker_full_sized(y)) return -1.0;
+  const double dx = y->px0 - o->last_z[0], dy = y->py0 - o->last_z[1], d = norm2(dx, dy);
+  const double vy = norm2(y->x[2], y->x[3]);
+  if (!(vy >= WBLIND_MIN_V) || y->x[2] * dx + y->x[3] * dy < BLIND_COS * vy * d) return -1.0;
+  const double off = out_fit(tr, o, y->px0, y->py0, y->t_birth);
+  if (off < 0) return -1.0;
+  return tr->cfg.blind_walker_fifo ? tr->cfg.blind_walker_s - (y->t_birth - o->t_update) : off;
 }
 
 /* blind_walker: walker's track t was last seen at the blind circle's edge walking into it (towards the
@@ -419,6 +434,22 @@ static bool before_nearest(const rs_track_t *t, const double z[2]) {
   const double ux = vx / v, uy = vy / v;
   const double s_near = -(t->last_z[0] * ux + t->last_z[1] * uy); /* along the way, from last_z */
   return (z[0] - t->last_z[0]) * ux + (z[1] - t->last_z[1]) * uy < s_near;
+}
+
+/* blind_walker_fifo: another walker's track gone in before t, unseen, walking t's way (within 40
+ * degrees), might come out at z now (out_fit): then z is not t's to take by the gate (walkers in a
+ * line come out in the order they went in; the link gives it to the first) */
+static bool earlier_out(const rs_tracker_t *tr, const rs_track_t *t, const double z[2], double tk) {
+  const double vt = norm2(t->x[2], t->x[3]);
+  for (uint32_t j = 0; j < tr->list.count; j++) {
+    const rs_track_t *o = &tr->list.track[j];
+    if (o == t || o->id == 0 || o->object >= 0 || rs_track_held(o) || !(o->t_update < t->t_update)) continue;
+    if ((o->state != RS_TRACK_COASTING && o->state != RS_TRACK_LOST) || !gone_in(tr, o)) continue; /* as unseen() */
+    const double vo = norm2(o->x[2], o->x[3]);
+    if (o->x[2] * t->x[2] + o->x[3] * t->x[3] < BLIND_COS * vo * vt) continue;
+    if (out_fit(tr, o, z[0], z[1], tk) >= 0) return true;
+  }
+  return false;
 }
 
 /* Below the lowest beam. A point of height z (sensor frame, below the
@@ -1232,6 +1263,8 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
        * its prediction than gate_m (its gate grows while unseen; the next walker in a line comes out in it):
        * it comes out by blind_walk_link */
       if (cf->blind_walker && unseen > 0.2 && gone_in(tr, t) && (before_nearest(t, z) || d > cf->gate_m)) continue;
+      /* nor, with blind_walker_fifo, anything an earlier one gone in on its way may be coming out as */
+      if (cf->blind_walker && cf->blind_walker_fifo && unseen > 0.2 && gone_in(tr, t) && earlier_out(tr, t, z, tk)) continue;
       /* and how unlike the track's last object it is: a track keeps its object, not a fragment beside it */
       /* (beyond what counting noise explains: 3 sd of the smaller count) */
       const double lo = o->points < t->points ? o->points : t->points, hi = o->points < t->points ? t->points : o->points;

@@ -276,11 +276,17 @@ typedef struct {
   int blind_walker;            /* 1: a walker's track gone into the blind circle under the sensor takes nothing before
                                   the point of its way nearest the sensor, and is linked to a young walker's track born
                                   at the circle's other side on its way, moving that way, when the time between fits the
-                                  way's length at its walking speed (the best fit wins: of walkers in a line, the first
-                                  in is the first out; default 1; docs/tracking.md, The blind circle) */
+                                  way's length at its walking speed (of several, blind_walker_fifo says which; default 1;
+                                  docs/tracking.md, The blind circle) */
   double blind_walker_s;       /* s: with blind_walker, how long a walker's track gone into the blind circle is kept
                                   for the link (blind_s for vehicles; a walker crosses a 10 m circle at 1 m/s in
                                   10 s; default 12) */
+  int blind_walker_fifo;       /* 1: with blind_walker, walkers come out in the order they went in: of the gone-in
+                                  walkers' tracks whose time fits a young one, the first gone in takes it, and a
+                                  gone-in track takes by the gate nothing an earlier one on its way may be coming
+                                  out as (their paces at the circle's edge, slowed by the one ahead, are a poor
+                                  clock); 0: the best time fit, and the gate as for one walker (default 1;
+                                  docs/tracking.md, The blind circle) */
   int speed_full_length;       /* 1: the speed estimator measures a vehicle seen in part by its full length (its largest
                                   smoothed length, falling 0.05 m an update): the box's centre moved by half of what
                                   the box misses of it, not of the smoothed length, which shrinks while the view
