@@ -1266,7 +1266,7 @@ static bool braked_hidden(int brake_coast, bool ahead) {
     }
   }
   if (ahead) ck_assert_uint_ne(tr.list.object_track[1], id); /* the waiting car is not given its id */
-  (void)ahead_id;
+  if (ahead && brake_coast) ck_assert_uint_eq(tr.list.object_track[1], ahead_id); /* and keeps its own */
   return tr.list.object_track[0] == id;
 }
 

@@ -436,6 +436,11 @@ static bool before_nearest(const rs_track_t *t, const double z[2]) {
   return (z[0] - t->last_z[0]) * ux + (z[1] - t->last_z[1]) * uy < s_near;
 }
 
+/* coasting or lost, not held, not taken this frame */
+static bool unseen(const rs_track_t *o) {
+  return o->id != 0 && o->object < 0 && !rs_track_held(o) && (o->state == RS_TRACK_COASTING || o->state == RS_TRACK_LOST);
+}
+
 /* blind_walker_fifo: another walker's track gone in before t, unseen, walking t's way (within 40
  * degrees), might come out at z now (out_fit): then z is not t's to take by the gate (walkers in a
  * line come out in the order they went in; the link gives it to the first) */
@@ -443,8 +448,7 @@ static bool earlier_out(const rs_tracker_t *tr, const rs_track_t *t, const doubl
   const double vt = norm2(t->x[2], t->x[3]);
   for (uint32_t j = 0; j < tr->list.count; j++) {
     const rs_track_t *o = &tr->list.track[j];
-    if (o == t || o->id == 0 || o->object >= 0 || rs_track_held(o) || !(o->t_update < t->t_update)) continue;
-    if ((o->state != RS_TRACK_COASTING && o->state != RS_TRACK_LOST) || !gone_in(tr, o)) continue; /* as unseen() */
+    if (o == t || !unseen(o) || !(o->t_update < t->t_update) || !gone_in(tr, o)) continue;
     const double vo = norm2(o->x[2], o->x[3]);
     if (o->x[2] * t->x[2] + o->x[3] * t->x[3] < BLIND_COS * vo * vt) continue;
     if (out_fit(tr, o, z[0], z[1], tk) >= 0) return true;
@@ -1532,7 +1536,6 @@ static bool uncovered(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *
 #define BRAKE_MAX 4.0    /* m/s^2: a hard stop */
 static void note_brake(const rs_tracker_t *tr, rs_track_t *t) {
   memcpy(t->x_seen, t->x, sizeof t->x_seen);
-  t->braked = false;
   t->brake = 0.0f;
   const double v = norm2(t->x[2], t->x[3]);
   if (!tr->cfg.brake_coast || !tr->cfg.speed_imm || walker_sized(t) || t->hits + 1 < BRAKE_HITS || v < BRAKE_MOVING) return;
@@ -1553,8 +1556,9 @@ static void brake_step(rs_track_t *t, double t0) {
   t->x[1] -= back * uy;
   t->x[2] = v1 * ux;
   t->x[3] = v1 * uy;
-  t->braked = true;
 }
+/* whether track t's state has been predicted braking since its last update (brake_step) */
+static bool braked(const rs_track_t *t) { return t->brake > 0.0f && t->t_state > t->t_update; }
 
 /* track t took object o (measured at tk) */
 static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double tk) {
@@ -1693,7 +1697,6 @@ static void stitch(rs_tracker_t *tr, const rs_object_list_t *objs, uint32_t nobj
     o->points = y->points;
     memcpy(o->x_seen, y->x_seen, sizeof o->x_seen);
     o->brake = y->brake;
-    o->braked = y->braked;
     o->hits += y->hits;
     if (norm2(o->x[2], o->x[3]) > 1.0) set_heading(o, y->heading);
   } else {
@@ -1763,11 +1766,6 @@ static bool end_twin(rs_tracker_t *tr, const rs_object_list_t *objs, uint32_t no
   return true;
 }
 
-/* coasting or lost, not held, not taken this frame */
-static bool unseen(const rs_track_t *o) {
-  return o->id != 0 && o->object < 0 && !rs_track_held(o) && (o->state == RS_TRACK_COASTING || o->state == RS_TRACK_LOST);
-}
-
 /* ---- kinematic re-acquisition (kin_accel) ----
  * A vehicle hidden for a second or more in slow traffic (behind a bus in the
  * near lane, in a queue pulling away at a green light) does not go on at the
@@ -1826,9 +1824,9 @@ static void kin_dir(const rs_track_t *o, double *c, double *s) {
  * A bus seen again by its rear after passing behind something is its rear part; a car following it,
  * seen whole, reaches out of the bus's box */
 static bool kin_rear(const rs_track_t *o, const rs_track_t *y, double off, double v, double dt, double ahead) {
-  const double braked = fmin(v * dt, 0.5 * KIN_BRAKE * dt * dt), half = 0.5 * o->full_length + KIN_MARGIN_M;
+  const double braked_m = fmin(v * dt, 0.5 * KIN_BRAKE * dt * dt), half = 0.5 * o->full_length + KIN_MARGIN_M;
   const double front = off + 0.5 * y->length, rear = off - 0.5 * y->length;
-  return fmax(-braked, front - half) <= fmin(ahead, rear + half);
+  return fmax(-braked_m, front - half) <= fmin(ahead, rear + half);
 }
 /* how far young track y lies from unseen vehicle track o's prediction along o's lane (kin_dir)
  * when it lies where o may be (the bounds above), -1 when it does not */
@@ -1840,14 +1838,15 @@ static double kin_fit(const rs_tracker_t *tr, const rs_track_t *o, const rs_trac
   /* where o was last seen: its state is predicted straight on from there while unseen, or braking
    * (brake_coast: then its state when last updated) */
   const double back = o->t_state - o->t_update;
-  const double lx = o->braked ? o->x_seen[0] : o->x[0] - o->x[2] * back;
-  const double ly = o->braked ? o->x_seen[1] : o->x[1] - o->x[3] * back;
+  const bool b = braked(o);
+  const double lx = b ? o->x_seen[0] : o->x[0] - o->x[2] * back;
+  const double ly = b ? o->x_seen[1] : o->x[1] - o->x[3] * back;
   double c, s;
   kin_dir(o, &c, &s);
   const double dx = y->x[0] - lx, dy = y->x[1] - ly;
   const double along = dx * c + dy * s, across = -dx * s + dy * c;
   if (fabs(across) > cf->reacq_across_m + 0.5 * o->width + KIN_LANE_M) return -1.0;
-  const double *vs = o->braked ? &o->x_seen[2] : &o->x[2];
+  const double *vs = b ? &o->x_seen[2] : &o->x[2];
   const double v = vs[0] * c + vs[1] * s; /* its speed along the lane when last seen */
   if (v < KIN_MOVING) return -1.0;
   const double ahead = 0.5 * cf->kin_accel * dt * dt, m = KIN_MARGIN_M + 0.25 * o->full_length;

@@ -325,7 +325,6 @@ typedef struct {
   double last_z[2];          /* the last measurement */
   double x_seen[4];          /* the filter's state when last updated (brake_coast: no longer its prediction's start) */
   float brake;               /* m/s^2 (>= 0): how hard it was braking when last updated (brake_coast) */
-  bool braked;               /* predicted braking since it was last updated (brake_coast) */
   double t_z;                /* its time (a held track's t_update moves on without one) */
   double prev[2];            /* position at the previous frame (path length) */
   float length, width, height, z_min; /* smoothed box */
