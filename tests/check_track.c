@@ -2209,6 +2209,49 @@ START_TEST(t_split_shrinking) {
 }
 END_TEST
 
+/* split_car_m. A car (4.5 m) at v m/s along y = 15 seen for 2 s only by its rear 2.4 m (the car beside
+ * it hides the rest), then for 1 s as two parts: its rear 2 m and, 1.7 m ahead, its front 0.8 m.
+ * The two parts span 4.5 m: more than the track ever saw (2.4 m and the margin) but a car's
+ * length. Returns the tracks born; *part_id: the id the front part's returns carry in the last
+ * frame of the split, *id the car's. gap: how far behind the car's rear the front part is put
+ * instead (a following car's front: 0 for the car's own). */
+static uint64_t car_split(double split_car_m, double v, double gap, uint32_t *id, uint32_t *part_id) {
+  init_knob("split_car_m", split_car_m);
+  *id = *part_id = 0;
+  for (int f = 0; f < 30; f++) {
+    const double t = 0.1 * f, rear = -40.0 + v * t;
+    clear();
+    if (f < 20) {
+      put(t, rear + 1.2, 15.0, 2.4, 1.8, 0.0, 1.5, 80);
+    } else {
+      put(t, rear + 1.0, 15.0, 2.0, 1.8, 0.0, 1.5, 70);
+      const double front = gap > 0 ? rear - gap - 0.4 : rear + 4.1;
+      put(t, front, 15.0, 0.8, 1.8, 0.0, 1.5, 30);
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 10) *id = tr.list.object_track[0];
+    if (f == 29) *part_id = tr.list.object_track[1];
+  }
+  return tr.n.born;
+}
+
+START_TEST(t_split_car) {
+  uint32_t id, part;
+  ck_assert_uint_eq(car_split(5.0, 10.0, 0.0, &id, &part), 1);
+  ck_assert_uint_ne(id, 0);
+  ck_assert_uint_eq(part, id); /* the front part carries the car's id */
+  ck_assert_uint_ge(car_split(0.0, 10.0, 0.0, &id, &part), 2); /* off: the front part a track of its own */
+  ck_assert_uint_ne(part, id);
+  ck_assert_uint_ge(car_split(5.0, 2.0, 0.0, &id, &part), 2); /* a car at 2 m/s: not a moving one's */
+  ck_assert_uint_ne(part, id);
+  /* the front of a car following 2.5 m behind: the two span 5.3 m, more than a car */
+  ck_assert_uint_ge(car_split(5.0, 10.0, 2.5, &id, &part), 2);
+  ck_assert_uint_ne(part, id);
+  knob_refused("split_car_m", "-1");
+  knob_refused("split_car_m", "21");
+}
+END_TEST
+
 /* the frame at which a track on the +x side (at[0]) and on the -x side (at[1]) was first confirmed */
 static void note_confirmed(int at[2], int f) {
   for (uint32_t i = 0; i < tr.list.count; i++) {
@@ -2583,6 +2626,7 @@ int main(void) {
   tcase_add_test(tc, t_crowd_divided);
   tcase_add_test(tc, t_split);
   tcase_add_test(tc, t_split_shrinking);
+  tcase_add_test(tc, t_split_car);
   tcase_add_test(tc, t_walker_hidden_longer);
   tcase_add_test(tc, t_split_side);
   tcase_add_test(tc, t_split_turned);

@@ -94,6 +94,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->blind_walker_s = 12.0;
   c->blind_walker_fifo = 1;
   c->speed_full_length = 1;
+  c->split_car_m = 5.0;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -123,7 +124,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->merge_parts < 0 || cfg->merge_parts > 1 || !(cfg->kin_accel >= 0 && cfg->kin_accel <= 10) ||
       cfg->walker_part < 0 || cfg->walker_part > 1 || cfg->speed_full_length < 0 || cfg->speed_full_length > 1 ||
       cfg->blind_walker < 0 || cfg->blind_walker > 1 || !(cfg->blind_walker_s >= 0 && cfg->blind_walker_s <= 60) ||
-      cfg->blind_walker_fifo < 0 || cfg->blind_walker_fifo > 1)
+      cfg->blind_walker_fifo < 0 || cfg->blind_walker_fifo > 1 || !(cfg->split_car_m >= 0 && cfg->split_car_m <= 20))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -160,7 +161,7 @@ static const rs_opt_t knobs[] = {
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
     KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(kin_accel, 0.0, 10.0),
     KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1), KNOB(blind_walker_s, 0.0, 60.0),
-    KNOB_INT(blind_walker_fifo, 0, 1),
+    KNOB_INT(blind_walker_fifo, 0, 1), KNOB(split_car_m, 0.0, 20.0),
     KNOB_INT(still_lane, 0, 1), KNOB_INT(brake_coast, 0, 1),
 };
 
@@ -930,14 +931,30 @@ static bool move_alike(const rs_track_t *a, const rs_track_t *b) {
 /* objects a (taken by track t this frame) and b fit together in t's known
  * size (split_size, grown by RS_TRACK_SPLIT_MARGIN both ways) on the axes
  * (c, s): parts of one vehicle */
-static bool fits_on(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *a, const rs_object_t *b, double h,
-                    double c, double s) {
-  double ea[4], eb[4], len, wid;
+static bool walker_like(const rs_track_cfg_t *cf, const rs_track_t *t);
+static bool fits_in(const rs_object_t *a, const rs_object_t *b, double h, double c, double s, double len, double wid) {
+  double ea[4], eb[4];
   box_on(a, h, c, s, ea);
   box_on(b, h, c, s, eb);
-  split_size(tr, t, &len, &wid);
   return fmax(ea[1], eb[1]) - fmin(ea[0], eb[0]) <= len + RS_TRACK_SPLIT_MARGIN &&
          fmax(ea[3], eb[3]) - fmin(ea[2], eb[2]) <= wid + RS_TRACK_SPLIT_MARGIN;
+}
+static bool fits_on(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *a, const rs_object_t *b, double h,
+                    double c, double s) {
+  double len, wid;
+  split_size(tr, t, &len, &wid);
+  return fits_in(a, b, h, c, s, len, wid);
+}
+/* split_car_m: a moving vehicle's track never seen as long as a car: a and b fit in a car's length on its axes */
+#define SPLIT_CAR_V 3.0 /* m/s along its heading */
+static bool fits_car(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *a, const rs_object_t *b) {
+  const rs_track_cfg_t *cf = &tr->cfg;
+  if (!(cf->split_car_m > 0) || t->state != RS_TRACK_CONFIRMED || !((double)t->full_length < cf->split_car_m) ||
+      walker_sized(t) || walker_like(cf, t) || t->x[2] * t->hcd + t->x[3] * t->hsd < SPLIT_CAR_V)
+    return false;
+  double len, wid;
+  split_size(tr, t, &len, &wid);
+  return fits_in(a, b, t->heading, t->hcos, t->hsin, cf->split_car_m - RS_TRACK_SPLIT_MARGIN, wid);
 }
 
 /* on t's axes (a far car's near side and its roof, apart by a row's gap), or
@@ -953,7 +970,7 @@ static bool fits_on(const rs_tracker_t *tr, const rs_track_t *t, const rs_object
 #define FIT_AXES 36
 static bool fits_with(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *a, const rs_object_t *b) {
   if (!size_known(t)) return false;
-  if (fits_on(tr, t, a, b, t->heading, t->hcos, t->hsin)) return true;
+  if (fits_on(tr, t, a, b, t->heading, t->hcos, t->hsin) || fits_car(tr, t, a, b)) return true;
   const double ha = a->sensor.obb_heading;
   if (tr->cfg.split_object_axis && a->sensor.obb_length >= 2.0f && a->sensor.obb_length >= 1.8f * a->sensor.obb_width &&
       fits_on(tr, t, a, b, ha, cos(ha), sin(ha)))
