@@ -2172,9 +2172,10 @@ END_TEST
  * as a second cluster: the rear part's box shrinks, and so does the track's smoothed box,
  * but the side part still fits with it in the car's full size. Returns the
  * number of tracks confirmed in the run; *part_id: the id the side part's
- * returns carry in the last frame of the split (0 none), *id the car's. */
-static uint64_t shrinking_split(int full, uint32_t *id, uint32_t *part_id) {
-  init_knob("split_full_size", full);
+ * returns carry in the last frame of the split (0 none), *id the car's.
+ * full, car_m: split_full_size and split_car_m. */
+static uint64_t shrinking_split(int full, double car_m, uint32_t *id, uint32_t *part_id) {
+  init_knobs("split_full_size", full, "split_car_m", car_m);
   *id = *part_id = 0;
   for (int f = 0; f < 50; f++) {
     const double t = 0.1 * f, front = 12.0 + 6.0 * t, rear = front - 4.5;
@@ -2199,13 +2200,16 @@ static uint64_t shrinking_split(int full, uint32_t *id, uint32_t *part_id) {
 
 START_TEST(t_split_shrinking) {
   uint32_t id, part;
-  const uint64_t on = shrinking_split(1, &id, &part);
+  const uint64_t on = shrinking_split(1, 0.0, &id, &part);
   ck_assert_uint_ne(id, 0);
   ck_assert_uint_eq(on, 1);
   ck_assert_uint_eq(part, id);
-  const uint64_t off = shrinking_split(0, &id, &part);
+  const uint64_t off = shrinking_split(0, 0.0, &id, &part);
   ck_assert_uint_ge(off, 2); /* the side part as a track of its own */
   ck_assert_uint_ne(part, id);
+  /* split_car_m alone keeps it too: the side part and the rear span the car's 4.5 m */
+  ck_assert_uint_eq(shrinking_split(0, 5.0, &id, &part), 1);
+  ck_assert_uint_eq(part, id);
 }
 END_TEST
 
@@ -2214,19 +2218,21 @@ END_TEST
  * The two parts span 4.5 m: more than the track ever saw (2.4 m and the margin) but a car's
  * length. Returns the tracks born; *part_id: the id the front part's returns carry in the last
  * frame of the split, *id the car's. gap: how far behind the car's rear the front part is put
- * instead (a following car's front: 0 for the car's own). */
-static uint64_t car_split(double split_car_m, double v, double gap, uint32_t *id, uint32_t *part_id) {
+ * instead (a following car's front: 0 for the car's own); wid: the boxes' width (a face seen:
+ * less than the car's); across: how far the front part lies across from the rear. */
+static uint64_t car_split(double split_car_m, double v, double gap, double wid, double across, uint32_t *id,
+                          uint32_t *part_id) {
   init_knob("split_car_m", split_car_m);
   *id = *part_id = 0;
   for (int f = 0; f < 30; f++) {
     const double t = 0.1 * f, rear = -40.0 + v * t;
     clear();
     if (f < 20) {
-      put(t, rear + 1.2, 15.0, 2.4, 1.8, 0.0, 1.5, 80);
+      put(t, rear + 1.2, 15.0, 2.4, wid, 0.0, 1.5, 80);
     } else {
-      put(t, rear + 1.0, 15.0, 2.0, 1.8, 0.0, 1.5, 70);
+      put(t, rear + 1.0, 15.0, 2.0, wid, 0.0, 1.5, 70);
       const double front = gap > 0 ? rear - gap - 0.4 : rear + 4.1;
-      put(t, front, 15.0, 0.8, 1.8, 0.0, 1.5, 30);
+      put(t, front, 15.0 + across, 0.8, wid, 0.0, 1.5, 30);
     }
     rs_track_frame(&tr, &objs, t + 0.05);
     if (f == 10) *id = tr.list.object_track[0];
@@ -2237,15 +2243,22 @@ static uint64_t car_split(double split_car_m, double v, double gap, uint32_t *id
 
 START_TEST(t_split_car) {
   uint32_t id, part;
-  ck_assert_uint_eq(car_split(5.0, 10.0, 0.0, &id, &part), 1);
+  ck_assert_uint_eq(car_split(5.0, 10.0, 0.0, 1.8, 0.0, &id, &part), 1);
   ck_assert_uint_ne(id, 0);
   ck_assert_uint_eq(part, id); /* the front part carries the car's id */
-  ck_assert_uint_ge(car_split(0.0, 10.0, 0.0, &id, &part), 2); /* off: the front part a track of its own */
+  ck_assert_uint_ge(car_split(0.0, 10.0, 0.0, 1.8, 0.0, &id, &part), 2); /* off: the front part a track of its own */
   ck_assert_uint_ne(part, id);
-  ck_assert_uint_ge(car_split(5.0, 2.0, 0.0, &id, &part), 2); /* a car at 2 m/s: not a moving one's */
+  ck_assert_uint_ge(car_split(5.0, 2.0, 0.0, 1.8, 0.0, &id, &part), 2); /* a car at 2 m/s: not a moving one's */
   ck_assert_uint_ne(part, id);
   /* the front of a car following 2.5 m behind: the two span 5.3 m, more than a car */
-  ck_assert_uint_ge(car_split(5.0, 10.0, 2.5, &id, &part), 2);
+  ck_assert_uint_ge(car_split(5.0, 10.0, 2.5, 1.8, 0.0, &id, &part), 2);
+  ck_assert_uint_ne(part, id);
+  /* seen as faces 0.5 m wide, the front 1.2 m across from the rear (1.7 m across in all, more than the
+   * track's width and the margin, less than a car's 2.5 m): one track */
+  ck_assert_uint_eq(car_split(5.0, 10.0, 0.0, 0.5, 1.2, &id, &part), 1);
+  ck_assert_uint_eq(part, id);
+  /* ... the front 3 m across (3.5 m in all: the next lane's) a track of its own */
+  ck_assert_uint_ge(car_split(5.0, 10.0, 0.0, 0.5, 3.0, &id, &part), 2);
   ck_assert_uint_ne(part, id);
   knob_refused("split_car_m", "-1");
   knob_refused("split_car_m", "21");

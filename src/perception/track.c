@@ -945,8 +945,10 @@ static bool fits_on(const rs_tracker_t *tr, const rs_track_t *t, const rs_object
   split_size(tr, t, &len, &wid);
   return fits_in(a, b, h, c, s, len, wid);
 }
-/* split_car_m: a moving vehicle's track never seen as long as a car: a and b fit in a car's length on its axes */
+/* split_car_m: a moving vehicle's track never seen as long as a car: a and b fit in a car's length on its
+ * axes, and across in its width and the margin or a car's width (a face seen, its heading a little off) */
 #define SPLIT_CAR_V 3.0 /* m/s along its heading */
+#define SPLIT_CAR_W 1.5 /* m: the least width taken (with the margin, 2.5 m across) */
 static bool fits_car(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *a, const rs_object_t *b) {
   const rs_track_cfg_t *cf = &tr->cfg;
   if (!(cf->split_car_m > 0) || t->state != RS_TRACK_CONFIRMED || !((double)t->full_length < cf->split_car_m) ||
@@ -954,7 +956,7 @@ static bool fits_car(const rs_tracker_t *tr, const rs_track_t *t, const rs_objec
     return false;
   double len, wid;
   split_size(tr, t, &len, &wid);
-  return fits_in(a, b, t->heading, t->hcos, t->hsin, cf->split_car_m - RS_TRACK_SPLIT_MARGIN, wid);
+  return fits_in(a, b, t->heading, t->hcos, t->hsin, cf->split_car_m - RS_TRACK_SPLIT_MARGIN, fmax(wid, SPLIT_CAR_W));
 }
 
 /* on t's axes (a far car's near side and its roof, apart by a row's gap), or

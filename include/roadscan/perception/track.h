@@ -296,10 +296,11 @@ typedef struct {
                                   full size (its largest box, falling 0.05 m an update), not only in its
                                   smoothed box, which shrinks while the object is partly hidden (default 1) */
   double split_car_m;          /* a moving vehicle's track (confirmed, 3 m/s or faster along its heading) never
-                                  seen longer than this: a free object is a split part of it when both span no more
-                                  than this along its axis (and fit its width across): a car seen only in part so far, split by
-                                  the traffic in front of it, starts no track from its other part (default 5.0;
-                                  0 = off; docs/tracking.md) */
+                                  seen longer than this: a free object is a split part of it when both span no
+                                  more than this along its axis and, across, no more than its width and the
+                                  margin or 2.5 m (a car's width), whichever is more: a car seen only in part so
+                                  far, split by the traffic in front of it, starts no track from its other part
+                                  (default 5.0; 0 = off; docs/tracking.md) */
 } rs_track_cfg_t;
 
 /* The speed estimator of a track (speed_imm; docs/tracking.md): two models of
