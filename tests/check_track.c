@@ -2113,6 +2113,36 @@ START_TEST(t_passing_not_stitched) {
 }
 END_TEST
 
+/* stitch_kin. Car A drives at 3 m/s along y = 15 for 3 s and is not seen again (it turned off,
+ * or stays hidden). Car B, a faster one in the same lane, comes into view at 3.6 s 6.7 m behind
+ * where A was last seen and drives on at 12 m/s, through the place A's track is predicted at:
+ * had it been A, A would have had to speed up from 3 to 12 m/s in a second or two, and yet
+ * be behind where it would have been at 3 m/s. Returns whether B's returns carried A's id in
+ * any frame. */
+static bool passing_taken(int stitch_kin) {
+  init_knob("stitch_kin", stitch_kin);
+  uint32_t a = 0;
+  bool taken = false;
+  for (int f = 0; f < 70; f++) {
+    const double t = 0.1 * f;
+    clear();
+    if (t < 3.0) car(t, 3.0 * t, 15.0, 0.0);
+    if (t >= 3.6) car(t, 2.0 + 12.0 * (t - 3.6), 15.0, 0.0);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 10) a = tr.list.object_track[0];
+    if (t >= 3.6) taken |= tr.list.object_track[0] == a;
+  }
+  ck_assert_uint_ne(a, 0);
+  return taken;
+}
+
+START_TEST(t_stitch_kin) {
+  ck_assert(!passing_taken(1));
+  ck_assert(passing_taken(0)); /* without it A's track takes B over (at 4.2 s) */
+  knob_refused("stitch_kin", "2");
+}
+END_TEST
+
 /* six walkers abreast, 1 m apart, merged into one cluster for 0.5 s: the
  * cluster's returns are divided between the first RS_TRACK_HOLD_MAX held
  * tracks, the others counted */
@@ -2636,6 +2666,7 @@ int main(void) {
   tcase_add_test(tc, t_blind_circle_turn);
   tcase_add_test(tc, t_queued_merge);
   tcase_add_test(tc, t_passing_not_stitched);
+  tcase_add_test(tc, t_stitch_kin);
   tcase_add_test(tc, t_crowd_divided);
   tcase_add_test(tc, t_split);
   tcase_add_test(tc, t_split_shrinking);

@@ -95,6 +95,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->blind_walker_fifo = 1;
   c->speed_full_length = 1;
   c->split_car_m = 5.0;
+  c->stitch_kin = 1;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -124,7 +125,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->merge_parts < 0 || cfg->merge_parts > 1 || !(cfg->kin_accel >= 0 && cfg->kin_accel <= 10) ||
       cfg->walker_part < 0 || cfg->walker_part > 1 || cfg->speed_full_length < 0 || cfg->speed_full_length > 1 ||
       cfg->blind_walker < 0 || cfg->blind_walker > 1 || !(cfg->blind_walker_s >= 0 && cfg->blind_walker_s <= 60) ||
-      cfg->blind_walker_fifo < 0 || cfg->blind_walker_fifo > 1 || !(cfg->split_car_m >= 0 && cfg->split_car_m <= 20))
+      cfg->blind_walker_fifo < 0 || cfg->blind_walker_fifo > 1 || !(cfg->split_car_m >= 0 && cfg->split_car_m <= 20) ||
+      cfg->stitch_kin < 0 || cfg->stitch_kin > 1)
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -161,7 +163,7 @@ static const rs_opt_t knobs[] = {
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
     KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(kin_accel, 0.0, 10.0),
     KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1), KNOB(blind_walker_s, 0.0, 60.0),
-    KNOB_INT(blind_walker_fifo, 0, 1), KNOB(split_car_m, 0.0, 20.0),
+    KNOB_INT(blind_walker_fifo, 0, 1), KNOB(split_car_m, 0.0, 20.0), KNOB_INT(stitch_kin, 0, 1),
     KNOB_INT(still_lane, 0, 1), KNOB_INT(brake_coast, 0, 1),
 };
 
@@ -1878,6 +1880,42 @@ static double kin_fit(const rs_tracker_t *tr, const rs_track_t *o, const rs_trac
   return fabs(off);
 }
 
+/* stitch_kin: could the vehicle of unseen track o, last seen (x_seen) moving v0 along its lane (kin_dir),
+ * have come to young track y's position moving y's v1 along it, in the time between, speeding up at
+ * most FEAS_UP and braking at most FEAS_DN, never backwards? Each speed is given FEAS_V of slack (y's
+ * also 2 sd of its velocity) and the distance FEAS_M (boxes seen in part). The least distance is that
+ * of braking first, then speeding up (or standing between), from the lowest speeds; the most, of
+ * speeding up first, then braking, from the highest. Only for y hit in every frame since its birth,
+ * FEAS_HITS times or more (a younger track's velocity is a growing box's; one that missed may have
+ * followed something else before), and o a vehicle's track of known size (kin_vehicle) */
+#define FEAS_UP 3.0  /* m/s^2 */
+#define FEAS_DN 8.0  /* m/s^2 */
+#define FEAS_V 1.0   /* m/s */
+#define FEAS_M 3.0   /* m */
+#define FEAS_HITS 5
+static bool stitch_feasible(const rs_tracker_t *tr, const rs_track_t *o, const rs_track_t *y) {
+  const double dt = y->t_state - o->t_update;
+  if (!tr->cfg.stitch_kin || y->hits < FEAS_HITS || y->misses != 0 || !(dt > 0) || !kin_vehicle(&tr->cfg, o) ||
+      walker_sized(y))
+    return true;
+  double c, s;
+  kin_dir(o, &c, &s);
+  const double v0 = o->x_seen[2] * c + o->x_seen[3] * s, v1 = y->x[2] * c + y->x[3] * s;
+  const double d = (y->x[0] - o->x_seen[0]) * c + (y->x[1] - o->x_seen[1]) * s;
+  const double sv = FEAS_V + 2.0 * sqrt(0.5 * (y->P[2][2] + y->P[3][3]));
+  double a0 = fmax(0.0, v0 - FEAS_V), b0 = fmax(0.0, v0 + FEAS_V);
+  const double a1 = fmax(0.0, v1 - sv), b1 = fmax(0.0, v1 + sv);
+  if (a1 > b0 + FEAS_UP * dt || a0 - FEAS_DN * dt > b1) return false; /* its speed could not have changed so */
+  a0 = fmax(a0, a1 - FEAS_UP * dt);
+  b0 = fmin(b0, b1 + FEAS_DN * dt);
+  const double t1 = (a0 + FEAS_UP * dt - a1) / (FEAS_DN + FEAS_UP), vm = a0 - FEAS_DN * t1;
+  const double dmin = vm >= 0.0 ? 0.5 * (a0 + vm) * t1 + 0.5 * (vm + a1) * (dt - t1)
+                                : a0 * a0 / (2.0 * FEAS_DN) + a1 * a1 / (2.0 * FEAS_UP);
+  const double t2 = (b1 - b0 + FEAS_DN * dt) / (FEAS_UP + FEAS_DN), vx = b0 + FEAS_UP * t2;
+  const double dmax = 0.5 * (b0 + vx) * t2 + 0.5 * (vx + b1) * (dt - t2);
+  return d >= dmin - FEAS_M && d <= dmax + FEAS_M;
+}
+
 /* Of the candidates tr->near[q0..n) (list indices) still unseen (a link made earlier in the same pass
  * takes one up) and other than track i (y), the one whose fit to y is least (fit: a distance, < 0
  * when it does not fit; the first in index order of equals); -1 none. The blind-circle link and the
@@ -2117,7 +2155,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
             !move_alike(o, y))
           continue;
       } else if (sqrt(dx * dx + dy * dy) > fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (y->t_state - o->t_update)) ||
-                 off_lane(cf, o, dx, dy, y->t_state - o->t_update)) {
+                 off_lane(cf, o, dx, dy, y->t_state - o->t_update) || !stitch_feasible(tr, o, y)) {
         continue;
       }
       const double s00 = S[0] + y->P[0][0], s01 = S[1] + y->P[0][1], s11 = S[2] + y->P[1][1];

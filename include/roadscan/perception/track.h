@@ -295,6 +295,13 @@ typedef struct {
   int split_full_size;         /* 1: a free object is a split part of a track when both fit in the track's
                                   full size (its largest box, falling 0.05 m an update), not only in its
                                   smoothed box, which shrinks while the object is partly hidden (default 1) */
+  int stitch_kin;              /* 1: a young track hit in every frame since its birth (5 hits or more) is
+                                  stitched to an unseen vehicle's track only when that vehicle could have come
+                                  from where it was last seen, at its speed then, to where the young track is,
+                                  at its speed now, speeding up at most 3 m/s^2 and braking at most 8 m/s^2
+                                  (1 m/s, 2 sd of the young track's velocity and 3 m of slack): a faster car
+                                  passing behind the spot a slow track was predicted to is not it (default 1;
+                                  docs/tracking.md) */
   double split_car_m;          /* a moving vehicle's track (confirmed, 3 m/s or faster along its heading) never
                                   seen longer than this: a free object is a split part of it when both span no
                                   more than this along its axis and, across, no more than its width and the
