@@ -930,10 +930,8 @@ static bool move_alike(const rs_track_t *a, const rs_track_t *b) {
   return d2 <= 9.0 || d2 <= 4.0 * (a->P[2][2] + a->P[3][3] + b->P[2][2] + b->P[3][3]);
 }
 
-/* objects a (taken by track t this frame) and b fit together in t's known
- * size (split_size, grown by RS_TRACK_SPLIT_MARGIN both ways) on the axes
- * (c, s): parts of one vehicle */
 static bool walker_like(const rs_track_cfg_t *cf, const rs_track_t *t);
+/* objects a and b fit together in len x wid, grown by RS_TRACK_SPLIT_MARGIN both ways, on the axes (c, s) */
 static bool fits_in(const rs_object_t *a, const rs_object_t *b, double h, double c, double s, double len, double wid) {
   double ea[4], eb[4];
   box_on(a, h, c, s, ea);
@@ -941,6 +939,8 @@ static bool fits_in(const rs_object_t *a, const rs_object_t *b, double h, double
   return fmax(ea[1], eb[1]) - fmin(ea[0], eb[0]) <= len + RS_TRACK_SPLIT_MARGIN &&
          fmax(ea[3], eb[3]) - fmin(ea[2], eb[2]) <= wid + RS_TRACK_SPLIT_MARGIN;
 }
+/* objects a (taken by track t this frame) and b fit together in t's known
+ * size (split_size) on the axes (c, s): parts of one vehicle */
 static bool fits_on(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *a, const rs_object_t *b, double h,
                     double c, double s) {
   double len, wid;
@@ -1904,10 +1904,13 @@ static bool stitch_feasible(const rs_tracker_t *tr, const rs_track_t *o, const r
   const double d = (y->x[0] - o->x_seen[0]) * c + (y->x[1] - o->x_seen[1]) * s;
   const double sv = FEAS_V + 2.0 * sqrt(0.5 * (y->P[2][2] + y->P[3][3]));
   double a0 = fmax(0.0, v0 - FEAS_V), b0 = fmax(0.0, v0 + FEAS_V);
-  const double a1 = fmax(0.0, v1 - sv), b1 = fmax(0.0, v1 + sv);
+  double a1 = fmax(0.0, v1 - sv), b1 = fmax(0.0, v1 + sv);
   if (a1 > b0 + FEAS_UP * dt || a0 - FEAS_DN * dt > b1) return false; /* its speed could not have changed so */
+  /* the speeds within reach of each other in dt (each pair's path then fits in dt) */
   a0 = fmax(a0, a1 - FEAS_UP * dt);
+  a1 = fmax(a1, a0 - FEAS_DN * dt);
   b0 = fmin(b0, b1 + FEAS_DN * dt);
+  b1 = fmin(b1, b0 + FEAS_UP * dt);
   const double t1 = (a0 + FEAS_UP * dt - a1) / (FEAS_DN + FEAS_UP), vm = a0 - FEAS_DN * t1;
   const double dmin = vm >= 0.0 ? 0.5 * (a0 + vm) * t1 + 0.5 * (vm + a1) * (dt - t1)
                                 : a0 * a0 / (2.0 * FEAS_DN) + a1 * a1 / (2.0 * FEAS_UP);
