@@ -649,6 +649,46 @@ START_TEST(t_hidden_against) {
 }
 END_TEST
 
+/* A car first seen 3 m past the line (+x; forward is towards -x), its first boxes growing away from
+ * the line (0.5 m a frame for 4 frames) while its track reports +5 m/s: its path run back crosses the
+ * line backward 0.6 s before, a hidden crossing, pending for the class delay (2 s). Then it drives
+ * towards the line at 2 m/s (reported -2 m/s, or +2 with `away`: it goes on away from the line) and,
+ * towards it, over it, seen, 2.5 s after it was first seen. Returns the crossings tallied. */
+static uint64_t grew_wrong_way(bool away) {
+  static const char *const l[] = {"gate 0 -5 0 5"};
+  setup(l, 1, NULL, 60);
+  cnt.class_delay_s = 2.0;
+  run_start();
+  for (int f = 0; f < 40; f++) {
+    tl.count = 0;
+    const double x = f < 4 ? 3.0 + 0.5 * f : 4.5 + (away ? 0.2 : -0.2) * (f - 3);
+    one(1, f < 2 ? RS_TRACK_TENTATIVE : RS_TRACK_CONFIRMED, RS_CLASS_CAR, x, 3.0);
+    sized(4.5f);
+    tl.track[0].vel[0] = f < 4 ? 5.0 : away ? 2.0 : -2.0;
+    tl.track[0].speed = f < 4 ? 5.0f : 2.0f;
+    rs_count_frame(&cnt, &tl, 52.0 + 0.1 * f);
+  }
+  rs_count_flush(&cnt, 57.0);
+  return cnt.crossings;
+}
+
+START_TEST(t_hidden_reversed) {
+  /* going the other way when it is tallied: the hidden crossing is taken back, and its drive over the
+   * line, seen, counts (forward) */
+  ck_assert_uint_eq(grew_wrong_way(false), 1);
+  ck_assert_uint_eq(cnt.hidden_reversed, 1);
+  ck_assert_uint_eq(cnt.hidden, 0);
+  ck_assert_uint_eq(cnt.total[0].forward[RS_CLASS_CAR], 1);
+  ck_assert_uint_eq(sum(cnt.total[0].backward), 0);
+  /* going on away from the line: the hidden crossing stands (backward) */
+  ck_assert_uint_eq(grew_wrong_way(true), 1);
+  ck_assert_uint_eq(cnt.hidden_reversed, 0);
+  ck_assert_uint_eq(cnt.hidden, 1);
+  ck_assert_uint_eq(cnt.total[0].backward[RS_CLASS_CAR], 1);
+  ck_assert_uint_eq(sum(cnt.total[0].forward), 0);
+}
+END_TEST
+
 /* A car seen as a cyclist when it crosses (head-on at range), a car from
  * 0.7 s later: with the delay (2 s) it is tallied as a car, 2 s after it
  * crossed and not before; at once (0) as a cyclist. A van whose track leaves
@@ -1198,6 +1238,7 @@ int main(void) {
   tcase_add_test(tc, t_hidden_window);
   tcase_add_test(tc, t_hidden_start);
   tcase_add_test(tc, t_hidden_still);
+  tcase_add_test(tc, t_hidden_reversed);
   tcase_add_test(tc, t_hidden_against);
   tcase_add_test(tc, t_hidden_beside);
   tcase_add_test(tc, t_hidden_place);

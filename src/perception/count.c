@@ -533,18 +533,34 @@ static bool standing(const rs_counter_t *c, const rs_track_t *tr) {
   return c->class_delay_s >= HIDDEN_STILL_S && tr->speed <= 0.0f;
 }
 
+/* Nor does one stand whose track, when it is due to be tallied, moves across
+ * line l the other way at HIDDEN_MIN_SPEED or more (vel: its reported
+ * velocity, in the lines' frame; NULL: not known): its first boxes grew the
+ * wrong way as the vehicle came into view (on the far side of a line, the
+ * box of a car coming towards it grew away from it, and its path run back
+ * crossed the line the other way), and the line is left to it to cross. */
+static bool against(const rs_counter_t *c, int l, const double *vel, int dir) {
+  if (vel == NULL || !(c->class_delay_s >= HIDDEN_STILL_S)) return false;
+  const rs_count_line_t *ln = &c->lines[l];
+  const double across = ((ln->bx - ln->ax) * vel[1] - (ln->by - ln->ay) * vel[0]) / line_len(ln); /* > 0: forward */
+  return fabs(across) >= HIDDEN_MIN_SPEED && (across > 0) != (dir > 0);
+}
+
 /* slot i's pending crossings of the lines in mask, tallied under its class
  * (those on a prediction only when `all`: the track has ended); still: its
  * track stands (standing()), its hidden ones are taken back */
 #define ALL_LINES 0xffffu
-static void tally_pending(rs_counter_t *c, uint32_t i, uint16_t mask, bool all, bool still) {
+static void tally_pending(rs_counter_t *c, uint32_t i, uint16_t mask, bool all, bool still, const double *vel) {
   for (int l = 0; l < c->nlines && c->slot[i].pending; l++) {
     const uint16_t bit = (uint16_t)(1u << l);
     if (!(mask & bit) || !(c->slot[i].pending & bit) || (!all && (c->slot[i].predicted & bit))) continue;
     const int dir = (c->slot[i].pending_fwd & bit) ? 1 : -1;
-    if (still && (c->slot[i].hidden & bit)) { /* a hidden crossing of a track standing still: taken back */
+    const bool back = !still && (c->slot[i].hidden & bit) && against(c, l, vel, dir);
+    if ((still || back) && (c->slot[i].hidden & bit)) { /* a hidden crossing of a track standing still, or going
+                                                          * the other way: taken back */
       c->hidden--;
-      c->hidden_still++;
+      if (back) c->hidden_reversed++;
+      else c->hidden_still++;
       unremember(c, l, c->slot[i].id);
       open_drop(c, c->slot[i].id, l);
       c->slot[i].counted &= (uint16_t)~bit; /* it never crossed: it may yet, driving off */
@@ -688,7 +704,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
     c->slot[i].speed = tr->speed;
     if (c->slot[i].pending) open_after(c, i, t, x, y);
     if (tr->state == RS_TRACK_CONFIRMED) c->slot[i].cls = (uint8_t)((unsigned)tr->cls < RS_CLASS_COUNT ? tr->cls : 0);
-    if (c->slot[i].pending && t >= c->slot[i].t_tally) tally_pending(c, i, ALL_LINES, false, standing(c, tr));
+    if (c->slot[i].pending && t >= c->slot[i].t_tally) tally_pending(c, i, ALL_LINES, false, standing(c, tr), vel);
     if (tr->state != RS_TRACK_CONFIRMED) { /* tentative, or coasting (lost) on a prediction */
       if (tr->state != RS_TRACK_TENTATIVE) unseen_crossings(c, i, tr, x, y, t);
       continue;
@@ -729,7 +745,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
           /* a walker's track: its first crossing of this line stands, tallied now, and it crosses back
            * (walked_back below; two walkers meeting on a line may leave with each other's tracks, each one
            * over and back) */
-          tally_pending(c, i, bit, false, standing(c, tr));
+          tally_pending(c, i, bit, false, standing(c, tr), vel);
           c->walked_early++;
         } else if (back) {
           if (c->slot[i].predicted & bit) c->unseen--;
@@ -788,7 +804,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       c->pending++;
       open_add(c, i, l, how, tc, s);
     }
-    if (c->slot[i].pending && t >= c->slot[i].t_tally) tally_pending(c, i, ALL_LINES, false, standing(c, tr));
+    if (c->slot[i].pending && t >= c->slot[i].t_tally) tally_pending(c, i, ALL_LINES, false, standing(c, tr), vel);
     c->slot[i].x = x;
     c->slot[i].y = y;
     c->slot[i].t_xy = t;
@@ -819,7 +835,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
   /* tracks no longer listed are forgotten */
   for (uint32_t i = 0; i < RS_COUNT_SLOTS; i++) {
     if (c->slot[i].id == 0 || c->slot[i].frame == c->frame_no) continue;
-    tally_pending(c, i, ALL_LINES, true, false); /* its crossings, under its last class */
+    tally_pending(c, i, ALL_LINES, true, false, NULL); /* its crossings, under its last class */
     forget(c, i);
     if (c->slot[i].id != 0 && c->slot[i].frame != c->frame_no) i--; /* a later entry moved here: look again */
   }
@@ -829,7 +845,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
 bool rs_count_flush(rs_counter_t *c, double t) {
   c->nevents = 0;
   for (uint32_t i = 0; i < RS_COUNT_SLOTS; i++)
-    if (c->slot[i].id != 0 && c->slot[i].pending) tally_pending(c, i, ALL_LINES, true, false);
+    if (c->slot[i].id != 0 && c->slot[i].pending) tally_pending(c, i, ALL_LINES, true, false, NULL);
   if (c->cur.t_start < 0) return false;
   close_interval(c, t > c->cur.t_start ? t : c->cur.t_start);
   memset(&c->cur, 0, sizeof c->cur);

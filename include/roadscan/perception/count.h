@@ -59,7 +59,9 @@
  * reports standing still (speed 0; with a class delay of 1 s or more) is
  * taken back (hidden_still): its travel past the line was its box growing as
  * more of a standing vehicle came into view; the line is left for it to
- * cross, driving off.
+ * cross, driving off. So is one whose track then moves across the line the
+ * other way at 1 m/s or more (hidden_reversed): its first boxes grew the
+ * wrong way as it came into view, and it is yet to cross.
  *
  * A lost track (unpublished, kept by the tracker for re-acquisition) keeps
  * its memory: taken up again past a line, it crossed it.
@@ -234,6 +236,9 @@ typedef struct {
   uint64_t hidden_still;                 /* hidden crossings taken back: the track reported standing still when
                                             they were due to be tallied (what looked like travel was its box
                                             growing as more of it came into view) */
+  uint64_t hidden_reversed;              /* hidden crossings taken back: the track moved across the line the other
+                                            way (1 m/s or more) when they were due to be tallied (its first boxes
+                                            grew the wrong way as the vehicle came into view) */
   double hidden_s;                       /* how far back a track's path is run (s; 0 = off); default RS_COUNT_HIDDEN_S */
   double hidden_window_s;                /* ... at each confirmed frame this long after it was first seen (s); RS_COUNT_HIDDEN_WINDOW_S */
   bool hidden_at_track;                  /* a hidden crossing's place along the line: the track's where it is
