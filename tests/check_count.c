@@ -570,11 +570,17 @@ END_TEST
  * later): taken back, no event. Reporting 4 m/s then: counted, one event.
  * Tallied at once (class delay 0), there is no later look: counted. With
  * drive_back, after 4 s it drives back over the line (+x at 4 m/s), seen. */
-static uint64_t uncovered_van(double delay, float speed, uint32_t *events, bool drive_back) {
+/* one line across x = 0 (forward: towards -x), a minute's intervals, the class delay given; the run
+ * started at 50 s */
+static void gate_run(double delay) {
   static const char *const l[] = {"gate 0 -5 0 5"};
   setup(l, 1, NULL, 60);
   cnt.class_delay_s = delay;
   run_start();
+}
+
+static uint64_t uncovered_van(double delay, float speed, uint32_t *events, bool drive_back) {
+  gate_run(delay);
   *events = 0;
   for (int f = 0; f < (drive_back ? 70 : 40); f++) {
     tl.count = 0;
@@ -620,10 +626,7 @@ END_TEST
  * 3 frames, while its track reports its velocity as vx (the speed estimator follows the box's near
  * side), then it drives over the line, seen. Returns the forward crossings. */
 static uint32_t grows_away(double vx) {
-  static const char *const l[] = {"gate 0 -5 0 5"};
-  setup(l, 1, NULL, 60);
-  cnt.class_delay_s = 2.0;
-  run_start();
+  gate_run(2.0);
   for (int f = 0; f < 20; f++) {
     tl.count = 0;
     one(1, f < 2 ? RS_TRACK_TENTATIVE : RS_TRACK_CONFIRMED, RS_CLASS_CAR, f < 3 ? 3.0 + 0.6 * f : 4.2 - 0.8 * (f - 2), 3.0);
@@ -655,10 +658,7 @@ END_TEST
  * towards the line at 2 m/s (reported -2 m/s, or +2 with `away`: it goes on away from the line) and,
  * towards it, over it, seen, 2.5 s after it was first seen. Returns the crossings tallied. */
 static uint64_t grew_wrong_way(bool away) {
-  static const char *const l[] = {"gate 0 -5 0 5"};
-  setup(l, 1, NULL, 60);
-  cnt.class_delay_s = 2.0;
-  run_start();
+  gate_run(2.0);
   for (int f = 0; f < 40; f++) {
     tl.count = 0;
     const double x = f < 4 ? 3.0 + 0.5 * f : 4.5 + (away ? 0.2 : -0.2) * (f - 3);

@@ -548,16 +548,17 @@ static bool against(const rs_counter_t *c, int l, const double *vel, int dir) {
 
 /* slot i's pending crossings of the lines in mask, tallied under its class
  * (those on a prediction only when `all`: the track has ended); still: its
- * track stands (standing()), its hidden ones are taken back */
+ * track stands (standing()), its hidden ones are taken back; vel: its
+ * reported velocity (NULL: not known), a hidden one it goes against
+ * (against()) is taken back too */
 #define ALL_LINES 0xffffu
 static void tally_pending(rs_counter_t *c, uint32_t i, uint16_t mask, bool all, bool still, const double *vel) {
   for (int l = 0; l < c->nlines && c->slot[i].pending; l++) {
     const uint16_t bit = (uint16_t)(1u << l);
     if (!(mask & bit) || !(c->slot[i].pending & bit) || (!all && (c->slot[i].predicted & bit))) continue;
     const int dir = (c->slot[i].pending_fwd & bit) ? 1 : -1;
-    const bool back = !still && (c->slot[i].hidden & bit) && against(c, l, vel, dir);
-    if ((still || back) && (c->slot[i].hidden & bit)) { /* a hidden crossing of a track standing still, or going
-                                                          * the other way: taken back */
+    const bool hidden = (c->slot[i].hidden & bit) != 0, back = hidden && !still && against(c, l, vel, dir);
+    if (hidden && (still || back)) { /* a hidden crossing of a track standing still, or going the other way */
       c->hidden--;
       if (back) c->hidden_reversed++;
       else c->hidden_still++;
