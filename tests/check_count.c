@@ -783,6 +783,67 @@ START_TEST(t_second_tracks) {
 }
 END_TEST
 
+/* A held crossing gives way to a seen one (unseen_yield). A bus's track (9), 12 m long, moving -x at
+ * 5 m/s along y = 0 of "gate 0 -5 0 5" (5 m along it), is seen until x = 3 (t = 100.5), then lost: its
+ * prediction runs on over the line at t = 101.1 (the bus itself had slowed behind something). At
+ * t = 102.0 two cars seen in the next lanes, at y = -1.4 and y = 2 (3.6 and 7 m along: each within 2.5 m
+ * of the prediction's crossing, 3.4 m from each other), cross it at 8 m/s. Counted: the two cars, the
+ * prediction's crossing taken back; without the rule, both cars are taken for the bus's second track and
+ * only the prediction's crossing counts. And a car's own new track (8) seen crossing 0.3 s after its old
+ * track's (7) prediction did, where it did: counted once either way. Returns the forward crossings. */
+static uint32_t lost_bus(bool yield, bool own) {
+  static const char *const l[] = {"gate 0 -5 0 5"};
+  setup(l, 1, NULL, 60);
+  cnt.unseen_yield = yield;
+  for (int f = 0; f <= 40; f++) {
+    const double t = 100.0 + 0.1 * f;
+    tl.count = 0;
+    if (!own) {
+      car_row(9, 40, f <= 5 ? RS_TRACK_CONFIRMED : f <= 15 ? RS_TRACK_COASTING : RS_TRACK_LOST, 5.5 - 0.5 * f, -5.0,
+              100.0 + 0.1 * (f <= 5 ? f : 5));
+      tl.track[tl.count - 1].x[1] = 0.0;
+      sized(12.0f);
+      for (int k = 0; k < 2; k++) {
+        car_row(20 + (uint32_t)k, 20, RS_TRACK_CONFIRMED, 16.0 - 0.8 * f, -8.0, t);
+        tl.track[tl.count - 1].x[1] = k == 0 ? -1.4 : 2.0;
+        sized(4.5f);
+      }
+    } else {
+      car_row(7, 20, f <= 5 ? RS_TRACK_CONFIRMED : RS_TRACK_COASTING, 4.8 - 0.8 * f, -8.0, 100.0 + 0.1 * (f <= 5 ? f : 5));
+      sized(4.5f);
+      if (f >= 7) {
+        car_row(8, 5, RS_TRACK_CONFIRMED, 4.8 - 0.8 * (f - 3), -8.0, t);
+        sized(4.5f);
+      }
+    }
+    rs_count_frame(&cnt, &tl, t);
+  }
+  tl.count = 0;
+  rs_count_frame(&cnt, &tl, 104.2);
+  ck_assert_uint_eq(cnt.pending, 0);
+  return sum(cnt.total[0].forward);
+}
+
+START_TEST(t_unseen_yield) {
+  ck_assert_uint_eq(lost_bus(true, false), 2);
+  ck_assert_uint_eq(cnt.unseen_yielded, 1);
+  ck_assert_uint_eq(cnt.same_dup, 0);
+  ck_assert_uint_eq(cnt.unseen, 0);
+  ck_assert_uint_eq(lost_bus(false, false), 1);
+  ck_assert_uint_eq(cnt.same_dup, 2);
+  ck_assert_uint_eq(cnt.unseen, 1);
+  ck_assert_uint_eq(lost_bus(true, true), 1);
+  ck_assert_uint_eq(cnt.unseen_yielded, 1);
+  ck_assert_uint_eq(lost_bus(false, true), 1);
+  ck_assert_uint_eq(cnt.same_dup, 1);
+  rs_count_line_t line;
+  char err[RS_ERRMSG_SIZE];
+  ck_assert_int_eq(rs_count_parse_line("gate 0 -5 0 5", &line, err, sizeof err), RS_OK);
+  ck_assert_int_eq(rs_count_init(&cnt, &line, 1, NULL, 60, err, sizeof err), RS_OK);
+  ck_assert(cnt.unseen_yield); /* the default */
+}
+END_TEST
+
 /* The band (band_m). A car stops with its centre 0.1 m before the line "stop 0 -5 0 5" (x = 0), driving
  * -x (forward), its centre wandering +-0.25 m for 10 s (stepping over the line every other second); then
  * either drives on (drive_on) or the run ends. band: band_m; crossings tallied when found. Returns the
@@ -1245,6 +1306,7 @@ int main(void) {
   tcase_add_test(tc, t_class_delay);
   tcase_add_test(tc, t_lost_taken_up);
   tcase_add_test(tc, t_second_tracks);
+  tcase_add_test(tc, t_unseen_yield);
   tcase_add_test(tc, t_unseen_crossings);
   tcase_add_test(tc, t_band);
   tcase_add_test(tc, t_walker_back);

@@ -820,6 +820,8 @@ START_TEST(t_tracks_outputs) {
   ck_assert_ptr_nonnull(strstr(out, "--count-same: 11 is out of range"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --count-line \"a 0 0 1 1\" --count-band -0.1", &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "--count-band: -0.1 is out of range"));
+  ck_assert_int_eq(tu_exec("./roadscand --pcap x --count-line \"a 0 0 1 1\" --count-unseen-yield maybe", &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "--count-unseen-yield: 'maybe' is not one of on, off"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --count-line \"a 0 0 1 1\" --count-hidden-place lane", &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "--count-hidden-place: 'lane' is not one of track, path"));
   /* a zone: entered, exited and the most inside, per interval, and in the summary */

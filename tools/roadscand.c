@@ -61,6 +61,7 @@ typedef struct {
   int count_hidden_place;  /* --count-hidden-place: 0 track, 1 path */
   double count_unseen;
   double count_same;
+  int count_unseen_yield; /* --count-unseen-yield: 0 on, 1 off */
   double count_band;
   double count_class_delay;
   int method;            /* rs_cluster_method_t */
@@ -272,6 +273,12 @@ static const rs_opt_t table[] = {
     D("count-same", "S", count_same, 0.0, 10.0,
       "a vehicle-sized track crossing a line within S seconds and 2.5 m along it of a crossing counted in its "
       "direction for another vehicle-sized track is that vehicle's second track: not counted (0 = off)"),
+    {.type = RS_OPT_CHOICE, .name = "count-unseen-yield", .arg = "on|off", .off = offsetof(T, count_unseen_yield),
+     .choices = "on|off",
+     .help = "on: a crossing on a prediction still held gives way to another vehicle-sized track's seen crossing "
+             "within --count-same seconds and 2.5 m (taken back; the seen one counted: a lost track's prediction "
+             "running on over the line took the cars that crossed next for its second tracks); off: the seen one "
+             "is not counted"},
     D("count-band", "M", count_band, 0.0, 5.0,
       "a seen track crosses a line when it is seen M metres past it, having been seen M metres before it (a "
       "standing vehicle's centre wanders); seen back M metres before the crossing is tallied takes it back (0 = "
@@ -533,6 +540,7 @@ int main(int argc, char **argv) {
     counter.hidden_at_track = st.count_hidden_place == 0; /* track */
     counter.unseen_s = st.count_unseen;
     counter.same_s = st.count_same;
+    counter.unseen_yield = st.count_unseen_yield == 0; /* on */
     counter.band_m = st.count_band;
     counter.class_delay_s = st.count_class_delay;
     cfg->counter = &counter;

@@ -726,13 +726,15 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
               "; of the crossings %llu hidden (tracks first seen past a line; %llu more were the same vehicle's, %llu more "
               "taken back: the track stood still, %llu taken back: it went the other way), "
               "%llu on a prediction (the track unseen; %llu more taken back: seen again before the line; %llu more "
-              "were the same vehicle's); %llu not counted: a second track of a vehicle counted (--count-same); %llu "
+              "were the same vehicle's, %llu taken back: another track seen crossing there, --count-unseen-yield); %llu not "
+              "counted: a second track of a vehicle counted (--count-same); %llu "
               "taken back: the track seen back before the line (--count-band), %llu a walker's back over a line it "
               "had crossed (%llu of them before that crossing was tallied)",
               (unsigned long long)c->hidden, (unsigned long long)c->hidden_dup, (unsigned long long)c->hidden_still,
               (unsigned long long)c->hidden_reversed,
               (unsigned long long)c->unseen,
-              (unsigned long long)c->unseen_undone, (unsigned long long)c->unseen_dup, (unsigned long long)c->same_dup,
+              (unsigned long long)c->unseen_undone, (unsigned long long)c->unseen_dup, (unsigned long long)c->unseen_yielded,
+              (unsigned long long)c->same_dup,
               (unsigned long long)c->back_undone, (unsigned long long)c->walked_back, (unsigned long long)c->walked_early);
     if (c->pending)
       fprintf(out, "; %llu more found, tallied once their class settles (--count-class-delay)", (unsigned long long)c->pending);

@@ -197,6 +197,7 @@ int rs_count_init(rs_counter_t *c, const rs_count_line_t *lines, int nlines, con
   c->class_delay_s = RS_COUNT_CLASS_DELAY_S;
   c->unseen_s = RS_COUNT_UNSEEN_S;
   c->same_s = RS_COUNT_SAME_S;
+  c->unseen_yield = true;
   c->band_m = RS_COUNT_BAND_M;
   c->hidden_at_track = true;
   c->t_first = -1.0;
@@ -331,8 +332,9 @@ typedef enum {
   NEAR_NEWER          /* by a track other than id first seen at `since` or later (a walker's new track) */
 } near_t;
 
-/* a crossing of line l in direction dir counted within dt of t and HIDDEN_DS of s, by a track of kind */
-static bool counted_near(const rs_counter_t *c, int l, double t, double s, int dir, double dt, near_t kind, uint32_t id,
+/* a crossing of line l in direction dir counted within dt of t and HIDDEN_DS of s, by a track of kind: its
+ * index in recent[l], -1 none */
+static int near_crossing(const rs_counter_t *c, int l, double t, double s, int dir, double dt, near_t kind, uint32_t id,
                          double since) {
   const uint32_t n = c->recent_n[l] < RS_COUNT_RECENT ? c->recent_n[l] : RS_COUNT_RECENT;
   for (uint32_t k = 0; k < n; k++) {
@@ -340,9 +342,13 @@ static bool counted_near(const rs_counter_t *c, int l, double t, double s, int d
     const bool by = kind == NEAR_ANY || (kind == NEAR_OTHER_VEHICLE && other && c->recent[l][k].vehicle) ||
                     (kind == NEAR_NEWER && other && c->recent[l][k].born >= since);
     if (by && c->recent[l][k].dir == dir && fabs(c->recent[l][k].t - t) <= dt && fabs(c->recent[l][k].s - s) <= HIDDEN_DS)
-      return true;
+      return (int)k;
   }
-  return false;
+  return -1;
+}
+static bool counted_near(const rs_counter_t *c, int l, double t, double s, int dir, double dt, near_t kind, uint32_t id,
+                         double since) {
+  return near_crossing(c, l, t, s, dir, dt, kind, id, since) >= 0;
 }
 
 /* a track of a vehicle's length (second tracks, count.h) */
@@ -401,6 +407,13 @@ static uint8_t zones_at(const rs_counter_t *c, double x, double y) {
 }
 
 static uint32_t hash_id(uint32_t id) { return (id * 2654435761u) & (RS_COUNT_SLOTS - 1); }
+/* the slot of track id, -1 none */
+static int32_t slot_of(const rs_counter_t *c, uint32_t id) {
+  uint32_t i = hash_id(id);
+  for (int guard = 0; guard < RS_COUNT_SLOTS && c->slot[i].id != 0; guard++, i = (i + 1) & (RS_COUNT_SLOTS - 1))
+    if (c->slot[i].id == id) return (int32_t)i;
+  return -1;
+}
 
 const char *rs_count_how_name(rs_cross_how_t h) {
   return h == RS_CROSS_HIDDEN ? "hidden" : h == RS_CROSS_UNSEEN ? "unseen" : "seen";
@@ -617,6 +630,33 @@ static void unseen_crossings(rs_counter_t *c, uint32_t i, const rs_track_t *tr, 
   c->slot[i].t_xy = t;
 }
 
+/* A vehicle-sized track seen crossing line l (at t, s along it, direction dir): a crossing counted
+ * for another vehicle-sized track within same_s and HIDDEN_DS is its vehicle's, and this one is its
+ * second track, not counted; unless that one was found on a prediction and is still held (unseen_yield):
+ * the track followed there while unseen was lost, and whether its vehicle was this one (taken up by a
+ * new track) or not (its prediction ran on along the lane, over the line, as another vehicle came), the
+ * seen crossing is the one to count. The held one is taken back (its track's line stays counted: were
+ * it seen again past the line, that was this crossing). Whether this one counts: false when a crossing
+ * near it stands. At most RS_COUNT_RECENT taken back. */
+static bool yield_unseen(rs_counter_t *c, int l, double t, double s, int dir, uint32_t id) {
+  const uint16_t bit = (uint16_t)(1u << l);
+  for (int guard = 0; guard < RS_COUNT_RECENT; guard++) {
+    const int k = near_crossing(c, l, t, s, dir, c->same_s, NEAR_OTHER_VEHICLE, id, 0.0);
+    if (k < 0) return true;
+    const int32_t j = c->unseen_yield ? slot_of(c, c->recent[l][k].id) : -1;
+    if (j < 0 || !(c->slot[j].predicted & bit) || !(c->slot[j].pending & bit)) return false;
+    c->slot[j].pending &= (uint16_t)~bit;
+    c->slot[j].pending_fwd &= (uint16_t)~bit;
+    c->slot[j].predicted &= (uint16_t)~bit;
+    c->pending--;
+    c->unseen--;
+    c->unseen_yielded++;
+    unremember(c, l, c->slot[j].id);
+    open_drop(c, c->slot[j].id, l);
+  }
+  return false;
+}
+
 static void close_interval(rs_counter_t *c, double t_end) {
   c->cur.t_end = t_end;
   c->closed = c->cur;
@@ -777,7 +817,7 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       }
       if (dir != 0) {
         tc = trail_cross_time(c, i, l, t);
-        if (vehicle && c->same_s > 0 && counted_near(c, l, t, s, dir, c->same_s, NEAR_OTHER_VEHICLE, tr->id, 0.0)) {
+        if (vehicle && c->same_s > 0 && !yield_unseen(c, l, t, s, dir, tr->id)) {
           c->same_dup++;
           mark_counted(c, i, (uint16_t)(1u << l), dir); /* its vehicle's: not checked again */
           continue;

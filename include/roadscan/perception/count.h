@@ -86,7 +86,10 @@
  * of a crossing counted in its direction for another vehicle-sized track is
  * that vehicle's second track (split off it, or taking over from it): not
  * counted (`same_dup`). Walkers and cyclists are not: two people cross a
- * sidewalk line side by side.
+ * sidewalk line side by side. Unless that crossing was on a prediction and is
+ * still held (`unseen_yield`, default on): a lost track's prediction runs on
+ * along its lane whatever its vehicle did; the seen crossing counts and the
+ * held one is taken back (`unseen_yielded`; its track's line stays counted).
  *
  * The band: a seen track crosses a line when it is seen more than `band_m`
  * (default 0.3, 0 = at the line) past it, having last been seen more than
@@ -253,6 +256,10 @@ typedef struct {
   double same_s;                         /* a vehicle's second track crossing this soon after its first is not
                                             counted (s; 0 = off); RS_COUNT_SAME_S */
   uint64_t same_dup;                     /* crossings not counted: another track of the vehicle's was */
+  bool unseen_yield;                     /* a crossing on a prediction still held gives way to another vehicle-sized
+                                            track's seen within same_s (default true) */
+  uint64_t unseen_yielded;               /* crossings on a prediction taken back: another track was seen crossing
+                                            there (unseen_yield) */
   double band_m;                         /* a seen track crosses a line when it is seen this far past it, having
                                             been seen this far before it; back this far before the crossing is
                                             tallied takes it back (m; 0 = at the line); RS_COUNT_BAND_M */
