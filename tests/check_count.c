@@ -783,6 +783,36 @@ START_TEST(t_second_tracks) {
 }
 END_TEST
 
+/* Second tracks are told by when they crossed, not when the crossing was found. A car (1), tentative
+ * from its birth 2 m before "gate 0 -5 0 5" at 10 m/s towards -x, crosses it at t = 20.2 and is confirmed
+ * at 20.8, when its crossing is found; the car behind it in its lane (2), confirmed, crosses at 21.9: 1.7 s
+ * after the first (over same_s, 1.5), 1.1 s after the first was found: both counted (by the times the
+ * crossings were found, once). The second crossing 1.3 s after the first: its second track, once; the
+ * first confirmed from its birth: both. Returns the forward crossings. */
+static uint32_t found_late(double confirm_at, double second_at) {
+  static const char *const l[] = {"gate 0 -5 0 5"};
+  setup(l, 1, NULL, 60);
+  for (int f = 0; f <= 60; f++) {
+    const double t = 20.0 + 0.1 * f;
+    tl.count = 0;
+    one(1, t < confirm_at - 1e-9 ? RS_TRACK_TENTATIVE : RS_TRACK_CONFIRMED, RS_CLASS_CAR, 2.0 - 10.0 * (t - 20.0), 0.5);
+    sized(4.5f);
+    one(2, RS_TRACK_CONFIRMED, RS_CLASS_CAR, 10.0 * (second_at - t), 0.5);
+    sized(4.5f);
+    rs_count_frame(&cnt, &tl, t);
+  }
+  return sum(cnt.total[0].forward);
+}
+
+START_TEST(t_second_track_time) {
+  ck_assert_uint_eq(found_late(20.8, 21.9), 2);
+  ck_assert_uint_eq(cnt.same_dup, 0);
+  ck_assert_uint_eq(found_late(20.8, 21.5), 1); /* 1.3 s behind: the first's second track */
+  ck_assert_uint_eq(cnt.same_dup, 1);
+  ck_assert_uint_eq(found_late(20.0, 21.9), 2);
+}
+END_TEST
+
 /* A held crossing gives way to a seen one (unseen_yield). A bus's track (9), 12 m long, moving -x at
  * 5 m/s along y = 0 of "gate 0 -5 0 5" (5 m along it), is seen until x = 3 (t = 100.5), then lost: its
  * prediction runs on over the line at t = 101.1 (the bus itself had slowed behind something). At
@@ -1307,6 +1337,7 @@ int main(void) {
   tcase_add_test(tc, t_lost_taken_up);
   tcase_add_test(tc, t_second_tracks);
   tcase_add_test(tc, t_unseen_yield);
+  tcase_add_test(tc, t_second_track_time);
   tcase_add_test(tc, t_unseen_crossings);
   tcase_add_test(tc, t_band);
   tcase_add_test(tc, t_walker_back);

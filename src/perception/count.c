@@ -607,15 +607,16 @@ static void unseen_crossings(rs_counter_t *c, uint32_t i, const rs_track_t *tr, 
     double u, s;
     meet(&c->lines[l], c->slot[i].x, c->slot[i].y, x, y, &u, &s);
     mark_counted(c, i, bit, dir);
+    const double tc = trail_cross_time(c, i, l, t);
     /* the vehicle's new track counted it already; a walker's, not another walker of a file (one first
      * seen before this one was last seen: people walk in files, a track's new one starts after it is lost) */
-    const bool dup = walker_paced(tr) ? counted_near(c, l, t, s, dir, HIDDEN_DT, NEAR_NEWER, tr->id, tr->t_update - NEWER_SLACK_S)
-                                      : counted_near(c, l, t, s, dir, HIDDEN_DT, NEAR_ANY, 0, 0.0);
+    const bool dup = walker_paced(tr) ? counted_near(c, l, tc, s, dir, HIDDEN_DT, NEAR_NEWER, tr->id, tr->t_update - NEWER_SLACK_S)
+                                      : counted_near(c, l, tc, s, dir, HIDDEN_DT, NEAR_ANY, 0, 0.0);
     if (dup) {
       c->unseen_dup++;
       continue;
     }
-    remember(c, l, t, s, dir, tr, vehicle_sized(tr));
+    remember(c, l, tc, s, dir, tr, vehicle_sized(tr));
     if (!c->slot[i].pending) c->slot[i].t_tally = t + c->class_delay_s;
     c->slot[i].pending |= bit;
     c->slot[i].predicted |= bit;
@@ -623,7 +624,7 @@ static void unseen_crossings(rs_counter_t *c, uint32_t i, const rs_track_t *tr, 
     if (dir > 0) c->slot[i].pending_fwd |= bit;
     c->pending++;
     c->unseen++;
-    open_add(c, i, l, RS_CROSS_UNSEEN, trail_cross_time(c, i, l, t), s);
+    open_add(c, i, l, RS_CROSS_UNSEEN, tc, s);
   }
   c->slot[i].x = x;
   c->slot[i].y = y;
@@ -817,12 +818,12 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       }
       if (dir != 0) {
         tc = trail_cross_time(c, i, l, t);
-        if (vehicle && c->same_s > 0 && !yield_unseen(c, l, t, s, dir, tr->id)) {
+        if (vehicle && c->same_s > 0 && !yield_unseen(c, l, tc, s, dir, tr->id)) {
           c->same_dup++;
           mark_counted(c, i, (uint16_t)(1u << l), dir); /* its vehicle's: not checked again */
           continue;
         }
-        remember(c, l, t, s, dir, tr, vehicle);
+        remember(c, l, tc, s, dir, tr, vehicle);
       } else if (first_confirmed || (c->slot[i].born && t - c->slot[i].t0 <= c->hidden_window_s)) {
         dir = hidden_crossing(c, l, c->slot[i].t0, c->slot[i].x0, c->slot[i].y0, t, x, y, vel, &tc, &s);
         if (dir == 0) continue;
