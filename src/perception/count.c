@@ -639,6 +639,18 @@ static void unseen_crossings(rs_counter_t *c, uint32_t i, const rs_track_t *tr, 
  * seen crossing is the one to count. The held one is taken back (its track's line stays counted: were
  * it seen again past the line, that was this crossing). Whether this one counts: false when a crossing
  * near it stands. At most RS_COUNT_RECENT taken back. */
+/* slot i's crossing of line l held on a prediction, taken back (its counted bit is the caller's) */
+static void drop_held(rs_counter_t *c, uint32_t i, int l) {
+  const uint16_t bit = (uint16_t)(1u << l);
+  c->slot[i].pending &= (uint16_t)~bit;
+  c->slot[i].pending_fwd &= (uint16_t)~bit;
+  c->slot[i].predicted &= (uint16_t)~bit;
+  c->pending--;
+  c->unseen--;
+  unremember(c, l, c->slot[i].id);
+  open_drop(c, c->slot[i].id, l);
+}
+
 static bool yield_unseen(rs_counter_t *c, int l, double t, double s, int dir, uint32_t id) {
   const uint16_t bit = (uint16_t)(1u << l);
   for (int guard = 0; guard < RS_COUNT_RECENT; guard++) {
@@ -646,14 +658,8 @@ static bool yield_unseen(rs_counter_t *c, int l, double t, double s, int dir, ui
     if (k < 0) return true;
     const int32_t j = c->unseen_yield ? slot_of(c, c->recent[l][k].id) : -1;
     if (j < 0 || !(c->slot[j].predicted & bit) || !(c->slot[j].pending & bit)) return false;
-    c->slot[j].pending &= (uint16_t)~bit;
-    c->slot[j].pending_fwd &= (uint16_t)~bit;
-    c->slot[j].predicted &= (uint16_t)~bit;
-    c->pending--;
-    c->unseen--;
+    drop_held(c, (uint32_t)j, l);
     c->unseen_yielded++;
-    unremember(c, l, c->slot[j].id);
-    open_drop(c, c->slot[j].id, l);
   }
   return false;
 }
@@ -761,15 +767,10 @@ bool rs_count_frame(rs_counter_t *c, const rs_track_list_t *tl, double t) {
       c->slot[i].predicted &= (uint16_t)~bit;
       const int back = crosses(&c->lines[l], c->slot[i].x, c->slot[i].y, x, y);
       if (back != 0 && (back > 0) != ((c->slot[i].pending_fwd & bit) != 0)) {
-        c->slot[i].pending &= (uint16_t)~bit;
-        c->slot[i].pending_fwd &= (uint16_t)~bit;
+        drop_held(c, i, l);
         c->slot[i].counted &= (uint16_t)~bit;
-        c->pending--;
-        c->unseen--;
         c->unseen_undone++;
         if (c->band_m > 0) note_side(c, i, l, back); /* before it again: crossing it, seen, counts */
-        unremember(c, l, tr->id);
-        open_drop(c, tr->id, l);
         undone |= bit;
       }
     }
