@@ -81,6 +81,17 @@
         that came back out of their track's gate (kin_accel, docs/tracking.md); then each of those
         unseen 1-3 s, no longer listed and out: the old track's last reported speed, the true
         speeds then and when it came back, and where it came back.
+    scripts/track-errors.py budget MOTDUMP TRACKS STATES [MOTDUMP TRACKS STATES ...]
+        Over all given: where the vehicle speed error of roadscan-eval --tracking comes from (its
+        rows: confirmed, matched IoU > 0.5 to a true vehicle within 80 m; the truth between its
+        states). Each row is put in the first kind it fits: the capture's first 3 s; a track that
+        took this vehicle over from another road user under 2 s ago; a track under 1 s old that
+        is the vehicle's first, or was born after the vehicle's earlier track last had it (under
+        0.5 s, 0.5-1.5 s, 1.5 s or more before); a track seen again under 1 s after 1 s or more
+        unseen; a track that has had this vehicle 1-2 s; the rest (2 s or more). Per kind: its
+        rows, its share of the rows and of the squared error, its RMSE and mean signed error
+        (m/s). Then, across the kinds, the rows reported 0 while the vehicle moved at 1 m/s or
+        more, and those reported moving while it moved slower than 1 m/s.
     scripts/track-errors.py close STATES...
         Per true-states file: how many pairs of walkers came within 0.45 m of each other (centres;
         bodies are 0.5 m wide), the states within 0.6 m, and the nearest two ever came (m): how
@@ -697,11 +708,102 @@ def reacquired(*paths):
     print("\n".join(events))
 
 
+BUDGET_KINDS = ("capture's first 3 s", "took it over < 2 s ago", "< 1 s old, its first track",
+                "< 1 s old, old track had it < 0.5 s before", "< 1 s old, 0.5-1.5 s before",
+                "< 1 s old, >= 1.5 s before", "seen again < 1 s after >= 1 s unseen", "had it 1-2 s",
+                "had it >= 2 s")
+
+
+def budget_rows(mot_path, tracks_path, states_path):
+    """(kind, error, true speed, reported speed) of each row roadscan-eval scores for vehicle speed"""
+    states, cls = load_states(states_path)
+    rows, hit_t = {}, defaultdict(list)  # (frame, track) -> row; track -> [(t, time since its last hit)]
+    last_hit, last_hits = {}, {}
+    with open(tracks_path, newline="") as f:
+        for r in csv.DictReader(f):
+            k, t, h = int(r["track"]), float(r["t"]), int(r["hits"])
+            rows[(int(r["frame"]), k)] = r
+            if h != last_hits.get(k):  # a hit: remember when one came after a gap
+                if k in last_hit and t - last_hit[k] >= 1.0:
+                    hit_t[k].append(t)
+                last_hit[k], last_hits[k] = t, h
+    pairs = []
+    with open(mot_path, newline="") as f:
+        for r in csv.DictReader(f):
+            if int(r["pred"]) >= 3 and float(r["iou"]) > 0.5:
+                pairs.append((int(r["frame"]), int(r["pred"]) - 2, int(r["truth"])))
+    pairs.sort()
+    t0 = min(v[0][0] for v in states.values())
+    first_with, before, had, last_of = {}, {}, defaultdict(set), {}
+    for frame, track, truth in pairs:
+        key = (track, truth)
+        if key not in first_with:
+            first_with[key] = frame
+            before[key] = last_of.get(truth)  # (frame, track) the vehicle was last matched, another track
+        took = bool(had[track] - {truth})
+        had[track].add(truth)
+        last_of[truth] = (frame, track)
+        r = rows.get((frame, track))
+        if r is None or r["state"] != "confirmed" or cls.get(truth) not in VEHICLES:
+            continue
+        t = float(r["t"])
+        s = at(states[truth], t)
+        if s is None or math.hypot(s[0], s[1]) > 80.0:
+            continue
+        v = math.hypot(s[2], s[3])
+        on = (frame - first_with[key]) * 0.1
+        back = [x for x in hit_t[track] if x <= t]
+        if t - t0 < 3.0:
+            kind = BUDGET_KINDS[0]
+        elif took and on < 2.0:
+            kind = BUDGET_KINDS[1]
+        elif float(r["age"]) < 1.0:
+            b = before[key]
+            gap = None if b is None else (first_with[key] - b[0]) * 0.1
+            kind = BUDGET_KINDS[2] if gap is None else BUDGET_KINDS[3] if gap < 0.5 else \
+                BUDGET_KINDS[4] if gap < 1.5 else BUDGET_KINDS[5]
+        elif back and t - back[-1] < 1.0:
+            kind = BUDGET_KINDS[6]
+        else:
+            kind = BUDGET_KINDS[7] if on < 2.0 else BUDGET_KINDS[8]
+        yield kind, float(r["speed"]) - v, v, float(r["speed"])
+
+
+def budget(*paths):
+    if not paths or len(paths) % 3:
+        sys.exit("budget: MOTDUMP TRACKS STATES triples")
+    n, sq, se = Counter(), Counter(), Counter()
+    zeroed, moving = [0, 0.0], [0, 0.0]
+    for k in range(0, len(paths), 3):
+        for kind, e, v, sp in budget_rows(*paths[k:k + 3]):
+            n[kind] += 1
+            sq[kind] += e * e
+            se[kind] += e
+            if sp == 0.0 and v >= 1.0:
+                zeroed[0] += 1
+                zeroed[1] += e * e
+            elif sp > 0.0 and v < 1.0:
+                moving[0] += 1
+                moving[1] += e * e
+    rows, total = sum(n.values()), sum(sq.values())
+    if not rows:
+        print("no confirmed vehicle rows matched within 80 m")
+        return
+    print(f"{len(paths) // 3} captures: {rows} rows, vehicle speed RMSE {math.sqrt(total / rows):.3f} m/s")
+    for kind in BUDGET_KINDS:
+        if n[kind]:
+            print(f"  {kind:40s} rows {n[kind]:6d} ({100.0 * n[kind] / rows:5.1f} %)  squared error "
+                  f"{100.0 * sq[kind] / total:5.1f} %  RMSE {math.sqrt(sq[kind] / n[kind]):.2f}  mean {se[kind] / n[kind]:+.2f}")
+    for name, (m, q) in (("reported 0, moving >= 1 m/s", zeroed), ("reported moving, slower than 1 m/s", moving)):
+        print(f"  {name:40s} rows {m:6d} ({100.0 * m / rows:5.1f} %)  squared error {100.0 * q / total:5.1f} %")
+
+
 def main(argv):
     modes = {"speed": speed, "ids": ids, "close": close, "traffic": traffic, "unmatched": unmatched, "matched": matched,
-             "born": born, "spot": spot, "crossings": crossings, "late": late, "reacquired": reacquired}
+             "born": born, "spot": spot, "crossings": crossings, "late": late, "reacquired": reacquired,
+             "budget": budget}
     if len(argv) < 2 or argv[0] not in modes or \
-            (argv[0] not in ("close", "traffic", "matched", "born", "spot", "crossings", "late", "reacquired") and len(argv) != 3):
+            (argv[0] not in ("close", "traffic", "matched", "born", "spot", "crossings", "late", "reacquired", "budget") and len(argv) != 3):
         sys.exit(__doc__.strip())
     modes[argv[0]](*argv[1:])
 

@@ -1,0 +1,103 @@
+#!/usr/bin/env python3
+"""scripts/track-errors.py budget on a hand-made run with known answers.
+
+Four true cars at 5 m/s and five tracks, 10 Hz for 10 s:
+  car 1: track 1 from the first frame to the last (the capture's first 3 s, then 2 s or more);
+  car 2: track 2 born at 5 s (under 1 s old, its first track; then 1-2 s; at 7.0 s, 2 s), unseen
+         from 7.1 s to 8.3 s and seen again at 8.4-9.2 s (under 1 s after 1 s or more unseen);
+  car 3: track 3 until 4.9 s, then track 4 born at 6.0 s (under 1 s old, 1.1 s after its old track
+         last had it);
+  car 4: track 3 takes it at 8.0 s (took it over under 2 s ago).
+Track 1 reports 0 in its rows at 6.0-6.4 s (reported 0 while moving).
+Exit 0 when every row lands in its kind, 1 otherwise.
+"""
+import csv
+import importlib.util
+import math
+import os
+import sys
+import tempfile
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+spec = importlib.util.spec_from_file_location("track_errors", os.path.join(ROOT, "scripts", "track-errors.py"))
+te = importlib.util.module_from_spec(spec)
+spec.loader.exec_module(te)
+
+T0 = 1700000000.0
+FRAMES = 100
+
+
+def car_state(car, f):
+    return 10.0 + 0.5 * f, 5.0 * car, 5.0, 0.0  # x, y, vx, vy: along x, one lane (5 m) per car
+
+
+def main():
+    with tempfile.TemporaryDirectory() as tmp:
+        return check(tmp)
+
+
+def check(tmp):
+    states_p, tracks_p, mot_p = (os.path.join(tmp, n) for n in ("states.csv", "tracks.csv", "mot.csv"))
+    with open(states_p, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["t", "id", "class", "x", "y", "vx", "vy", "heading", "length", "width", "height"])
+        for fr in range(FRAMES):
+            for car in (1, 2, 3, 4):
+                x, y, vx, vy = car_state(car, fr)
+                w.writerow([f"{T0 + 0.1 * fr:.3f}", car, "car", x, y, vx, vy, 0.0, 4.5, 1.8, 1.5])
+    # (track, car, first frame, last frame, frames unseen): the track's rows and who it follows
+    spans = [(1, 1, 0, 99, ()), (2, 2, 50, 92, range(71, 84)), (3, 3, 0, 49, ()), (4, 3, 60, 99, ()),
+             (3, 4, 80, 99, ())]
+    rows, mot = {}, []
+    born, hits = {}, {}
+    for track, car, a, b, unseen in spans:
+        born.setdefault(track, a)
+        for fr in range(a, b + 1):
+            seen = fr not in unseen
+            hits[track] = hits.get(track, 0) + (1 if seen else 0)
+            x, y, vx, vy = car_state(car, fr)
+            speed = 0.0 if track == 1 and 60 <= fr <= 64 else 5.0
+            rows[(fr, track)] = [fr, f"{T0 + 0.1 * fr:.3f}", track, "confirmed" if seen else "coasting", "car", x, y,
+                                 0.0, vx, vy, speed, 0.0, 4.5, 1.8, 1.5, 100, hits[track], 0,
+                                 f"{0.1 * (fr - born[track]):.3f}"]
+            if seen:
+                mot.append((fr, car, track + 2, 1.0))
+    with open(tracks_p, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["frame", "t", "track", "state", "class", "x", "y", "z", "vx", "vy", "speed", "heading", "length",
+                    "width", "height", "points", "hits", "misses", "age"])
+        for key in sorted(rows):
+            w.writerow(rows[key])
+    with open(mot_p, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["frame", "truth", "pred", "iou"])
+        for r in sorted(mot):
+            w.writerow(r)
+
+    got = {}
+    zero = 0
+    for kind, e, v, sp in te.budget_rows(mot_p, tracks_p, states_p):
+        got[kind] = got.get(kind, 0) + 1
+        zero += sp == 0.0 and v >= 1.0
+        if not math.isclose(v, 5.0, abs_tol=1e-9):
+            print(f"true speed {v}, not 5")
+            return 1
+    k = te.BUDGET_KINDS
+    want = {
+        k[0]: 30 + 30,          # tracks 1 and 3 before 3 s
+        k[1]: 20,               # track 3 with car 4, 8.0-9.9 s (under 2 s with it)
+        k[2]: 10,               # track 2, 5.0-5.9 s
+        k[4]: 10,               # track 4, 6.0-6.9 s: car 3's old track last had it at 4.9 s
+        k[6]: 9,                # track 2 seen again, 8.4-9.2 s
+        k[7]: 10 + 10,          # track 2 6.0-6.9 s, track 4 7.0-7.9 s
+        k[8]: 70 + 1 + 20 + 20,  # track 1 3.0-9.9 s, track 2 at 7.0 s, track 3 3.0-4.9 s, track 4 8.0-9.9 s
+    }
+    if got != want or zero != 5:
+        print(f"kinds {got}\nwanted {want}\nreported 0 while moving: {zero}, wanted 5")
+        return 1
+    print(f"{sum(got.values())} rows in their kinds; 5 reported 0 while moving")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
