@@ -346,8 +346,8 @@ static const rs_opts_spec_t spec = {
              "object over time and counts what crosses lines of the site. Per frame it publishes an object list, "
              "a track list and statistics over LCM; an example config is /usr/share/doc/roadscan/roadscand.ini.",
     .epilog = "SIGINT/SIGTERM stop cleanly and print the summary. Exit status: 0 done (input errors are counted "
-              "in the summary), 1 fatal error (including an LCM URL that cannot publish), 2 bad usage or "
-              "configuration.",
+              "in the summary), 1 fatal error (including an LCM URL that cannot publish, or no model learned and "
+              "saved for --learn-out), 2 bad usage or configuration.",
     .config_file = true,
     .opts = table,
     .n = (int)(sizeof table / sizeof table[0]),
@@ -602,7 +602,24 @@ int main(int argc, char **argv) {
              set_aside(st.bg_path, rs_model_name(bgmodel.model)));
   }
   if (!st.quiet) rs_pipeline_summary(&pipeline, stderr);
+  /* a model to learn and save (--learn-out): said when there is none (the learner saves one still
+   * being learned at the end when it is done: deinit waits for it) */
+  const bool learned = rs_proc_model(&pipeline.proc) != NULL;
+  const int kept = pipeline.proc.bgu_on && pipeline.proc.bgu.ready ? pipeline.proc.bgu.store.nframes : 0;
   rs_pipeline_deinit(&pipeline);
+  if (cfg->learn_out && !pipeline.proc.bgu.saved) {
+    if (learned)
+      rs_log(RS_LOG_ERR, "--learn-out %s: the model learned was not saved (the error above)", cfg->learn_out);
+    else if (pipeline.proc.bgu.store_rc != RS_OK)
+      rs_log(RS_LOG_ERR, "--learn-out %s: no model was learned and nothing saved: its samples could not be reserved (%s)",
+             cfg->learn_out, rs_strerror(pipeline.proc.bgu.store_rc));
+    else
+      rs_log(RS_LOG_ERR,
+             "--learn-out %s: no model was learned and nothing saved: the input ended when %d complete frames of "
+             "the %.1f s to learn from (--learn-seconds) had been kept",
+             cfg->learn_out, kept, cfg->learn_seconds);
+    status = 1;
+  }
   rs_publish_deinit(&publisher);
   rs_notify_deinit(&notify);
   if (st.bg_path) rs_bg_model_free(&bgmodel);

@@ -70,8 +70,10 @@ static void learn_once(rs_bgu_t *u) {
     char err[RS_ERRMSG_SIZE];
     if (u->cfg.learn_out && rs_bg_save(&u->models[spare], u->cfg.learn_out, err, sizeof err) != RS_OK)
       rs_log(RS_LOG_ERR, "%s", err);
-    else if (u->cfg.learn_out)
+    else if (u->cfg.learn_out) {
+      u->saved = true;
       rs_log(RS_LOG_INFO, "background model saved to %s", u->cfg.learn_out);
+    }
     return;
   }
   const rs_bg_model_t *cur = &u->models[u->active], *cand = &u->models[spare];
@@ -97,8 +99,11 @@ static void make_store(rs_bgu_t *u) {
     if (need > frames) frames = need;
   }
   while (frames > 2 && rs_bg_learner_bytes(u->geo.rows, u->geo.cols, frames) > RS_BGU_BUDGET) frames--;
-  if (rs_bg_learner_init(&u->store, u->geo.model, u->geo.rows, u->geo.cols, frames, 1) != RS_OK) {
-    rs_log(RS_LOG_ERR, "background: cannot reserve %d frames of samples; the model stays as it is", frames);
+  const int rc = rs_bg_learner_init(&u->store, u->geo.model, u->geo.rows, u->geo.cols, frames, 1);
+  if (rc != RS_OK) {
+    u->store_rc = rc;
+    rs_log(RS_LOG_ERR, "background: cannot reserve %d frames of samples (%s); the model stays as it is", frames,
+           rs_strerror(rc));
     u->cfg.window_s = 0;
     u->cfg.learn_seconds = 0;
     return;

@@ -88,6 +88,8 @@ typedef struct {
   _Atomic bool finishing; /* rs_bgu_finish waits: the learner keeps (or takes back) the normal priority */
   /* learner results (written by the learner before it releases the state) */
   int last_rc;
+  bool saved;                  /* the first model was saved to learn_out */
+  int store_rc;                /* why the sample store could not be reserved (RS_OK: it was, or not yet) */
   char reason[160];            /* why the last candidate was rejected */
   double learn_s;              /* how long the last learning took */
   /* counters (processing thread) */
