@@ -605,8 +605,7 @@ int main(int argc, char **argv) {
   /* a model to learn and save (--learn-out): said when there is none (the learner saves one still
    * being learned at the end when it is done: deinit waits for it) */
   const bool learned = rs_proc_model(&pipeline.proc) != NULL;
-  const int kept = pipeline.proc.bgu_on && pipeline.proc.bgu.ready ? pipeline.proc.bgu.store.nframes : 0;
-  rs_pipeline_deinit(&pipeline);
+  rs_pipeline_deinit(&pipeline); /* joins the learner: saved and store_rc are final */
   if (cfg->learn_out && !pipeline.proc.bgu.saved) {
     if (learned)
       rs_log(RS_LOG_ERR, "--learn-out %s: the model learned was not saved (the error above)", cfg->learn_out);
@@ -617,7 +616,7 @@ int main(int argc, char **argv) {
       rs_log(RS_LOG_ERR,
              "--learn-out %s: no model was learned and nothing saved: the input ended when %d complete frames of "
              "the %.1f s to learn from (--learn-seconds) had been kept",
-             cfg->learn_out, kept, cfg->learn_seconds);
+             cfg->learn_out, pipeline.proc.bgu.kept, cfg->learn_seconds);
     status = 1;
   }
   rs_publish_deinit(&publisher);

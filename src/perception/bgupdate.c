@@ -297,8 +297,9 @@ bool rs_bgu_frame(rs_bgu_t *u, const rs_slot_t *s) {
 }
 
 bool rs_bgu_finish(rs_bgu_t *u, double t_last, double timeout_s) {
-  if (!u->thread_started || u->active >= 0) return false;
   int st = atomic_load_explicit(&u->state, memory_order_acquire);
+  u->kept = st != RS_BGU_ALLOCATING && u->ready ? u->store.nframes : 0; /* the store is the learner's while ALLOCATING */
+  if (!u->thread_started || u->active >= 0) return false;
   if (st != RS_BGU_LEARNING && st != RS_BGU_READY) return false;
   /* the input is over: nothing left to yield to (best effort, as SCHED_IDLE was) */
   atomic_store(&u->finishing, true);

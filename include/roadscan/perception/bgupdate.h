@@ -90,6 +90,7 @@ typedef struct {
   int last_rc;
   bool saved;                  /* the first model was saved to learn_out */
   int store_rc;                /* why the sample store could not be reserved (RS_OK: it was, or not yet) */
+  int kept;                    /* frames kept for the first model when the input ended (rs_bgu_finish) */
   char reason[160];            /* why the last candidate was rejected */
   double learn_s;              /* how long the last learning took */
   /* counters (processing thread) */
