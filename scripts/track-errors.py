@@ -423,6 +423,13 @@ def print_split(name, sq, n):
               f"RMSE {math.sqrt(sq[kind] / n[kind]):.2f}")
 
 
+def match_pairs(mot_path):
+    """(frame, track, truth) of each match (IoU > 0.5) of a --mot-dump, in order (a track's label is 2 + its id)"""
+    with open(mot_path, newline="") as f:
+        return sorted((int(r["frame"]), int(r["pred"]) - 2, int(r["truth"])) for r in csv.DictReader(f)
+                      if int(r["pred"]) >= 3 and float(r["iou"]) > 0.5)
+
+
 def matched_rows(mot_path, tracks_path, states_path):
     """The confirmed rows of a track file matched (IoU > 0.5, --mot-dump) to a true vehicle within
     80 m: (frame, track, track row, true speed, whether the track had another road user before,
@@ -432,12 +439,7 @@ def matched_rows(mot_path, tracks_path, states_path):
     with open(tracks_path, newline="") as f:
         for r in csv.DictReader(f):
             rows[(int(r["frame"]), int(r["track"]))] = r
-    pairs = []
-    with open(mot_path, newline="") as f:
-        for r in csv.DictReader(f):
-            if int(r["pred"]) >= 3 and float(r["iou"]) > 0.5:
-                pairs.append((int(r["frame"]), int(r["pred"]) - 2, int(r["truth"])))
-    pairs.sort()
+    pairs = match_pairs(mot_path)
     t0 = min(rows[0][0] for rows in states.values())
     first_with, had = {}, {}  # (track, truth) -> first frame matched; track -> the truths it matched
     for frame, track, truth in pairs:
@@ -727,12 +729,7 @@ def budget_rows(mot_path, tracks_path, states_path):
                 if k in last_hit and t - last_hit[k] >= 1.0:
                     hit_t[k].append(t)
                 last_hit[k], last_hits[k] = t, h
-    pairs = []
-    with open(mot_path, newline="") as f:
-        for r in csv.DictReader(f):
-            if int(r["pred"]) >= 3 and float(r["iou"]) > 0.5:
-                pairs.append((int(r["frame"]), int(r["pred"]) - 2, int(r["truth"])))
-    pairs.sort()
+    pairs = match_pairs(mot_path)
     t0 = min(v[0][0] for v in states.values())
     first_with, before, had, last_of = {}, {}, defaultdict(set), {}
     for frame, track, truth in pairs:

@@ -519,7 +519,8 @@ END_TEST
 /* A site learns once: the model learned at the first start is saved and loaded at every later
  * start; --relearn learns anew; a corrupt stored model is set aside and learned anew; one for
  * another sensor is set aside and the daemon exits 1 (systemd restarts it), the next start learns.
- * An input that ends before a model is learned saves nothing, says so and exits 1. */
+ * An input that ends before a model is learned saves nothing, says so and exits 1; so does a model
+ * that cannot be saved. */
 START_TEST(t_learn_once) {
   const char *m = tu_tmp("dmn-learned.bg"), *out;
   char cmd[2048], aside[700];
@@ -530,6 +531,10 @@ START_TEST(t_learn_once) {
   ck_assert_int_eq(tu_exec(cmd, &out), 1); /* the capture is 3 s long */
   ck_assert_msg(strstr(out, "no model was learned and nothing saved") != NULL, "%s", out);
   ck_assert_int_ne(access(m, F_OK), 0);
+  /* learned but not saved (no such directory): the save's error, then why it exits 1 */
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --no-publish --learn-seconds 1 --learn-out %s.none/m.bg", cap, m);
+  ck_assert_int_eq(tu_exec(cmd, &out), 1);
+  ck_assert_msg(strstr(out, "the model learned was not saved") != NULL, "%s", out);
   snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --no-publish --learn-seconds 1 --learn-out %s", cap, m);
   ck_assert_int_eq(tu_exec(cmd, &out), 0);
   ck_assert_msg(strstr(out, "background model saved to") != NULL, "%s", out);

@@ -604,10 +604,9 @@ int main(int argc, char **argv) {
   if (!st.quiet) rs_pipeline_summary(&pipeline, stderr);
   /* a model to learn and save (--learn-out): said when there is none (the learner saves one still
    * being learned at the end when it is done: deinit waits for it) */
-  const bool learned = rs_proc_model(&pipeline.proc) != NULL;
-  rs_pipeline_deinit(&pipeline); /* joins the learner: saved and store_rc are final */
+  rs_pipeline_deinit(&pipeline); /* joins the learner: what it did is final */
   if (cfg->learn_out && !pipeline.proc.bgu.saved) {
-    if (learned)
+    if (pipeline.proc.bgu.save_failed)
       rs_log(RS_LOG_ERR, "--learn-out %s: the model learned was not saved (the error above)", cfg->learn_out);
     else if (pipeline.proc.bgu.store_rc != RS_OK)
       rs_log(RS_LOG_ERR, "--learn-out %s: no model was learned and nothing saved: its samples could not be reserved (%s)",

@@ -68,9 +68,10 @@ static void learn_once(rs_bgu_t *u) {
   if (u->active < 0) {
     /* the first model: saved here, off the processing thread */
     char err[RS_ERRMSG_SIZE];
-    if (u->cfg.learn_out && rs_bg_save(&u->models[spare], u->cfg.learn_out, err, sizeof err) != RS_OK)
+    if (u->cfg.learn_out && rs_bg_save(&u->models[spare], u->cfg.learn_out, err, sizeof err) != RS_OK) {
+      u->save_failed = true;
       rs_log(RS_LOG_ERR, "%s", err);
-    else if (u->cfg.learn_out) {
+    } else if (u->cfg.learn_out) {
       u->saved = true;
       rs_log(RS_LOG_INFO, "background model saved to %s", u->cfg.learn_out);
     }

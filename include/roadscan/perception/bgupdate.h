@@ -88,12 +88,12 @@ typedef struct {
   _Atomic bool finishing; /* rs_bgu_finish waits: the learner keeps (or takes back) the normal priority */
   /* learner results (written by the learner before it releases the state) */
   int last_rc;
-  bool saved;                  /* the first model was saved to learn_out */
+  bool saved, save_failed;     /* the first model was saved to learn_out; saving it failed (said in the log) */
   int store_rc;                /* why the sample store could not be reserved (RS_OK: it was, or not yet) */
-  int kept;                    /* frames kept for the first model when the input ended (rs_bgu_finish) */
   char reason[160];            /* why the last candidate was rejected */
   double learn_s;              /* how long the last learning took */
   /* counters (processing thread) */
+  int kept;                    /* frames kept for the first model when the input ended (rs_bgu_finish) */
   uint64_t updates, rejected, failed;
   double changed_at;           /* sensor time the model in use was taken over (0: never) */
   int64_t changed_wall;        /* unix time of that */
