@@ -860,14 +860,15 @@ static size_t model_cell(const rs_bg_model_t *m, unsigned row, float az, int *co
 }
 
 /* --leaks-out: a static return the pipeline did not call background (kind
- * static, label: the predicted one) or an object return it did (kind object,
- * label: the object's id), with its cell (as the model indexes it) and the
- * cell's surfaces */
-static void leak_point(diag_t *d, uint64_t frame, const rs_point_t *p, bool object, uint32_t label) {
+ * static, label: the predicted one), a foliage or spurious return it put in
+ * an object (kind foliage, label: the predicted one) or an object return it
+ * called background (kind object, label: the object's id), with its cell (as
+ * the model indexes it) and the cell's surfaces */
+static void leak_point(diag_t *d, uint64_t frame, const rs_point_t *p, const char *kind, uint32_t label) {
   const rs_bg_model_t *m = d->model;
   int col, n;
   const size_t cell = model_cell(m, p->row, p->azimuth, &col, &n);
-  fprintf(d->leaks_out, "%llu,%s,%u,%d,%.3f,%u,%d", (unsigned long long)frame, object ? "object" : "static", p->row, col,
+  fprintf(d->leaks_out, "%llu,%s,%u,%d,%.3f,%u,%d", (unsigned long long)frame, kind, p->row, col,
           p->distance, label, n);
   for (int k = 0; k < RS_BG_SURFACES; k++) {
     if (k < n) fprintf(d->leaks_out, ",%.2f,%.2f", m->lo[cell * RS_BG_SURFACES + (size_t)k] / 100.0,
@@ -1065,8 +1066,8 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
       rs_eval_point(&c->ev, t, pr, p->distance, c->frame > 0);
       if (c->objects && t >= 3) add_instance(c, t, p);
       if (c->dg.on && c->frame > 0) diag_point(&c->dg, p, t, pr);
-      if (c->dg.leaks_out && c->frame > 0 && ((t == 1 && pr != 1) || (t >= 3 && pr == 1)))
-        leak_point(&c->dg, c->frame, p, t >= 3, t >= 3 ? t : pr);
+      if (c->dg.leaks_out && c->frame > 0 && ((t == 1 && pr != 1) || (t == 2 && pr >= 3) || (t >= 3 && pr == 1)))
+        leak_point(&c->dg, c->frame, p, t >= 3 ? "object" : t == 2 ? "foliage" : "static", t >= 3 ? t : pr);
     }
   }
 }
@@ -1122,9 +1123,10 @@ static const rs_opt_t table[] = {
                  "a clustered return of their object (by range difference); merged instances (with another "
                  "object or not, by range)"),
     RS_OPT_STR_("leaks-out", "FILE", T, leaks_path,
-                "with --diagnose --model: CSV of every static return not labelled background and every object "
-                "return labelled background (frame, kind, row, column, range, predicted label or object id, the "
-                "cell's static surfaces and each one's range span): where a model leaks"),
+                "with --diagnose --model: CSV of every static return not labelled background (kind static), every "
+                "foliage or spurious return put in a cluster (foliage) and every object return labelled "
+                "background (object): frame, kind, row, column, range, predicted label or object id, the cell's "
+                "static surfaces and each one's range span: where a model leaks"),
     RS_OPT_STR_("model", "BG", T, model_path,
                 "with --diagnose: returns predicted as objects by the number of static surfaces of their cell in "
                 "the background model; the false ones by truth class, place against their cell's surfaces, and "

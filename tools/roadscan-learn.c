@@ -173,6 +173,10 @@ static const rs_opt_t table[] = {
                 "the farthest cluster of a cell is no surface when the cell returns nothing more often than it "
                 "and, once seen, it is back in the next frame at least SHARE of the time (a vehicle standing "
                 "where nothing behind it returns) (0 = off)"),
+    RS_OPT_DBL_("coverage-open", "SHARE", T, params.coverage_open, 0, 1,
+                "a nearer cluster that flickers is present throughout when it is in 80 % of the 5 s windows it "
+                "was not hidden in all along by something in front (a canopy behind a lane where queues stand), "
+                "those at least SHARE of all windows (0 = 80 % of all windows)"),
     RS_OPT_DBL_("sparse-cover", "SHARE", T, params.sparse_cover, 0, 1,
                 "a cluster of a cell that flickers, at one range, present in SHARE of the 5 s windows that returns "
                 "at random at its rate would be in, and coming and going on its own in its row (a vehicle covers "

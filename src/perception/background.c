@@ -26,6 +26,7 @@ void rs_bg_params_default(rs_bg_params_t *p) {
   p->void_stay = 0.6;
   p->flicker_lift = 0.25;
   p->coverage_min = 0.8;
+  p->coverage_open = 0.5;
   p->sparse_cover = 0.8;
   p->window_s = 5.0;
   p->pair_gap_s = 1.0;
@@ -481,6 +482,7 @@ typedef struct {
   uint32_t second;       /* pairs (of any start) whose second sample is in the cluster */
   uint32_t windows;      /* time windows in which it appears */
   uint32_t front, behind; /* returns nearer than it, farther than it */
+  uint32_t open;          /* time windows with a sample not in front of it (no return, or at its range or farther) */
 } clus_t;
 
 /* Chooses eps and clusters one cell; returns the number of clusters. */
@@ -649,10 +651,19 @@ static uint32_t cell_stats(const cell_in_t *in, const int16_t *label, int k, clu
       if (in->v[i] < cl[j].lo) cl[j].front += in->cnt[i];
       else if (in->v[i] > cl[j].hi) cl[j].behind += in->cnt[i];
     }
-  bool seen_in_win[MAXK + 1] = {false};
+  bool seen_in_win[MAXK + 1] = {false}, open_in_win[MAXK] = {false};
   uint32_t npairs = 0;
   for (int i = 0; i < in->nf; i++) {
-    if (i > 0 && in->win[i] != in->win[i - 1]) memset(seen_in_win, 0, sizeof seen_in_win);
+    if (i > 0 && in->win[i] != in->win[i - 1]) {
+      memset(seen_in_win, 0, sizeof seen_in_win);
+      memset(open_in_win, 0, sizeof open_in_win);
+    }
+    const uint16_t x = in->smp[in->order[i]];
+    for (int j = 0; j < k; j++)
+      if (!open_in_win[j] && (x == 0 || (int32_t)x >= cl[j].lo)) {
+        open_in_win[j] = true;
+        cl[j].open++;
+      }
     int m = memb[i];
     if (m >= 0 && !seen_in_win[m]) {
       seen_in_win[m] = true;
@@ -821,7 +832,11 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
       for (int m = j + 1; m < k; m++)
         if (cl[m].pairs > 0 && cl[m].stay < RS_BG_INTERMITTENT * cl[m].pairs) behind_edge += cl[m].count;
       const double behind = (double)cl[j].behind - behind_edge;
-      bg[j] = !wide[j] && ((j == k - 1 && far_surface) || (fl[j] && (double)cl[j].windows / nwin >= p->coverage_min));
+      /* present throughout: in most of the windows it could be seen in (not
+       * hidden all along by something standing in front of it), and those at
+       * least coverage_open of all */
+      const double open = p->coverage_open > 0 ? fmax((double)cl[j].open, p->coverage_open * nwin) : (double)nwin;
+      bg[j] = !wide[j] && ((j == k - 1 && far_surface) || (fl[j] && (double)cl[j].windows / open >= p->coverage_min));
       /* a surface whose returns drop out at random (ground far off at a
        * grazing angle, seen in a few % of the frames, the cell returning
        * nothing the rest: sky by the test above) is in fewer windows than

@@ -80,6 +80,10 @@ typedef struct {
   double flicker_lift;    /* a nearer cluster flickers when P(next in it | in it) - P(next in it)
                              is below this (default 0.25) */
   double coverage_min;    /* ... and is present in this share of windows (default 0.8) */
+  double coverage_open;   /* ... counted over the windows it was open in (a sample of the cell not in
+                             front of it: no return, or at its range or beyond), at least this share
+                             of all windows: a canopy behind a lane where queues stand for whole
+                             windows; default 0.5, 0 = over all windows; not stored in the model file */
   double sparse_cover;    /* ... or, within max(occluded_spread, 1 % of the range), in this share
                              of the windows a cluster returning at random at its own rate would
                              be seen in, and coming and going on its own in its row (for each cell
