@@ -64,6 +64,13 @@
         the true crossings missed, vehicles among them; and the pairs of counted crossings of one
         line and way within 2.5 s whose tracks' boxes overlapped at the second one (a rule that
         would not count the second: how many of those are second counts, how many true).
+    scripts/track-errors.py visible MOTDUMP CROSSINGS TRACKS STATES [MOTDUMP CROSSINGS TRACKS STATES ...]
+        Over all given (roadscan-eval --tracking ... --mot-dump, roadscand --crossings-out and
+        --tracks-out, roadscan-sim --truth-states of one run each; the tracks give the frames'
+        times): the true crossings the counts missed (as
+        crossings matches them), road lines and the walk line apart, by how near in time to its
+        crossing the road user was a true instance (>= 10 returns in a frame: what the sensor
+        could show of it): within 1 s, 1-3 s, over 3 s, never in the capture.
     scripts/track-errors.py late MOTDUMP TRACKS STATES [MOTDUMP TRACKS STATES ...]
         Over all given: the true objects not matched (IoU > 0.5) by a confirmed track within 0.3 s
         (3 frames) of their first frame as an instance (>= 10 returns), as roadscan-eval's
@@ -552,6 +559,7 @@ TRACKING_LINES = {"east": (41.5, 4.5, 41.5, 18.5), "west": (-18.5, 4.5, -18.5, 1
                   "south": (4.5, -18.5, 18.5, -18.5), "walk": (31.5, 19.5, 31.5, 23.5)}
 SLIVER_M = 0.25  # a box under this tall or wide: one row's arc, a face seen edge-on
 MATCH_S, MATCH_M, NEAR_S, PAIR_S = 1.5, 2.5, 4.0, 2.5
+FRAME_S = 0.1  # s: a frame at 10 Hz
 
 
 def true_crossings(states_path):
@@ -579,14 +587,80 @@ def true_crossings(states_path):
     return out
 
 
+def match_crossings(crossings_path, states_path):
+    """(true crossings, their last field set when a counted one matches; the counted crossings in time order)"""
+    truth = true_crossings(states_path)
+    with open(crossings_path, newline="") as f:
+        counted = sorted(csv.DictReader(f), key=lambda r: float(r["t"]))
+    for c in counted:
+        t, at = float(c["t"]), float(c["at"])
+        best = None
+        for x in truth:
+            if not x[6] and x[1] == c["line"] and x[2] == c["direction"] and abs(x[0] - t) <= MATCH_S and \
+                    abs(x[3] - at) <= MATCH_M and (best is None or abs(x[0] - t) < abs(best[0] - t)):
+                best = x
+        if best:
+            best[6] = True
+        c["matched"] = best is not None
+    return truth, counted
+
+
+VISIBLE_KINDS = ("within 1 s", "1-3 s", "over 3 s", "never")
+
+
+def visible_counts(*paths):
+    """Counter of (road or walk, kind) over the missed true crossings of the quadruples (MOTDUMP, CROSSINGS, TRACKS,
+    STATES)"""
+    n = Counter()
+    for k in range(0, len(paths), 4):
+        truth, _ = match_crossings(paths[k + 1], paths[k + 3])
+        seen = defaultdict(list)  # true id -> frames as an instance
+        with open(paths[k], newline="") as f:
+            for r in csv.DictReader(f):
+                if r["pred"] == "0" and r["truth"] != "0":
+                    seen[int(r["truth"])].append(int(r["frame"]))
+        times = {}  # frame -> time
+        with open(paths[k + 2], newline="") as f:
+            for r in csv.DictReader(f):
+                times[int(r["frame"])] = float(r["t"])
+        known = sorted(times)
+
+        def frame_time(fr):
+            """the frame's time, or that of the nearest frame listed, 0.1 s per frame from it"""
+            if fr in times or not known:
+                return times.get(fr, 0.0)
+            i = bisect.bisect_left(known, fr)
+            near = min(known[max(i - 1, 0):i + 1], key=lambda g: abs(g - fr))
+            return times[near] + FRAME_S * (fr - near)
+
+        for x in truth:
+            if x[6]:
+                continue
+            where = "walk" if x[1] == "walk" else "road"
+            gaps = [abs(frame_time(fr) - x[0]) for fr in seen.get(x[5], [])]
+            g = min(gaps) if gaps else None
+            kind = VISIBLE_KINDS[3] if g is None else VISIBLE_KINDS[0] if g <= 1.0 else VISIBLE_KINDS[1] if g <= 3.0 \
+                else VISIBLE_KINDS[2]
+            n[where, kind] += 1
+            n[where, "missed"] += 1
+    return n
+
+
+def visible(*paths):
+    if not paths or len(paths) % 4:
+        sys.exit(__doc__.strip())
+    n = visible_counts(*paths)
+    for where in ("road", "walk"):
+        print(f"  {where} lines: {n[where, 'missed']} true crossings missed; the road user a true instance "
+              + ", ".join(f"{kind} {n[where, kind]}" for kind in VISIBLE_KINDS) + " of its crossing")
+
+
 def crossings(*paths):
     if not paths or len(paths) % 3:
         sys.exit(__doc__.strip())
     n = Counter()
     for k in range(0, len(paths), 3):
-        truth = true_crossings(paths[k + 2])
-        with open(paths[k], newline="") as f:
-            counted = sorted(csv.DictReader(f), key=lambda r: float(r["t"]))
+        truth, counted = match_crossings(paths[k], paths[k + 2])
         frames = defaultdict(dict)  # frame -> track -> row
         with open(paths[k + 1], newline="") as f:
             for r in csv.DictReader(f):
@@ -602,18 +676,9 @@ def crossings(*paths):
             return None, None
 
         for c in counted:
-            t, at = float(c["t"]), float(c["at"])
-            best = None
-            for x in truth:
-                if not x[6] and x[1] == c["line"] and x[2] == c["direction"] and abs(x[0] - t) <= MATCH_S and \
-                        abs(x[3] - at) <= MATCH_M and (best is None or abs(x[0] - t) < abs(best[0] - t)):
-                    best = x
-            if best:
-                best[6] = True
-            c["matched"] = best is not None
-            _, r = row_at(c["track"], t)
+            _, r = row_at(c["track"], float(c["t"]))
             c["sliver"] = r is not None and (float(r["height"]) < SLIVER_M or float(r["width"]) < SLIVER_M)
-            n["matched, by slivers" if best and c["sliver"] else "matched" if best else "unmatched"] += 1
+            n["matched, by slivers" if c["matched"] and c["sliver"] else "matched" if c["matched"] else "unmatched"] += 1
         for c in counted:
             if c["matched"]:
                 continue
@@ -798,9 +863,10 @@ def budget(*paths):
 def main(argv):
     modes = {"speed": speed, "ids": ids, "close": close, "traffic": traffic, "unmatched": unmatched, "matched": matched,
              "born": born, "spot": spot, "crossings": crossings, "late": late, "reacquired": reacquired,
-             "budget": budget}
+             "budget": budget, "visible": visible}
     if len(argv) < 2 or argv[0] not in modes or \
-            (argv[0] not in ("close", "traffic", "matched", "born", "spot", "crossings", "late", "reacquired", "budget") and len(argv) != 3):
+            (argv[0] not in ("close", "traffic", "matched", "born", "spot", "crossings", "late", "reacquired", "budget",
+                             "visible") and len(argv) != 3):
         sys.exit(__doc__.strip())
     modes[argv[0]](*argv[1:])
 

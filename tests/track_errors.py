@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""scripts/track-errors.py budget on a hand-made run with known answers.
+"""scripts/track-errors.py budget and visible on hand-made runs with known answers.
 
 Four true cars at 5 m/s and five tracks, 10 Hz for 10 s:
   car 1: track 1 from the first frame to the last (the capture's first 3 s, then 2 s or more);
@@ -9,7 +9,11 @@ Four true cars at 5 m/s and five tracks, 10 Hz for 10 s:
          last had it);
   car 4: track 3 takes it at 8.0 s (took it over under 2 s ago).
 Track 1 reports 0 in its rows at 6.0-6.4 s (reported 0 while moving).
-Exit 0 when every row lands in its kind, 1 otherwise.
+
+visible: five cars at 10 m/s across the east line (x 41.5) at 1.15 s, one lane each; car 1's
+crossing counted; car 2 a true instance in every frame, car 3 from 3.0 s, car 4 from 5.0 s, car 5
+never; a sixth crossing of the walk line by a walker, never an instance.
+Exit 0 when every row and crossing lands in its kind, 1 otherwise.
 """
 import csv
 import importlib.util
@@ -33,7 +37,47 @@ def car_state(car, f):
 
 def main():
     with tempfile.TemporaryDirectory() as tmp:
-        return check(tmp)
+        return check(tmp) or check_visible(tmp)
+
+
+def check_visible(tmp):
+    states_p, tracks_p, mot_p, cross_p = (os.path.join(tmp, n) for n in ("vstates.csv", "vtracks.csv", "vmot.csv",
+                                                                          "vcross.csv"))
+    lanes = {1: 6.0, 2: 9.0, 3: 12.0, 4: 15.0, 5: 17.0}
+    first_seen = {2: 0, 3: 30, 4: 50}  # frames as a true instance from this one on; 1 and 5 never
+    with open(states_p, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["t", "id", "class", "x", "y", "vx", "vy", "heading", "length", "width", "height"])
+        for fr in range(60):
+            t = f"{T0 + 0.1 * fr:.3f}"
+            for car, y in lanes.items():
+                w.writerow([t, car, "car", 30.0 + 1.0 * fr, y, 10.0, 0.0, 0.0, 4.5, 1.8, 1.5])
+            w.writerow([t, 6, "pedestrian", 30.0 + 0.14 * fr, 21.0, 1.4, 0.0, 0.0, 0.5, 0.5, 1.7])  # walk line at 1.07 s
+    with open(tracks_p, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["frame", "t", "track"])
+        for fr in range(60):
+            w.writerow([fr, f"{T0 + 0.1 * fr:.3f}", 1])
+    with open(mot_p, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["frame", "truth", "pred", "iou"])
+        for fr in range(60):
+            for car, a in first_seen.items():
+                if fr >= a:
+                    w.writerow([fr, car, 0, 0])
+    with open(cross_p, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["t", "line", "direction", "at", "class", "track", "speed", "how"])
+        w.writerow([f"{T0 + 1.15:.3f}", "east", "backward", "1.50", "car", 1, "10.0", "seen"])
+    n = te.visible_counts(mot_p, cross_p, tracks_p, states_p)
+    k = te.VISIBLE_KINDS
+    want = {("road", "missed"): 4, ("road", k[0]): 1, ("road", k[1]): 1, ("road", k[2]): 1, ("road", k[3]): 1,
+            ("walk", "missed"): 1, ("walk", k[3]): 1}
+    if dict(n) != want:
+        print(f"visible {dict(n)}\nwanted {want}")
+        return 1
+    print("missed crossings in their kinds")
+    return 0
 
 
 def check(tmp):
