@@ -90,10 +90,51 @@ START_TEST(t_one_frame) {
 }
 END_TEST
 
+/* The tracking figures' false positives by what their returns are. One frame: object 3 (20
+ * returns), 16 of them in track label 10 (matched), 4 in label 11 with 8 static returns (unmatched,
+ * on a true instance); objects 4 and 5 of 6 returns each (no instances) together in label 12 (on
+ * road users too sparse to be instances); 10 foliage and 2 static returns in label 13 (the scene's);
+ * 5 static returns in label 14 (fewer than 10 and unmatched: no predicted instance). */
+START_TEST(t_mot_false_positives) {
+  ck_assert_int_eq(rs_eval_init(&e), RS_OK);
+  rs_mot_t *mot = rs_mot_new(NULL);
+  ck_assert_ptr_nonnull(mot);
+  rs_eval_track(&e, mot);
+  feed(16, 3, 10, 20);
+  feed(4, 3, 11, 20);
+  feed(8, 1, 11, 20);
+  feed(6, 4, 12, 40);
+  feed(6, 5, 12, 40);
+  feed(10, 2, 13, 30);
+  feed(2, 1, 13, 30);
+  feed(5, 1, 14, 30);
+  rs_eval_end_frame(&e, true);
+  rs_mot_result_t r;
+  ck_assert_int_eq(rs_mot_finish(mot, &r), RS_OK);
+  ck_assert_uint_eq(r.gt, 1);
+  ck_assert_uint_eq(r.matches, 1);
+  ck_assert_uint_eq(r.hyp, 4);
+  ck_assert_uint_eq(r.false_pos, 3);
+  ck_assert_uint_eq(r.fp_instance, 1);
+  ck_assert_uint_eq(r.fp_small, 1);
+  ck_assert_uint_eq(r.fp_scene, 1);
+  char buf[4096];
+  FILE *m = fmemopen(buf, sizeof buf, "w");
+  rs_mot_print_json(&r, m);
+  fclose(m);
+  ck_assert_ptr_nonnull(strstr(buf, "\"false_positives_on_instances\": 1"));
+  ck_assert_ptr_nonnull(strstr(buf, "\"false_positives_on_small_objects\": 1"));
+  ck_assert_ptr_nonnull(strstr(buf, "\"false_positives_on_scene\": 1"));
+  rs_mot_free(mot);
+  rs_eval_deinit(&e);
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("eval");
   TCase *tc = tcase_create("core");
   tcase_add_test(tc, t_one_frame);
+  tcase_add_test(tc, t_mot_false_positives);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

@@ -422,18 +422,26 @@ static void mot_frame(rs_eval_t *e, rs_mot_t *m) {
     const rs_eval_pair_t *p = &e->pairs[e->used[u]];
     const uint32_t t = (uint32_t)(p->key >> 32), pr = (uint32_t)p->key;
     if (t != 0 || pr == 0) continue;
-    bool matched = false;
+    bool matched = false, on_instance = false;
+    uint32_t on_objects = 0; /* its returns of road users (true ids 3+), instances or not */
     for (uint32_t v = 0; v < e->nused && !matched; v++) {
       const rs_eval_pair_t *q = &e->pairs[e->used[v]];
       const uint32_t qt = (uint32_t)(q->key >> 32);
       if ((uint32_t)q->key != pr || qt == 0) continue;
+      if (qt >= 3) on_objects += q->count;
       const uint32_t tsize = lookup(e, qt, 0);
       if (tsize < RS_EVAL_MIN_INSTANCE) continue;
+      on_instance |= qt >= 3;
       matched = (double)q->count / (double)(tsize + p->count - q->count) > 0.5;
     }
     if (!matched && p->count < RS_EVAL_MIN_INSTANCE) continue;
     m->r.hyp++;
-    if (!matched) m->r.false_pos++;
+    if (!matched) {
+      m->r.false_pos++;
+      if (on_instance) m->r.fp_instance++;
+      else if (2 * (uint64_t)on_objects > p->count) m->r.fp_small++;
+      else m->r.fp_scene++;
+    }
     if (hyp_index(m, pr) == UINT32_MAX) m->oom = true;
     if (m->dump) fprintf(m->dump, "%llu,0,%u,0\n", (unsigned long long)fno, pr);
   }
@@ -563,13 +571,18 @@ void rs_mot_print(const rs_mot_result_t *r, FILE *out) {
   fprintf(out, ")\n  misses %llu, false positives %llu, id switches %llu, fragmentations %llu\n",
           (unsigned long long)r->misses, (unsigned long long)r->false_pos, (unsigned long long)r->switches,
           (unsigned long long)r->fragmentations);
+  fprintf(out,
+          "  false positives overlapping a true instance %llu, mostly returns of road users seen with fewer than %d "
+          "returns %llu, of the scene (static, foliage, noise) %llu\n",
+          (unsigned long long)r->fp_instance, RS_EVAL_MIN_INSTANCE, (unsigned long long)r->fp_small,
+          (unsigned long long)r->fp_scene);
   fprintf(out, "  true objects %llu: mostly tracked %llu, partly %llu, mostly lost %llu; tracks %llu\n",
           (unsigned long long)r->objects, (unsigned long long)r->mostly_tracked, (unsigned long long)r->partly_tracked,
           (unsigned long long)r->mostly_lost, (unsigned long long)r->tracks);
 }
 
 json_t *rs_mot_json(const rs_mot_result_t *r) {
-  return json_pack("{s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:o, s:o, s:o, s:o, s:o}",
+  json_t *j = json_pack("{s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:o, s:o, s:o, s:o, s:o}",
                    "frames", (json_int_t)r->frames, "gt", (json_int_t)r->gt, "hyp", (json_int_t)r->hyp, "matches",
                    (json_int_t)r->matches, "misses", (json_int_t)r->misses, "false_positives", (json_int_t)r->false_pos,
                    "id_switches", (json_int_t)r->switches, "fragmentations", (json_int_t)r->fragmentations, "objects",
@@ -577,6 +590,13 @@ json_t *rs_mot_json(const rs_mot_result_t *r) {
                    (json_int_t)r->partly_tracked, "mostly_lost", (json_int_t)r->mostly_lost, "tracks",
                    (json_int_t)r->tracks, "idtp", (json_int_t)r->idtp, "mota", jnum(r->mota), "motp_iou",
                    jnum(r->motp_iou), "idf1", jnum(r->idf1), "idp", jnum(r->idp), "idr", jnum(r->idr));
+  if (j && (json_object_set_new(j, "false_positives_on_instances", json_integer((json_int_t)r->fp_instance)) != 0 ||
+            json_object_set_new(j, "false_positives_on_small_objects", json_integer((json_int_t)r->fp_small)) != 0 ||
+            json_object_set_new(j, "false_positives_on_scene", json_integer((json_int_t)r->fp_scene)) != 0)) {
+    json_decref(j);
+    return NULL;
+  }
+  return j;
 }
 
 void rs_mot_print_json(const rs_mot_result_t *r, FILE *out) { dump(rs_mot_json(r), out); }

@@ -67,6 +67,11 @@ typedef struct {
   uint64_t objects, mostly_tracked, partly_tracked, mostly_lost; /* true objects */
   uint64_t tracks;                                              /* predicted ids */
   uint64_t idtp;
+  /* the false positives by what their returns are: overlapping a true instance (a part of one, a
+   * second track on it, two merged); else mostly (over half) returns of road users each seen with
+   * fewer than RS_EVAL_MIN_INSTANCE returns in the frame (a real object too sparse to be an
+   * instance); else the scene's (static, foliage, noise) */
+  uint64_t fp_instance, fp_small, fp_scene;
   double mota, motp_iou, idf1, idp, idr;
 } rs_mot_result_t;
 
