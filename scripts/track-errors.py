@@ -67,10 +67,10 @@
     scripts/track-errors.py visible MOTDUMP CROSSINGS TRACKS STATES [MOTDUMP CROSSINGS TRACKS STATES ...]
         Over all given (roadscan-eval --tracking ... --mot-dump, roadscand --crossings-out and
         --tracks-out, roadscan-sim --truth-states of one run each; the tracks give the frames'
-        times): the true crossings the counts missed (as
-        crossings matches them), road lines and the walk line apart, by how near in time to its
-        crossing the road user was a true instance (>= 10 returns in a frame: what the sensor
-        could show of it): within 1 s, 1-3 s, over 3 s, never in the capture.
+        times): the true crossings the counts missed (as crossings matches them), road lines and
+        the walk line apart, by how near in time to its crossing the road user was a true
+        instance (>= 10 returns in a frame: what the sensor could show of it): within 1 s, 1-3 s,
+        over 3 s, never in the capture.
     scripts/track-errors.py late MOTDUMP TRACKS STATES [MOTDUMP TRACKS STATES ...]
         Over all given: the true objects not matched (IoU > 0.5) by a confirmed track within 0.3 s
         (3 frames) of their first frame as an instance (>= 10 returns), as roadscan-eval's
@@ -623,12 +623,14 @@ def visible_counts(*paths):
         with open(paths[k + 2], newline="") as f:
             for r in csv.DictReader(f):
                 times[int(r["frame"])] = float(r["t"])
+        if not times:
+            sys.exit(f"{paths[k + 2]}: no frame listed: the frames' times are not known")
         known = sorted(times)
 
         def frame_time(fr):
             """the frame's time, or that of the nearest frame listed, 0.1 s per frame from it"""
-            if fr in times or not known:
-                return times.get(fr, 0.0)
+            if fr in times:
+                return times[fr]
             i = bisect.bisect_left(known, fr)
             near = min(known[max(i - 1, 0):i + 1], key=lambda g: abs(g - fr))
             return times[near] + FRAME_S * (fr - near)

@@ -602,9 +602,9 @@ int main(int argc, char **argv) {
              set_aside(st.bg_path, rs_model_name(bgmodel.model)));
   }
   if (!st.quiet) rs_pipeline_summary(&pipeline, stderr);
-  /* a model to learn and save (--learn-out): said when there is none (the learner saves one still
-   * being learned at the end when it is done: deinit waits for it) */
-  rs_pipeline_deinit(&pipeline); /* joins the learner: what it did is final */
+  /* deinit joins the learner (a model still being learned at the input's end is saved first): what
+   * it did is final; --learn-out with no model saved says why and exits 1 */
+  rs_pipeline_deinit(&pipeline);
   if (cfg->learn_out && !pipeline.proc.bgu.saved) {
     if (pipeline.proc.bgu.save_failed)
       rs_log(RS_LOG_ERR, "--learn-out %s: the model learned was not saved (the error above)", cfg->learn_out);

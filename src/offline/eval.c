@@ -582,21 +582,17 @@ void rs_mot_print(const rs_mot_result_t *r, FILE *out) {
 }
 
 json_t *rs_mot_json(const rs_mot_result_t *r) {
-  json_t *j = json_pack("{s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:o, s:o, s:o, s:o, s:o}",
+  return json_pack("{s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:I, s:o, s:o, s:o, "
+                   "s:o, s:o}",
                    "frames", (json_int_t)r->frames, "gt", (json_int_t)r->gt, "hyp", (json_int_t)r->hyp, "matches",
                    (json_int_t)r->matches, "misses", (json_int_t)r->misses, "false_positives", (json_int_t)r->false_pos,
-                   "id_switches", (json_int_t)r->switches, "fragmentations", (json_int_t)r->fragmentations, "objects",
+                   "false_positives_on_instances", (json_int_t)r->fp_instance, "false_positives_on_small_objects",
+                   (json_int_t)r->fp_small, "false_positives_on_scene", (json_int_t)r->fp_scene, "id_switches",
+                   (json_int_t)r->switches, "fragmentations", (json_int_t)r->fragmentations, "objects",
                    (json_int_t)r->objects, "mostly_tracked", (json_int_t)r->mostly_tracked, "partly_tracked",
                    (json_int_t)r->partly_tracked, "mostly_lost", (json_int_t)r->mostly_lost, "tracks",
                    (json_int_t)r->tracks, "idtp", (json_int_t)r->idtp, "mota", jnum(r->mota), "motp_iou",
                    jnum(r->motp_iou), "idf1", jnum(r->idf1), "idp", jnum(r->idp), "idr", jnum(r->idr));
-  if (j && (json_object_set_new(j, "false_positives_on_instances", json_integer((json_int_t)r->fp_instance)) != 0 ||
-            json_object_set_new(j, "false_positives_on_small_objects", json_integer((json_int_t)r->fp_small)) != 0 ||
-            json_object_set_new(j, "false_positives_on_scene", json_integer((json_int_t)r->fp_scene)) != 0)) {
-    json_decref(j);
-    return NULL;
-  }
-  return j;
 }
 
 void rs_mot_print_json(const rs_mot_result_t *r, FILE *out) { dump(rs_mot_json(r), out); }
