@@ -130,11 +130,28 @@ START_TEST(t_mot_false_positives) {
 }
 END_TEST
 
+/* Confirmation within 0.3 s (roadscan-eval --tracking): a delay is a whole number of frames. Three
+ * frames of a sensor at 600 rpm, or one turning a little slower (the simulator's captures: up to
+ * 0.10031 s a frame, three frames 0.30094 s), are within it; four are not, nor three of one turning
+ * 2 % slow. At 20 Hz, six frames are within it and seven are not. */
+START_TEST(t_confirm_within) {
+  ck_assert(rs_eval_within(0, 0.1, 0.3));
+  ck_assert(rs_eval_within(3, 0.1, 0.3));
+  ck_assert(rs_eval_within(3, 0.100001, 0.3));
+  ck_assert(rs_eval_within(3, 0.100314, 0.3));
+  ck_assert(!rs_eval_within(4, 0.0995, 0.3));
+  ck_assert(!rs_eval_within(3, 0.102, 0.3));
+  ck_assert(rs_eval_within(6, 0.05002, 0.3));
+  ck_assert(!rs_eval_within(7, 0.05, 0.3));
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("eval");
   TCase *tc = tcase_create("core");
   tcase_add_test(tc, t_one_frame);
   tcase_add_test(tc, t_mot_false_positives);
+  tcase_add_test(tc, t_confirm_within);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

@@ -785,7 +785,7 @@ static void print_speeds(FILE *out, json_t *json) {
     if (!sp.first_inst[id] || !sp.first_conf[id]) continue;
     const double d = ((double)sp.first_conf[id] - (double)sp.first_inst[id]) * sp.period;
     lat[n++] = d < 0 ? 0 : d;
-    within += d <= 0.3 + 1e-6;
+    within += sp.first_conf[id] <= sp.first_inst[id] || rs_eval_within(sp.first_conf[id] - sp.first_inst[id], sp.period, 0.3);
   }
   if (lat) qsort(lat, n, sizeof *lat, cmp_dbl);
   const double med = n ? lat[n / 2] : NAN, p90 = n ? lat[(n * 9) / 10 < n ? (n * 9) / 10 : n - 1] : NAN;

@@ -12,6 +12,10 @@ const double rs_eval_band_edges[RS_EVAL_BANDS + 1] = {0, 20, 50, 100, 200};
 
 #define PAIR_CAP (1u << 20)
 
+bool rs_eval_within(uint32_t frames, double period, double limit) {
+  return (double)frames * period <= limit * (1.0 + RS_EVAL_RATE_TOL);
+}
+
 int rs_eval_init(rs_eval_t *e) {
   memset(e, 0, sizeof *e);
   e->cap = PAIR_CAP;

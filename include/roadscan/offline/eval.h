@@ -100,6 +100,15 @@ void rs_eval_deinit(rs_eval_t *e);
 void rs_eval_point(rs_eval_t *e, uint32_t truth, uint32_t pred, float range, bool counted);
 void rs_eval_end_frame(rs_eval_t *e, bool counted);
 
+/* Whether a confirmation `frames` frames after an object's first frame as an instance, on a
+ * capture whose frames are `period` s apart, is within `limit` s. A delay is a whole number of
+ * frames, and a sensor set to 600 rpm turns a little slower or faster than that (the simulator's
+ * captures: 0.10000-0.10031 s a frame), so three frames of it are 0.3 s give or take a
+ * millisecond: the limit is allowed RS_EVAL_RATE_TOL of itself for the rotation rate (three frames
+ * count as within 0.3 s down to 594 rpm). */
+#define RS_EVAL_RATE_TOL 0.01
+bool rs_eval_within(uint32_t frames, double period, double limit);
+
 /* ratio or NaN when the denominator is 0 */
 double rs_eval_ratio(uint64_t num, uint64_t den);
 void rs_eval_print(const rs_eval_result_t *r, FILE *out);
