@@ -2471,6 +2471,42 @@ static int walker_confirmed_frame(double walk_m) {
   return -1;
 }
 
+/* A walker coming out from under a VLP-16 (lowest beam 15 degrees down) is first seen as that beam's
+ * arc across it: one row (2 cm of returns), 0.45 m long across its way, 15 returns, at the circle
+ * where the beam passes its top (1.78 m below the sensor: 6.64 m out), the arc's centre moving out at
+ * 0.7 m/s while the walker goes at 1.4. From x0 (m); jitter > 0: the arc's centre jumps by up to
+ * +-jitter m each frame instead (a bush under the sensor swaying), for 1.2 s (under confirm_still_s).
+ * Returns the frame its track is confirmed at, -1 none. */
+static int arc_confirmed_frame(double cut_m, double x0, double jitter) {
+  init_knob("confirm_cut_walk_m", cut_m);
+  uint64_t rng = 4242;
+  for (int f = 0; f < (jitter > 0 ? 12 : 20); f++) {
+    const double t = 0.1 * f;
+    rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+    const double jx = ((double)((rng >> 20) % 1000) / 1000.0 - 0.5) * 2.0 * jitter;
+    const double jy = ((double)((rng >> 40) % 1000) / 1000.0 - 0.5) * 2.0 * jitter;
+    clear();
+    objs.lowest_beam_deg = -15.0f;
+    put(t, jitter > 0 ? x0 + jx : x0 + 0.7 * t, 0.5 + jy, 0.45, 0.03, M_PI / 2, 0.02, 15);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    ck_assert_uint_eq(tr.list.count, 1);
+    if (tr.list.track[0].state == RS_TRACK_CONFIRMED) return f;
+  }
+  return -1;
+}
+
+START_TEST(t_walker_arc_confirms_fast) {
+  /* at the fourth hit, 0.3 s after the first; with the rule off (confirm_walk_m's 0.3 m), two frames later */
+  ck_assert_int_eq(arc_confirmed_frame(0.15, 6.7, 0.0), 3);
+  ck_assert_int_ge(arc_confirmed_frame(0.0, 6.7, 0.0), 5);
+  /* away from the circle the walkers' 0.3 m holds: the same arc 12 m out */
+  ck_assert_int_ge(arc_confirmed_frame(0.15, 12.0, 0.0), 5);
+  /* swaying in place, it is not confirmed in 1.2 s */
+  ck_assert_int_eq(arc_confirmed_frame(0.15, 6.7, 0.15), -1);
+  knob_refused("confirm_cut_walk_m", "-0.1");
+}
+END_TEST
+
 START_TEST(t_walker_confirms_fast) {
   ck_assert_int_le(walker_confirmed_frame(0.3), 3);
   ck_assert_int_ge(walker_confirmed_frame(0.0), 5);
@@ -2692,6 +2728,7 @@ int main(void) {
   tcase_add_test(tc, t_walkers_pass);
   tcase_add_test(tc, t_foliage_never_confirms);
   tcase_add_test(tc, t_walker_confirms_fast);
+  tcase_add_test(tc, t_walker_arc_confirms_fast);
   tcase_add_test(tc, t_still_vehicle_confirms_fast);
   tcase_add_test(tc, t_far_still_confirms_fast);
   tcase_add_test(tc, t_walker_still_confirms_fast);

@@ -66,6 +66,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->hidden_anchor = 1;
   c->reacq_across_m = 1.0;
   c->confirm_walk_m = 0.3;
+  c->confirm_cut_walk_m = 0.15;
   c->split_full_size = 1;
   c->blind_turn = 1;
   c->split_object_axis = 1;
@@ -110,7 +111,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->confirm_upright_points < 0 || cfg->confirm_upright_points > 100000 ||
       !(cfg->confirm_still_range >= 0 && cfg->confirm_still_range <= 1000) ||
       cfg->hidden_anchor < 0 || cfg->hidden_anchor > 1 || !(cfg->reacq_across_m >= 0 && cfg->reacq_across_m <= 20) ||
-      !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
+      !(cfg->confirm_walk_m >= 0 && cfg->confirm_walk_m <= 20) ||
+      !(cfg->confirm_cut_walk_m >= 0 && cfg->confirm_cut_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
       cfg->blind_turn < 0 || cfg->blind_turn > 1 || cfg->split_object_axis < 0 || cfg->split_object_axis > 1 ||
       cfg->split_near_circle < 0 || cfg->split_near_circle > 1 || cfg->dup_box < 0 || cfg->dup_box > 1 ||
       !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 ||
@@ -155,6 +157,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(confirm_walker_points, 0, 100000), KNOB_INT(confirm_upright_points, 0, 100000),
     KNOB(confirm_still_range, 0.0, 1000.0),
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
+    KNOB(confirm_cut_walk_m, 0.0, 20.0),
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
     KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB(q_jerk, 0.01, 100.0),
     KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),       KNOB_INT(blind_turn, 0, 1),
@@ -2304,7 +2307,9 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       } else if (updated && t->hits >= (uint32_t)cf->confirm_hits &&
                  ((moved >= cf->confirm_move_m && moved >= 0.5 * t->distance) ||
                   (cf->confirm_walk_m > 0 && t->misses == 0 && walker_sized(t) &&
-                   t->hits >= (uint32_t)cf->confirm_hits + 1 && moved >= cf->confirm_walk_m && moved >= 0.8 * t->distance) ||
+                   t->hits >= (uint32_t)cf->confirm_hits + 1 && /* born at the circle: the lowest beam's arc */
+                   moved >= (t->cut && cf->confirm_cut_walk_m > 0 ? cf->confirm_cut_walk_m : cf->confirm_walk_m) &&
+                   moved >= 0.8 * t->distance) ||
                   (t->misses == 0 && t->t_update - t->t_birth >= cf->confirm_still_s) ||
                   still_fast(cf, t))) {
         t->state = RS_TRACK_CONFIRMED;

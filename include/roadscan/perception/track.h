@@ -65,7 +65,10 @@
  * Lifecycle (seconds of sensor time): a track is born tentative from an
  * object of at least birth_points returns; it is confirmed after
  * confirm_hits hits when it has moved confirm_move_m from where it was born
- * (a vehicle), or after confirm_still_s of hits with no miss (a pedestrian
+ * (a vehicle), a walker-sized one after confirm_hits + 1 hits once it has
+ * moved confirm_walk_m on a straight path (confirm_cut_walk_m when it was
+ * born at the lowest beam's circle: a walker coming out from under the
+ * sensor), or after confirm_still_s of hits with no miss (a pedestrian
  * waiting); a tentative track missed for more than tentative_miss_s ends
  * (flickering foliage, edges and rain never confirm: they do not move and
  * do not last). A confirmed track coasts through occlusion up to coast_s,
@@ -176,6 +179,10 @@ typedef struct {
   double confirm_walk_m;       /* a walker-sized track (shorter and narrower than 1.3 m) hit in every frame
                                   confirms after confirm_hits + 1 hits once it has moved this far, on a path
                                   at least 0.8 as straight as it is long (default 0.3; 0 = off) */
+  double confirm_cut_walk_m;   /* ... and this far when it was born at the circle inside which the lowest beam
+                                  passes over its top (a walker coming out from under the sensor, seen as
+                                  that beam's arc across it, whose centre moves at about half its speed;
+                                  default 0.15; 0 = confirm_walk_m) */
   double lost_walker_s;        /* a pedestrian's track is kept this long unpublished instead, when longer
                                   than lost_s: walkers stay hidden behind passing and queued vehicles
                                   longer than vehicles do behind each other (default 4.0) */
@@ -369,7 +376,8 @@ typedef struct {
   bool seen_whole;           /* updated once with all of its box beyond the lowest beam's reach (below_beam) */
   bool blind_kept;           /* lost longer than lost_s, kept for the blind-circle link alone (blind_s) */
   rs_track_imm_t imm;        /* the speed estimator (speed_imm) */
-  bool cut;                  /* its first object was cut by the lowest beam's circle (circle_whole) */
+  bool cut;                  /* its first object was cut by the lowest beam's circle (circle_whole,
+                                confirm_cut_walk_m) */
   bool last_hidden;          /* its last object was marked hidden at an end (uncover_restart) */
   float last_len;            /* its last object's length (uncover_restart) */
   bool made_whole;           /* circle_whole has acted on it */
