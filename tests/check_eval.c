@@ -9,8 +9,16 @@
 
 static rs_eval_t e;
 
-static void feed(int n, uint32_t truth, uint32_t pred, float range) {
-  for (int i = 0; i < n; i++) rs_eval_point(&e, truth, pred, range, true);
+/* one frame's returns: n of each (true label, predicted label, range) */
+typedef struct {
+  int n;
+  uint32_t truth, pred;
+  float range;
+} feed_t;
+
+static void feed(const feed_t *rows, size_t count) {
+  for (size_t k = 0; k < count; k++)
+    for (int i = 0; i < rows[k].n; i++) rs_eval_point(&e, rows[k].truth, rows[k].pred, rows[k].range, true);
 }
 
 START_TEST(t_one_frame) {
@@ -22,14 +30,9 @@ START_TEST(t_one_frame) {
    * 3 background points wrongly in cluster 7; object 4 (30 points at 60 m) split
    * into clusters 8 (14) and 9 (16); object 5 (5 points) is too small to count as an
    * instance; 100 static points right, 10 foliage points called background */
-  feed(18, 3, 7, 10);
-  feed(2, 3, 1, 10);
-  feed(3, 1, 7, 10);
-  feed(14, 4, 8, 60);
-  feed(16, 4, 9, 60);
-  feed(5, 5, 10, 150);
-  feed(100, 1, 1, 30);
-  feed(10, 2, 1, 30);
+  static const feed_t frame1[] = {{18, 3, 7, 10},  {2, 3, 1, 10},   {3, 1, 7, 10},   {14, 4, 8, 60},
+                                  {16, 4, 9, 60},  {5, 5, 10, 150}, {100, 1, 1, 30}, {10, 2, 1, 30}};
+  feed(frame1, sizeof frame1 / sizeof frame1[0]);
   rs_eval_end_frame(&e, true);
   const rs_eval_result_t *r = &e.r;
   ck_assert_uint_eq(r->frames, 1);
@@ -60,22 +63,23 @@ START_TEST(t_one_frame) {
   ck_assert(isnan(rs_eval_ratio(0, 0)));
 
   /* frame 2: object 4 split 15/15: IoU 0.5 is not above 0.5 */
-  feed(15, 4, 8, 60);
-  feed(15, 4, 9, 60);
+  static const feed_t frame2[] = {{15, 4, 8, 60}, {15, 4, 9, 60}};
+  feed(frame2, 2);
   rs_eval_end_frame(&e, true);
   ck_assert_uint_eq(e.r.instances, 3);
   ck_assert_uint_eq(e.r.matched, 2);
   ck_assert_uint_eq(e.r.split, 1);
   /* frame 3: one cluster swallowing two objects of 10 points: IoU 0.5 each: none matched */
-  feed(10, 3, 7, 10);
-  feed(10, 4, 7, 10);
+  static const feed_t frame3[] = {{10, 3, 7, 10}, {10, 4, 7, 10}};
+  feed(frame3, 2);
   rs_eval_end_frame(&e, true);
   ck_assert_uint_eq(e.r.instances, 5);
   ck_assert_uint_eq(e.r.matched, 2);
   ck_assert_uint_eq(e.r.merged, 2);
   ck_assert_uint_eq(e.r.split, 1);
   /* frame 4: an object of 12 returns all left as noise: missed */
-  feed(12, 6, 2, 10);
+  static const feed_t frame4[] = {{12, 6, 2, 10}};
+  feed(frame4, 1);
   rs_eval_end_frame(&e, true);
   ck_assert_uint_eq(e.r.instances, 6);
   ck_assert_uint_eq(e.r.missed, 1);
@@ -100,14 +104,9 @@ START_TEST(t_mot_false_positives) {
   rs_mot_t *mot = rs_mot_new(NULL);
   ck_assert_ptr_nonnull(mot);
   rs_eval_track(&e, mot);
-  feed(16, 3, 10, 20);
-  feed(4, 3, 11, 20);
-  feed(8, 1, 11, 20);
-  feed(6, 4, 12, 40);
-  feed(6, 5, 12, 40);
-  feed(10, 2, 13, 30);
-  feed(2, 1, 13, 30);
-  feed(5, 1, 14, 30);
+  static const feed_t frame[] = {{16, 3, 10, 20}, {4, 3, 11, 20},  {8, 1, 11, 20}, {6, 4, 12, 40},
+                                 {6, 5, 12, 40},  {10, 2, 13, 30}, {2, 1, 13, 30}, {5, 1, 14, 30}};
+  feed(frame, sizeof frame / sizeof frame[0]);
   rs_eval_end_frame(&e, true);
   rs_mot_result_t r;
   ck_assert_int_eq(rs_mot_finish(mot, &r), RS_OK);

@@ -783,9 +783,9 @@ static void print_speeds(FILE *out, json_t *json) {
   double *lat = malloc(sizeof *lat * ((size_t)sp.max_id + 1));
   for (uint32_t id = 0; lat && id <= sp.max_id; id++) {
     if (!sp.first_inst[id] || !sp.first_conf[id]) continue;
-    const double d = ((double)sp.first_conf[id] - (double)sp.first_inst[id]) * sp.period;
-    lat[n++] = d < 0 ? 0 : d;
-    within += sp.first_conf[id] <= sp.first_inst[id] || rs_eval_within(sp.first_conf[id] - sp.first_inst[id], sp.period, 0.3);
+    const uint32_t k = sp.first_conf[id] > sp.first_inst[id] ? sp.first_conf[id] - sp.first_inst[id] : 0; /* frames */
+    lat[n++] = (double)k * sp.period;
+    within += rs_eval_within(k, sp.period, 0.3);
   }
   if (lat) qsort(lat, n, sizeof *lat, cmp_dbl);
   const double med = n ? lat[n / 2] : NAN, p90 = n ? lat[(n * 9) / 10 < n ? (n * 9) / 10 : n - 1] : NAN;

@@ -241,6 +241,13 @@ static bool walker_sized(const rs_track_t *t) { return t->length < WALKER_M && t
 /* ... and so was its largest box (the blind circle's walkers: a walker's box shrinks as it goes under the beam) */
 static bool walker_full_sized(const rs_track_t *t) { return t->full_length < WALKER_M && t->full_width < WALKER_M; }
 
+/* how far a walker-sized tentative track must move to confirm: confirm_walk_m, or confirm_cut_walk_m when
+ * it was born at the lowest beam's circle (a walker coming out from under the sensor is that beam's arc
+ * across it, whose centre moves at about half its speed) */
+static double walk_m(const rs_track_cfg_t *cf, const rs_track_t *t) {
+  return t->cut && cf->confirm_cut_walk_m > 0 ? cf->confirm_cut_walk_m : cf->confirm_walk_m;
+}
+
 /* track t knows the size of what it follows: confirmed, 5 hits, a vehicle's length */
 static bool size_known(const rs_track_t *t) { return t->state != RS_TRACK_TENTATIVE && t->hits >= 5 && t->length >= 1.5f; }
 
@@ -2307,9 +2314,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       } else if (updated && t->hits >= (uint32_t)cf->confirm_hits &&
                  ((moved >= cf->confirm_move_m && moved >= 0.5 * t->distance) ||
                   (cf->confirm_walk_m > 0 && t->misses == 0 && walker_sized(t) &&
-                   t->hits >= (uint32_t)cf->confirm_hits + 1 && /* born at the circle: the lowest beam's arc */
-                   moved >= (t->cut && cf->confirm_cut_walk_m > 0 ? cf->confirm_cut_walk_m : cf->confirm_walk_m) &&
-                   moved >= 0.8 * t->distance) ||
+                   t->hits >= (uint32_t)cf->confirm_hits + 1 && moved >= walk_m(cf, t) && moved >= 0.8 * t->distance) ||
                   (t->misses == 0 && t->t_update - t->t_birth >= cf->confirm_still_s) ||
                   still_fast(cf, t))) {
         t->state = RS_TRACK_CONFIRMED;
