@@ -97,8 +97,11 @@
         0.5 s, 0.5-1.5 s, 1.5 s or more before); a track seen again under 1 s after 1 s or more
         unseen; a track that has had this vehicle 1-2 s; the rest (2 s or more). Per kind: its
         rows, its share of the rows and of the squared error, its RMSE and mean signed error
-        (m/s). Then, across the kinds, the rows reported 0 while the vehicle moved at 1 m/s or
-        more, and those reported moving while it moved slower than 1 m/s.
+        (m/s), and over its rows of vehicles moving at 0.5 m/s or more the RMSE of the reported
+        velocity (vx, vy) along the true velocity and across it. Then, across the kinds, the rows reported 0 while the vehicle moved at 1 m/s or
+        more, those reported moving while it moved slower than 1 m/s, and those reported under half
+        the speed of a vehicle moving at 2 m/s or more (and in how many pairs of a track and a
+        vehicle, the largest pair's share of the squared error).
     scripts/track-errors.py close STATES...
         Per true-states file: how many pairs of walkers came within 0.45 m of each other (centres;
         bodies are 0.5 m wide), the states within 0.6 m, and the nearest two ever came (m): how
@@ -784,7 +787,9 @@ BUDGET_KINDS = ("capture's first 3 s", "took it over < 2 s ago", "< 1 s old, its
 
 
 def budget_rows(mot_path, tracks_path, states_path):
-    """(kind, error, true speed, reported speed) of each row roadscan-eval scores for vehicle speed"""
+    """(kind, error, true speed, reported speed, along, across, (track, vehicle)) of each row
+    roadscan-eval scores for vehicle speed; along and across: the reported velocity's error along the
+    true velocity and across it (m/s), None when the vehicle moved slower than 0.5 m/s"""
     states, cls = load_states(states_path)
     rows, hit_t = {}, defaultdict(list)  # (frame, track) -> row; track -> [(t, time since its last hit)]
     last_hit, last_hits = {}, {}
@@ -830,25 +835,39 @@ def budget_rows(mot_path, tracks_path, states_path):
             kind = BUDGET_KINDS[6]
         else:
             kind = BUDGET_KINDS[7] if on < 2.0 else BUDGET_KINDS[8]
-        yield kind, float(r["speed"]) - v, v, float(r["speed"])
+        along = across = None
+        if v >= 0.5:
+            ux, uy, vx, vy = s[2] / v, s[3] / v, float(r["vx"]), float(r["vy"])
+            along, across = vx * ux + vy * uy - v, vy * ux - vx * uy
+        yield kind, float(r["speed"]) - v, v, float(r["speed"]), along, across, key
 
 
 def budget(*paths):
     if not paths or len(paths) % 3:
         sys.exit("budget: MOTDUMP TRACKS STATES triples")
     n, sq, se = Counter(), Counter(), Counter()
-    zeroed, moving = [0, 0.0], [0, 0.0]
+    nm, sa, sc = Counter(), Counter(), Counter()  # moving rows, squared velocity errors along and across
+    zeroed, moving, slow = [0, 0.0], [0, 0.0], [0, 0.0]
+    slow_pairs = Counter()  # (capture, track, vehicle) -> squared error of its rows reported under half
     for k in range(0, len(paths), 3):
-        for kind, e, v, sp in budget_rows(*paths[k:k + 3]):
+        for kind, e, v, sp, along, across, pair in budget_rows(*paths[k:k + 3]):
             n[kind] += 1
             sq[kind] += e * e
             se[kind] += e
+            if along is not None:
+                nm[kind] += 1
+                sa[kind] += along * along
+                sc[kind] += across * across
             if sp == 0.0 and v >= 1.0:
                 zeroed[0] += 1
                 zeroed[1] += e * e
             elif sp > 0.0 and v < 1.0:
                 moving[0] += 1
                 moving[1] += e * e
+            if v >= 2.0 and sp < 0.5 * v:
+                slow[0] += 1
+                slow[1] += e * e
+                slow_pairs[(k,) + pair] += e * e
     rows, total = sum(n.values()), sum(sq.values())
     if not rows:
         print("no confirmed vehicle rows matched within 80 m")
@@ -857,9 +876,15 @@ def budget(*paths):
     for kind in BUDGET_KINDS:
         if n[kind]:
             print(f"  {kind:40s} rows {n[kind]:6d} ({100.0 * n[kind] / rows:5.1f} %)  squared error "
-                  f"{100.0 * sq[kind] / total:5.1f} %  RMSE {math.sqrt(sq[kind] / n[kind]):.2f}  mean {se[kind] / n[kind]:+.2f}")
-    for name, (m, q) in (("reported 0, moving >= 1 m/s", zeroed), ("reported moving, slower than 1 m/s", moving)):
+                  f"{100.0 * sq[kind] / total:5.1f} %  RMSE {math.sqrt(sq[kind] / n[kind]):.2f}  mean {se[kind] / n[kind]:+.2f}"
+                  + (f"  velocity along {math.sqrt(sa[kind] / nm[kind]):.2f} across {math.sqrt(sc[kind] / nm[kind]):.2f}"
+                     if nm[kind] else ""))
+    for name, (m, q) in (("reported 0, moving >= 1 m/s", zeroed), ("reported moving, slower than 1 m/s", moving),
+                         ("reported under half, moving >= 2 m/s", slow)):
         print(f"  {name:40s} rows {m:6d} ({100.0 * m / rows:5.1f} %)  squared error {100.0 * q / total:5.1f} %")
+    if slow_pairs:
+        print(f"    the last in {len(slow_pairs)} pairs of a track and a vehicle, the largest "
+              f"{100.0 * max(slow_pairs.values()) / total:.1f} % of the squared error")
 
 
 def main(argv):

@@ -2353,6 +2353,46 @@ static int far_still_confirmed(double range_m, uint32_t returns, uint32_t *near_
   return at[0];
 }
 
+/* The still rule's window (confirm_still_window): a car waiting 48 m away whose
+ * first box lay 0.5 m beside the rest of its views (a partial first view),
+ * then within 3 cm, confirms at its fourth hit, when its last three
+ * measurements lie within the spread; with the window off it waits 1.5 s. The
+ * same car seen as two still parts 2.5 m apart (both first views off), each
+ * beside the other, waits too: neither is confirmed by the window while
+ * another track lies beside it. Returns the frame of the first confirmation
+ * (x > 0), -1 none. */
+static int window_confirmed(int window, bool parts) {
+  init_knob("confirm_still_window", window);
+  int at[2] = {-1, -1};
+  for (int f = 0; f < 20; f++) {
+    const double t = 70.0 + 0.1 * f, j = 0.03 * ((f % 3) - 1), off = f == 0 ? 0.5 : 0.0;
+    clear();
+    if (parts) {
+      put(t, 47.0 + j + off, 14.0 - j, 2.0, 1.8, 0.0, 1.2, 15);
+      put(t, 49.5 + j - off, 14.0 - j, 2.0, 1.8, 0.0, 1.2, 15);
+    } else {
+      put(t, 48.0 + j + off, 14.0 - j, 4.5, 1.8, 0.0, 1.2, 15);
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    note_confirmed(at, f);
+  }
+  ck_assert_uint_eq(tr.n.born, parts ? 2u : 1u);
+  return at[0];
+}
+
+START_TEST(t_still_window) {
+  ck_assert_int_eq(defaults().confirm_still_window, 3);
+  ck_assert_int_eq(window_confirmed(3, false), 3);
+  ck_assert_int_ge(window_confirmed(0, false), 14); /* after 1.5 s of hits */
+  ck_assert_int_eq(window_confirmed(2, false), 2); /* two measurements: at the third hit */
+  ck_assert_int_eq(window_confirmed(4, false), 4);
+  ck_assert_int_ge(window_confirmed(3, true), 14);
+  knob_refused("confirm_still_window", "1");
+  knob_refused("confirm_still_window", "5");
+  knob_refused("confirm_still_window", "-1");
+}
+END_TEST
+
 START_TEST(t_far_still_confirms_fast) {
   uint32_t near_at;
   ck_assert_int_eq(far_still_confirmed(20.0, 15, &near_at), 2);
@@ -2731,6 +2771,7 @@ int main(void) {
   tcase_add_test(tc, t_walker_arc_confirms_fast);
   tcase_add_test(tc, t_still_vehicle_confirms_fast);
   tcase_add_test(tc, t_far_still_confirms_fast);
+  tcase_add_test(tc, t_still_window);
   tcase_add_test(tc, t_walker_still_confirms_fast);
   tcase_add_test(tc, t_walker_upright_confirms_fast);
   tcase_add_test(tc, t_dup_box);

@@ -8,14 +8,17 @@ Four true cars at 5 m/s and five tracks, 10 Hz for 10 s:
   car 3: track 3 until 4.9 s, then track 4 born at 6.0 s (under 1 s old, 1.1 s after its old track
          last had it);
   car 4: track 3 takes it at 8.0 s (took it over under 2 s ago).
-Track 1 reports 0 in its rows at 6.0-6.4 s (reported 0 while moving).
+Track 1 reports 0 in its rows at 6.0-6.4 s (reported 0 while moving); track 2 reports a velocity
+1 m/s across its car's way in its first second (velocity error across, none along).
 
 visible: five cars at 10 m/s across the east line (x 41.5) at 1.15 s, one lane each; car 1's
 crossing counted; car 2 a true instance in every frame, car 3 from 3.0 s, car 4 from 5.0 s, car 5
 never; a sixth crossing of the walk line by a walker, never an instance.
 Exit 0 when every row and crossing lands in its kind, 1 otherwise.
 """
+import contextlib
 import csv
+import io
 import importlib.util
 import math
 import os
@@ -100,6 +103,8 @@ def check(tmp):
             seen = fr not in unseen
             hits[track] = hits.get(track, 0) + (1 if seen else 0)
             x, y, vx, vy = car_state(car, fr)
+            if track == 2 and fr < 60:
+                vy = 1.0  # its first second: 1 m/s across the way
             speed = 0.0 if track == 1 and 60 <= fr <= 64 else 5.0
             rows[(fr, track)] = [fr, f"{T0 + 0.1 * fr:.3f}", track, "confirmed" if seen else "coasting", "car", x, y,
                                  0.0, vx, vy, speed, 0.0, 4.5, 1.8, 1.5, 100, hits[track], 0,
@@ -120,11 +125,15 @@ def check(tmp):
 
     got = {}
     zero = 0
-    for kind, e, v, sp in te.budget_rows(mot_p, tracks_p, states_p):
+    for kind, e, v, sp, along, across, _ in te.budget_rows(mot_p, tracks_p, states_p):
         got[kind] = got.get(kind, 0) + 1
         zero += sp == 0.0 and v >= 1.0
         if not math.isclose(v, 5.0, abs_tol=1e-9):
             print(f"true speed {v}, not 5")
+            return 1
+        want_across = 1.0 if kind == te.BUDGET_KINDS[2] else 0.0  # track 2's first second (car 2 along +x)
+        if not (math.isclose(along, 0.0, abs_tol=1e-9) and math.isclose(across, want_across, abs_tol=1e-9)):
+            print(f"{kind}: velocity error along {along}, across {across}; wanted 0 and {want_across}")
             return 1
     k = te.BUDGET_KINDS
     want = {
@@ -139,7 +148,14 @@ def check(tmp):
     if got != want or zero != 5:
         print(f"kinds {got}\nwanted {want}\nreported 0 while moving: {zero}, wanted 5")
         return 1
-    print(f"{sum(got.values())} rows in their kinds; 5 reported 0 while moving")
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        te.budget(mot_p, tracks_p, states_p)
+    slow = [ln for ln in out.getvalue().splitlines() if "reported under half" in ln or "pairs of a track" in ln]
+    if len(slow) != 2 or "rows      5 " not in slow[0] or "in 1 pairs" not in slow[1]:
+        print(f"reported under half: {slow}; wanted 5 rows in 1 pair (track 1, 6.0-6.4 s)")
+        return 1
+    print(f"{sum(got.values())} rows in their kinds; 5 reported 0 while moving, under half in 1 pair")
     return 0
 
 

@@ -59,6 +59,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->still_speed = 0.3;
   c->size_weight = 2.0;
   c->confirm_still_spread = 0.15;
+  c->confirm_still_window = 3;
   c->confirm_still_points = 30;
   c->confirm_still_range = 20.0;
   c->confirm_walker_points = 20;
@@ -107,6 +108,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->confirm_hits < 1 || !(cfg->confirm_move_m >= 0) || !(cfg->confirm_still_s >= 0) ||
       !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100) ||
       !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1 ||
+      cfg->confirm_still_window < 0 || cfg->confirm_still_window == 1 || cfg->confirm_still_window > RS_TRACK_STILL_WINDOW ||
       cfg->confirm_walker_points < 0 || cfg->confirm_walker_points > 100000 ||
       cfg->confirm_upright_points < 0 || cfg->confirm_upright_points > 100000 ||
       !(cfg->confirm_still_range >= 0 && cfg->confirm_still_range <= 1000) ||
@@ -157,7 +159,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(confirm_walker_points, 0, 100000), KNOB_INT(confirm_upright_points, 0, 100000),
     KNOB(confirm_still_range, 0.0, 1000.0),
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
-    KNOB(confirm_cut_walk_m, 0.0, 20.0),
+    KNOB(confirm_cut_walk_m, 0.0, 20.0), KNOB_INT(confirm_still_window, 0, RS_TRACK_STILL_WINDOW),
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
     KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB(q_jerk, 0.01, 100.0),
     KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),       KNOB_INT(blind_turn, 0, 1),
@@ -171,7 +173,15 @@ static const rs_opt_t knobs[] = {
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
-  return rs_opt_set(knobs, (int)(sizeof knobs / sizeof knobs[0]), c, "tracking parameter", name, value, err, n);
+  const int was = c->confirm_still_window;
+  const int rc = rs_opt_set(knobs, (int)(sizeof knobs / sizeof knobs[0]), c, "tracking parameter", name, value, err, n);
+  if (rc == RS_OK && c->confirm_still_window == 1) { /* a window of one measurement holds anything still */
+    c->confirm_still_window = was;
+    snprintf(err, n, "tracking parameter confirm_still_window: '%s': 0 (off) or 2 to %d measurements", value,
+             RS_TRACK_STILL_WINDOW);
+    return RS_E_INVAL;
+  }
+  return rc;
 }
 
 void rs_track_cfg_names(char *buf, size_t size) { rs_opt_names(knobs, (int)(sizeof knobs / sizeof knobs[0]), buf, size); }
@@ -1338,7 +1348,50 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
  * UPRIGHT_SPREAD_M of where it was first seen (a bush swaying in the wind
  * wanders farther), needs only confirm_upright_points. */
 #define UPRIGHT_SPREAD_M 0.1
-static bool still_fast(const rs_track_cfg_t *cf, const rs_track_t *t) {
+/* The still rule's window (confirm_still_window): a still track whose first
+ * measurement was off (its first box a partial view, the capture's first and
+ * partial frame, a car at 50 m whose first box was 0.4 m beside the rest)
+ * never passes the spread from where it was born and waited
+ * confirm_still_s. Its last confirm_still_window measurements (take() keeps
+ * them in win_z, slot hits % RS_TRACK_STILL_WINDOW) within the same spread
+ * of the first of them do instead, once it has more hits than the window
+ * (the first window is the rule's own spread), when no other track may claim
+ * it (window_clear). */
+static double window_spread(const rs_track_cfg_t *cf, const rs_track_t *t) {
+  const uint32_t n = (uint32_t)cf->confirm_still_window;
+  if (n < 2 || t->hits <= n) return INFINITY;
+  const uint32_t first = (t->hits - n) % RS_TRACK_STILL_WINDOW;
+  double s = 0.0;
+  for (uint32_t k = 1; k < n; k++) {
+    const uint32_t j = (first + k) % RS_TRACK_STILL_WINDOW;
+    s = fmax(s, norm2(t->win_z[j][0] - t->win_z[first][0], t->win_z[j][1] - t->win_z[first][1]));
+  }
+  return s;
+}
+/* whether no other track may claim tentative track t, index i of the list
+ * being compacted in rs_track_frame (those kept so far are at [0, w), those
+ * not yet visited after i): no unseen one within gate_m (the stitching takes
+ * t as its object seen again, while t is tentative), and no other whose centre
+ * lies within half their lengths and WINDOW_GAP_M of t's (t may be a part of
+ * the same object: the duplicate rule ends a tentative part inside a confirmed
+ * track's box, and a new object split in two is two tentative tracks side by
+ * side; queued cars stand farther apart). A bounded scan of the list, made
+ * only for a track that passed the window. */
+#define WINDOW_GAP_M 1.0
+static bool window_clear(const rs_tracker_t *tr, const rs_track_t *t, uint32_t w, uint32_t i) {
+  const rs_track_list_t *L = &tr->list;
+  for (uint32_t j = 0; j < L->count; j++) {
+    if (j >= w && j <= i) continue;
+    const rs_track_t *u = &L->track[j];
+    if (u->id == 0) continue;
+    const double d = norm2(u->x[0] - t->x[0], u->x[1] - t->x[1]);
+    const bool gone = u->state != RS_TRACK_TENTATIVE && u->object < 0 && !rs_track_held(u);
+    if (gone ? d < tr->cfg.gate_m : d < 0.5 * (fmax(u->full_length, u->length) + t->length) + WINDOW_GAP_M) return false;
+  }
+  return true;
+}
+static bool still_fast(const rs_tracker_t *tr, const rs_track_t *t, uint32_t w, uint32_t i) {
+  const rs_track_cfg_t *cf = &tr->cfg;
   if (t->misses != 0 || !(cf->confirm_still_spread > 0)) return false;
   const double spread = cf->confirm_still_spread + 0.005 * norm2(t->px0, t->py0);
   int need = cf->confirm_still_points;
@@ -1350,7 +1403,7 @@ static bool still_fast(const rs_track_cfg_t *cf, const rs_track_t *t) {
   const double r = norm2(t->x[0], t->x[1]), r0 = cf->confirm_still_range;
   uint32_t bar = (uint32_t)need;
   if (r0 > 0 && r > r0) bar = (uint32_t)fmin(fmax(RS_TRACK_STILL_POINTS_MIN, ceil(need * (r0 / r) * (r0 / r))), need);
-  return t->points >= bar && t->spread <= spread;
+  return t->points >= bar && (t->spread <= spread || (window_spread(cf, t) <= spread && window_clear(tr, t, w, i)));
 }
 
 static rs_class_t classify(const rs_track_t *t) {
@@ -1602,6 +1655,8 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   t->last_z[1] = z[1];
   t->t_z = tk;
   if (t->hits > 0) t->spread = fmax(t->spread, norm2(z[0] - t->px0, z[1] - t->py0));
+  t->win_z[t->hits % RS_TRACK_STILL_WINDOW][0] = z[0];
+  t->win_z[t->hits % RS_TRACK_STILL_WINDOW][1] = z[1];
   predict(tr, t, tk);
   if (whole) whole_again(tr, t);
   const double sdu = update_sd(tr, sd, misfit);
@@ -2316,7 +2371,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
                   (cf->confirm_walk_m > 0 && t->misses == 0 && walker_sized(t) &&
                    t->hits >= (uint32_t)cf->confirm_hits + 1 && moved >= walk_m(cf, t) && moved >= 0.8 * t->distance) ||
                   (t->misses == 0 && t->t_update - t->t_birth >= cf->confirm_still_s) ||
-                  still_fast(cf, t))) {
+                  still_fast(tr, t, w, i))) {
         t->state = RS_TRACK_CONFIRMED;
         tr->n.confirmed++;
       }

@@ -114,6 +114,7 @@
 #define RS_TRACK_GRID_BUCKETS 4096 /* object lookup grid (4 m cells, hashed) */
 #define RS_TRACK_HOLD_MAX 4        /* held tracks one shared cluster's returns are divided between */
 #define RS_TRACK_TOP_GAP 2.0f /* m: a row above an object's top this near bounds it (below_beam) */
+#define RS_TRACK_STILL_WINDOW 4     /* measurements a track keeps for confirm_still_window */
 #define RS_TRACK_STILL_POINTS_MIN 8 /* returns: the fast confirmation's least (a far car of 10 returns in the truth
                                      often clusters to 8 or 9) */
 
@@ -160,6 +161,10 @@ typedef struct {
   double confirm_still_spread; /* a still track whose every measurement lies within this of its first
                                   (m, plus 0.5 % of the range), hit in every frame, confirms with its
                                   confirm_hits (default 0.15; 0 = only after confirm_still_s) */
+  int confirm_still_window;    /* ... or, with more hits than this, when its last this many measurements
+                                  (2 to RS_TRACK_STILL_WINDOW) lie within it of the first of them and no
+                                  other track lies in its gate or beside it (default 3; 0 = from its first
+                                  measurement only) */
   int confirm_still_points;    /* ... when its last object has this many returns or more (default 30):
                                   a vehicle waiting at the line, not leaves */
   double confirm_still_range;  /* m: beyond this range the returns needed fall with the square of the range,
@@ -342,6 +347,7 @@ typedef struct {
   double P[4][4];
   double px0, py0;           /* where it was born */
   double spread;             /* the farthest measurement from there, m */
+  double win_z[RS_TRACK_STILL_WINDOW][2]; /* its last measurements, a ring (confirm_still_window) */
   double last_z[2];          /* the last measurement */
   double x_seen[4];          /* the filter's state when last updated (brake_coast: no longer its prediction's start) */
   float brake;               /* m/s^2 (>= 0): how hard it was braking when last updated (brake_coast) */
