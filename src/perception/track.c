@@ -1353,20 +1353,24 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
  * partial frame, a car at 50 m whose first box was 0.4 m beside the rest)
  * never passes the spread from where it was born and waited
  * confirm_still_s. Its last confirm_still_window measurements (take() keeps
- * them in win_z, slot hits % RS_TRACK_STILL_WINDOW) within the same spread
- * of the first of them do instead, once it has more hits than the window
- * (the first window is the rule's own spread), when no other track may claim
- * it (window_clear). */
-static double window_spread(const rs_track_cfg_t *cf, const rs_track_t *t) {
+ * them and their objects' returns in win_z and win_points, slot hits %
+ * RS_TRACK_STILL_WINDOW) within the same spread of the first of them, each
+ * object with the returns the rule asks (leaves far off come and go, 3-8
+ * returns at 50 m), do instead, once it has more hits than the window (the
+ * first window is the rule's own spread), when no other track may claim it
+ * (window_clear). */
+static bool window_still(const rs_track_cfg_t *cf, const rs_track_t *t, uint32_t bar, double spread) {
   const uint32_t n = (uint32_t)cf->confirm_still_window;
-  if (n < 2 || t->hits <= n) return INFINITY;
+  if (n < 2 || t->hits <= n) return false;
   const uint32_t first = (t->hits - n) % RS_TRACK_STILL_WINDOW;
-  double s = 0.0;
+  if (t->win_points[first] < bar) return false;
   for (uint32_t k = 1; k < n; k++) {
     const uint32_t j = (first + k) % RS_TRACK_STILL_WINDOW;
-    s = fmax(s, norm2(t->win_z[j][0] - t->win_z[first][0], t->win_z[j][1] - t->win_z[first][1]));
+    if (t->win_points[j] < bar ||
+        norm2(t->win_z[j][0] - t->win_z[first][0], t->win_z[j][1] - t->win_z[first][1]) > spread)
+      return false;
   }
-  return s;
+  return true;
 }
 /* whether no other track may claim tentative track t, index i of the list
  * being compacted in rs_track_frame (those kept so far are at [0, w), those
@@ -1403,7 +1407,7 @@ static bool still_fast(const rs_tracker_t *tr, const rs_track_t *t, uint32_t w, 
   const double r = norm2(t->x[0], t->x[1]), r0 = cf->confirm_still_range;
   uint32_t bar = (uint32_t)need;
   if (r0 > 0 && r > r0) bar = (uint32_t)fmin(fmax(RS_TRACK_STILL_POINTS_MIN, ceil(need * (r0 / r) * (r0 / r))), need);
-  return t->points >= bar && (t->spread <= spread || (window_spread(cf, t) <= spread && window_clear(tr, t, w, i)));
+  return t->points >= bar && (t->spread <= spread || (window_still(cf, t, bar, spread) && window_clear(tr, t, w, i)));
 }
 
 static rs_class_t classify(const rs_track_t *t) {
@@ -1657,6 +1661,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   if (t->hits > 0) t->spread = fmax(t->spread, norm2(z[0] - t->px0, z[1] - t->py0));
   t->win_z[t->hits % RS_TRACK_STILL_WINDOW][0] = z[0];
   t->win_z[t->hits % RS_TRACK_STILL_WINDOW][1] = z[1];
+  t->win_points[t->hits % RS_TRACK_STILL_WINDOW] = o->points;
   predict(tr, t, tk);
   if (whole) whole_again(tr, t);
   const double sdu = update_sd(tr, sd, misfit);

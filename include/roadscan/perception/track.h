@@ -348,6 +348,7 @@ typedef struct {
   double px0, py0;           /* where it was born */
   double spread;             /* the farthest measurement from there, m */
   double win_z[RS_TRACK_STILL_WINDOW][2]; /* its last measurements, a ring (confirm_still_window) */
+  uint32_t win_points[RS_TRACK_STILL_WINDOW]; /* ... and their objects' returns */
   double last_z[2];          /* the last measurement */
   double x_seen[4];          /* the filter's state when last updated (brake_coast: no longer its prediction's start) */
   float brake;               /* m/s^2 (>= 0): how hard it was braking when last updated (brake_coast) */
