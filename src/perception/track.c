@@ -1359,6 +1359,7 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
  * returns at 50 m), do instead, once it has more hits than the window (the
  * first window is the rule's own spread), when no other track may claim it
  * (window_clear). */
+_Static_assert(RS_TRACK_STILL_WINDOW >= 2 && RS_TRACK_STILL_WINDOW <= 8, "the still window: 2 to 8 measurements");
 static bool window_still(const rs_track_cfg_t *cf, const rs_track_t *t, uint32_t bar, double spread) {
   const uint32_t n = (uint32_t)cf->confirm_still_window;
   if (n < 2 || t->hits <= n) return false;
