@@ -98,10 +98,11 @@
         unseen; a track that has had this vehicle 1-2 s; the rest (2 s or more). Per kind: its
         rows, its share of the rows and of the squared error, its RMSE and mean signed error
         (m/s), and over its rows of vehicles moving at 0.5 m/s or more the RMSE of the reported
-        velocity (vx, vy) along the true velocity and across it. Then, across the kinds, the rows reported 0 while the vehicle moved at 1 m/s or
-        more, those reported moving while it moved slower than 1 m/s, and those reported under half
-        the speed of a vehicle moving at 2 m/s or more (and in how many pairs of a track and a
-        vehicle, the largest pair's share of the squared error).
+        velocity (vx, vy) along the true velocity and across it. Then, across the kinds, the rows
+        reported 0 while the vehicle moved at 1 m/s or more, those reported moving while it moved
+        slower than 1 m/s, and those reported under half the speed of a vehicle moving at 2 m/s or
+        more (and in how many pairs of a track and a vehicle; the largest pair: its triple's number
+        from 1, track, vehicle, and share of the squared error).
     scripts/track-errors.py close STATES...
         Per true-states file: how many pairs of walkers came within 0.45 m of each other (centres;
         bodies are 0.5 m wide), the states within 0.6 m, and the nearest two ever came (m): how
@@ -883,8 +884,9 @@ def budget(*paths):
                          ("reported under half, moving >= 2 m/s", slow)):
         print(f"  {name:40s} rows {m:6d} ({100.0 * m / rows:5.1f} %)  squared error {100.0 * q / total:5.1f} %")
     if slow_pairs:
-        print(f"    the last in {len(slow_pairs)} pairs of a track and a vehicle, the largest "
-              f"{100.0 * max(slow_pairs.values()) / total:.1f} % of the squared error")
+        (k, track, vehicle), q = max(slow_pairs.items(), key=lambda kv: kv[1])
+        print(f"    the last in {len(slow_pairs)} pairs of a track and a vehicle, the largest (triple {k // 3 + 1}, "
+              f"track {track}, vehicle {vehicle}) {100.0 * q / total:.1f} % of the squared error")
 
 
 def main(argv):

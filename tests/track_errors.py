@@ -152,7 +152,8 @@ def check(tmp):
     with contextlib.redirect_stdout(out):
         te.budget(mot_p, tracks_p, states_p)
     slow = [ln for ln in out.getvalue().splitlines() if "reported under half" in ln or "pairs of a track" in ln]
-    if len(slow) != 2 or "rows      5 " not in slow[0] or "in 1 pairs" not in slow[1]:
+    if len(slow) != 2 or "rows      5 " not in slow[0] or "in 1 pairs" not in slow[1] or \
+            "(triple 1, track 1, vehicle 1)" not in slow[1]:
         print(f"reported under half: {slow}; wanted 5 rows in 1 pair (track 1, 6.0-6.4 s)")
         return 1
     print(f"{sum(got.values())} rows in their kinds; 5 reported 0 while moving, under half in 1 pair")

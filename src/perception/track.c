@@ -108,7 +108,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->confirm_hits < 1 || !(cfg->confirm_move_m >= 0) || !(cfg->confirm_still_s >= 0) ||
       !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100) ||
       !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1 ||
-      cfg->confirm_still_window < 0 || cfg->confirm_still_window == 1 || cfg->confirm_still_window > RS_TRACK_STILL_WINDOW ||
+      cfg->confirm_still_window < 0 || cfg->confirm_still_window > RS_TRACK_STILL_WINDOW ||
       cfg->confirm_walker_points < 0 || cfg->confirm_walker_points > 100000 ||
       cfg->confirm_upright_points < 0 || cfg->confirm_upright_points > 100000 ||
       !(cfg->confirm_still_range >= 0 && cfg->confirm_still_range <= 1000) ||
@@ -173,15 +173,7 @@ static const rs_opt_t knobs[] = {
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
-  const int was = c->confirm_still_window;
-  const int rc = rs_opt_set(knobs, (int)(sizeof knobs / sizeof knobs[0]), c, "tracking parameter", name, value, err, n);
-  if (rc == RS_OK && c->confirm_still_window == 1) { /* a window of one measurement holds anything still */
-    c->confirm_still_window = was;
-    snprintf(err, n, "tracking parameter confirm_still_window: '%s': 0 (off) or 2 to %d measurements", value,
-             RS_TRACK_STILL_WINDOW);
-    return RS_E_INVAL;
-  }
-  return rc;
+  return rs_opt_set(knobs, (int)(sizeof knobs / sizeof knobs[0]), c, "tracking parameter", name, value, err, n);
 }
 
 void rs_track_cfg_names(char *buf, size_t size) { rs_opt_names(knobs, (int)(sizeof knobs / sizeof knobs[0]), buf, size); }
@@ -1358,7 +1350,8 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
  * object with the returns the rule asks (leaves far off come and go, 3-8
  * returns at 50 m), do instead, once it has more hits than the window (the
  * first window is the rule's own spread), when no other track may claim it
- * (window_clear). */
+ * (window_clear). A window of 0 or 1 is off (one measurement is still within
+ * itself). */
 _Static_assert(RS_TRACK_STILL_WINDOW >= 2 && RS_TRACK_STILL_WINDOW <= 8, "the still window: 2 to 8 measurements");
 static bool window_still(const rs_track_cfg_t *cf, const rs_track_t *t, uint32_t bar, double spread) {
   const uint32_t n = (uint32_t)cf->confirm_still_window;
@@ -1390,6 +1383,7 @@ static bool window_clear(const rs_tracker_t *tr, const rs_track_t *t, uint32_t w
     const rs_track_t *u = &L->track[j];
     if (u->id == 0) continue;
     const double d = norm2(u->x[0] - t->x[0], u->x[1] - t->x[1]);
+    /* unseen this frame (not unseen(): the tracks after i still have last frame's state) */
     const bool gone = u->state != RS_TRACK_TENTATIVE && u->object < 0 && !rs_track_held(u);
     if (gone ? d < tr->cfg.gate_m : d < 0.5 * (fmax(u->full_length, u->length) + t->length) + WINDOW_GAP_M) return false;
   }
@@ -1660,9 +1654,10 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   t->last_z[1] = z[1];
   t->t_z = tk;
   if (t->hits > 0) t->spread = fmax(t->spread, norm2(z[0] - t->px0, z[1] - t->py0));
-  t->win_z[t->hits % RS_TRACK_STILL_WINDOW][0] = z[0];
-  t->win_z[t->hits % RS_TRACK_STILL_WINDOW][1] = z[1];
-  t->win_points[t->hits % RS_TRACK_STILL_WINDOW] = o->points;
+  const uint32_t slot = t->hits % RS_TRACK_STILL_WINDOW; /* the still window's ring */
+  t->win_z[slot][0] = z[0];
+  t->win_z[slot][1] = z[1];
+  t->win_points[slot] = o->points;
   predict(tr, t, tk);
   if (whole) whole_again(tr, t);
   const double sdu = update_sd(tr, sd, misfit);

@@ -163,8 +163,8 @@ typedef struct {
                                   confirm_hits (default 0.15; 0 = only after confirm_still_s) */
   int confirm_still_window;    /* ... or, with more hits than this, when its last this many measurements
                                   (2 to RS_TRACK_STILL_WINDOW) lie within it of the first of them and no
-                                  other track lies in its gate or beside it (default 3; 0 = from its first
-                                  measurement only) */
+                                  other track lies in its gate or beside it (default 3; 0 or 1 = from its
+                                  first measurement only) */
   int confirm_still_points;    /* ... when its last object has this many returns or more (default 30):
                                   a vehicle waiting at the line, not leaves */
   double confirm_still_range;  /* m: beyond this range the returns needed fall with the square of the range,
