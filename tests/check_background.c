@@ -99,11 +99,50 @@ static rs_slot_t slot;
  * windows: 25 s of every 60 s in columns 30-34 (the canopy in view in 7 of
  * every 12 windows), 40 s in columns 36-39 (4 of 12); in view, leaves at
  * 30-30.15 m in 30 % of the frames at random, a wall at 40 m otherwise */
+/* row 1 also holds, in columns 40-49, a lane whose traffic hides what is
+ * behind it in runs of 1.5 s (a vehicle at 12-16 m), every 3 s; in view, in
+ * columns 40-44 a dense canopy: leaves anywhere in 30-31 m in 85 % of the
+ * frames at random, a wall at 40 m otherwise; in columns 45-49 a far lane
+ * whose vehicles (their sides at 30 m) pass in front of that wall 0.5 s of
+ * every second; in columns 50-54 a far lane of dense traffic, vehicles seen
+ * for four frames each, the next one coming at random (70 % of the time at
+ * once), each at its own range in 30-31 m: in view it comes and goes about
+ * at random (it is there in 90 % of those frames), but its range stays for
+ * the frames of a vehicle */
 /* row 3 also holds, in columns 60-69, the ground far off at a grazing angle:
  * 86 m, returned in 4 % of the frames at random in each cell on its own,
  * nothing otherwise (no return is a persistent state there: sky); and in
  * columns 80-89 traffic in front of nothing: a vehicle at 30 m in 2 % of the
  * frames, at random, seen in the ten cells at once, for one frame */
+/* the far lane of row 1, columns 50-54: 0 no vehicle in frame f, else the
+ * vehicle's number (1, 2, ...); a vehicle stays 4 frames, and a frame
+ * without a vehicle or a vehicle's last frame is followed by a new vehicle
+ * with probability 0.7 (the same draw for the five cells) */
+#define LANE_FRAMES 1800
+static int far_lane(int f) {
+  static int veh[LANE_FRAMES];
+  static bool made;
+  if (!made) {
+    int n = 0, left = 0;
+    for (int i = 0; i < LANE_FRAMES; i++) {
+      uint64_t z = (uint64_t)i * 0x9E3779B97F4A7C15ull; /* splitmix64's finaliser */
+      z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+      z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+      const bool draw = (z ^ (z >> 31)) % 10u < 7u;
+      if (left > 0) {
+        veh[i] = n; /* the vehicle's next frame */
+        left--;
+      } else if (draw) {
+        veh[i] = ++n;
+        left = 3;
+      } else
+        veh[i] = 0;
+    }
+    made = true;
+  }
+  return f >= 0 && f < LANE_FRAMES ? veh[f] : 0;
+}
+
 #define ROWS 16 /* a VLP-16's */
 #define COLS 100
 static float truth_range(int row, int col, int frame, uint64_t *rng) {
@@ -119,6 +158,15 @@ static float truth_range(int row, int col, int frame, uint64_t *rng) {
     if (col >= 30 && col < 40 && col != 35) {
       if (fmod(t, 60.0) < (col < 35 ? 25.0 : 40.0)) return (float)(12.0 + fmod(floor(t / 60.0) * 1.37, 4.0) + noise);
       return (float)(u < 0.3 ? 30.0 + 0.5 * u + noise : 40.0 + noise);
+    }
+    if (col >= 40 && col < 55) {
+      if (fmod(t, 3.0) < 1.5) return (float)(12.0 + fmod(floor(t / 3.0) * 1.37, 4.0) + noise);
+      if (col < 45) return (float)(u < 0.85 ? 30.0 + u / 0.85 + noise : 40.0 + noise);
+      if (col >= 50) {
+        const int v = far_lane(frame);
+        return (float)(v ? 30.0 + fmod(v * 0.618, 1.0) + noise : 40.0 + noise);
+      }
+      return (float)(fmod(t + 0.25, 1.0) < 0.5 ? 30.0 + noise : 40.0 + noise);
     }
     return (float)(u < 0.5 ? 8.0 + u + noise : 20.0 + noise);
   case 2: return (float)(fmod(t, 60.0) < 30.0 ? 9.0 + noise : 12.0 + noise);
@@ -219,6 +267,28 @@ START_TEST(t_learn_hard_cases) {
     ck_assert(!rs_bg_is_static(&model, 1, c, 13.0f));
   }
   for (int c = 36; c < 40; c++) ck_assert_msg(!rs_bg_is_static(&model, 1, c, 30.1f), "canopy hidden 40 s, column %d", c);
+  /* the dense canopy behind the lane: back in the next frame far more often
+   * than it is seen (the traffic in front hides it in runs), so it does not
+   * flicker; over the frames it could be seen in it comes and goes at random,
+   * at any depth: leaves. The far lane's vehicles, at one range too, stay
+   * once there and stay away once gone: foreground */
+  for (int c = 40; c < 45; c++) {
+    ck_assert_msg(rs_bg_is_static(&model, 1, c, 30.2f), "dense canopy, column %d", c);
+    ck_assert(rs_bg_is_static(&model, 1, c, 30.9f));
+    ck_assert(rs_bg_is_static(&model, 1, c, 40.0f));
+    ck_assert(!rs_bg_is_static(&model, 1, c, 13.0f));
+  }
+  for (int c = 45; c < 50; c++) {
+    ck_assert_msg(!rs_bg_is_static(&model, 1, c, 30.0f), "far lane, column %d", c);
+    ck_assert(rs_bg_is_static(&model, 1, c, 40.0f));
+  }
+  /* the far lane's dense traffic comes and goes about at random, but its
+   * range stays from one frame to the next as leaves' does not */
+  for (int c = 50; c < 55; c++) {
+    for (int v = 1; v < 20; v++)
+      ck_assert_msg(!rs_bg_is_static(&model, 1, c, (float)(30.0 + fmod(v * 0.618, 1.0))), "dense far lane, column %d", c);
+    ck_assert(rs_bg_is_static(&model, 1, c, 40.0f));
+  }
   /* the queued car is foreground, the ground it stands on background */
   ck_assert(rs_bg_is_static(&model, 2, 5, 12.0f));
   ck_assert(!rs_bg_is_static(&model, 2, 5, 9.0f));
@@ -289,29 +359,38 @@ START_TEST(t_learn_hard_cases) {
   rs_bg_model_free(&model);
   /* each rule off in turn (its share set to 0), relearned: what it decided */
   static const struct {
-    size_t off; /* the rule's share in rs_bg_params_t */
+    size_t off;  /* the rule's share in rs_bg_params_t */
+    size_t off2; /* another rule off with it (0: none) */
     int row, col;
     float range;
     bool is_static;
   } off[] = {
       /* without void_stay the queue's last car is the cell's static surface; the far wall stays */
-      {offsetof(rs_bg_params_t, void_stay), 13, 5, 40.0f, true},
-      {offsetof(rs_bg_params_t, void_stay), 14, 5, 80.0f, true},
+      {offsetof(rs_bg_params_t, void_stay), 0, 13, 5, 40.0f, true},
+      {offsetof(rs_bg_params_t, void_stay), 0, 14, 5, 80.0f, true},
       /* without occluded_clear the post needs half the windows: foreground */
-      {offsetof(rs_bg_params_t, occluded_clear), 15, 5, 40.1f, false},
-      {offsetof(rs_bg_params_t, occluded_clear), 14, 5, 80.0f, true},
+      {offsetof(rs_bg_params_t, occluded_clear), 0, 15, 5, 40.1f, false},
+      {offsetof(rs_bg_params_t, occluded_clear), 0, 14, 5, 80.0f, true},
       /* with the windows counted over all of the capture, the canopy behind the queue is foreground */
-      {offsetof(rs_bg_params_t, coverage_open), 1, 30, 30.1f, false},
-      /* without the occluded rule the kerb is foreground */
-      {offsetof(rs_bg_params_t, occluded_max), 8, 5, 25.0f, false},
-      {offsetof(rs_bg_params_t, occluded_max), 10, 5, 25.0f, false},
+      {offsetof(rs_bg_params_t, coverage_open), 0, 1, 30, 30.1f, false},
+      /* without the leaves rule the dense canopy is foreground */
+      {offsetof(rs_bg_params_t, leaves_range), 0, 1, 42, 30.2f, false},
+      {offsetof(rs_bg_params_t, leaves_range), 0, 1, 42, 40.0f, true},
+      /* the kerbs hidden by the queue come and go at random when in view,
+       * at one range: the leaves rule takes them too; without both, and
+       * only then, they are foreground */
+      {offsetof(rs_bg_params_t, occluded_max), 0, 8, 5, 25.0f, true},
+      {offsetof(rs_bg_params_t, occluded_max), 0, 10, 5, 25.0f, true},
+      {offsetof(rs_bg_params_t, occluded_max), offsetof(rs_bg_params_t, leaves_range), 8, 5, 25.0f, false},
+      {offsetof(rs_bg_params_t, occluded_max), offsetof(rs_bg_params_t, leaves_range), 10, 5, 25.0f, false},
   };
   for (size_t i = 0; i < sizeof off / sizeof off[0]; i++) {
-    if (i == 0 || off[i].off != off[i - 1].off) {
+    if (i == 0 || off[i].off != off[i - 1].off || off[i].off2 != off[i - 1].off2) {
       if (i > 0) rs_bg_model_free(&model);
       rs_bg_params_t p;
       rs_bg_params_default(&p);
       *(double *)((char *)&p + off[i].off) = 0.0;
+      if (off[i].off2) *(double *)((char *)&p + off[i].off2) = 0.0;
       learn_model_params(&p);
     }
     ck_assert_msg(rs_bg_is_static(&model, off[i].row, off[i].col, off[i].range) == off[i].is_static,

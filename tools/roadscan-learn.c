@@ -177,6 +177,10 @@ static const rs_opt_t table[] = {
                 "a nearer cluster that flickers is present throughout when it is in 80 % of the 5 s windows it "
                 "was not hidden in all along by something in front (a canopy behind a lane where queues stand), "
                 "those at least SHARE of all windows (0 = 80 % of all windows)"),
+    RS_OPT_DBL_("leaves", "SHARE", T, params.leaves_range, 0, 1,
+                "a nearer cluster that, over the frames not hidden by something in front of it, comes and goes at "
+                "random and whose range changes from one frame to the next by SHARE of the mean difference between "
+                "two of its returns, present throughout, is leaves of a dense canopy behind a lane (0 = off)"),
     RS_OPT_DBL_("sparse-cover", "SHARE", T, params.sparse_cover, 0, 1,
                 "a cluster of a cell that flickers, at one range, present in SHARE of the 5 s windows that returns "
                 "at random at its rate would be in, and coming and going on its own in its row (a vehicle covers "

@@ -28,6 +28,7 @@ void rs_bg_params_default(rs_bg_params_t *p) {
   p->coverage_min = 0.8;
   p->coverage_open = 0.5;
   p->sparse_cover = 0.8;
+  p->leaves_range = 0.7;
   p->window_s = 5.0;
   p->pair_gap_s = 1.0;
   p->margin_min = 0.05;
@@ -483,6 +484,12 @@ typedef struct {
   uint32_t windows;      /* time windows in which it appears */
   uint32_t front, behind; /* returns nearer than it, farther than it */
   uint32_t open;          /* time windows with a sample not in front of it (no return, or at its range or farther) */
+  /* the frames it could be seen in (not hidden by a return in front of it), as the leaves rule reads them */
+  uint32_t open_frames, open_seen; /* such frames, and those it is seen in */
+  uint32_t open_in, open_stay;     /* pairs of such frames starting in it, and staying */
+  uint32_t open_out, open_back;    /* pairs of such frames starting out of it, and coming back */
+  double step;                     /* sum over the pairs that stay of the change of range (cm) */
+  double spread_mean;              /* mean difference of range between two of its samples (cm) */
 } clus_t;
 
 /* Chooses eps and clusters one cell; returns the number of clusters. */
@@ -586,6 +593,26 @@ static bool flickers(const clus_t *q, uint32_t npairs, double lift) {
   return q->pairs >= 10 && stay - base < lift;
 }
 
+/* leaves: over the frames that could show it (the cell returned nothing, or
+ * something at its range or beyond), whether it is seen in the next one
+ * hardly depends on whether it is seen in this one, both ways (P(next in | in)
+ * - P(in) and P(in) - P(next in | out) below lift), and from one frame to the
+ * next its range changes by at least range_share of the mean difference
+ * between two of its samples: a dense canopy behind a lane. Its leaves return
+ * in most frames, so whether they return next frame depends on whether
+ * traffic in front hides them, which the flicker test over all frames takes
+ * for a vehicle staying; but when the cell could see them, each frame draws
+ * anew whether a leaf is hit, and at which depth of the canopy. A vehicle
+ * stays (once in, in next frame), once gone stays gone, and moves smoothly
+ * through its range; a queue's cars stop at about the same place and each
+ * stands still. A wall behind the traffic passes too, as it should. */
+static bool leaves(const clus_t *q, double lift, double range_share) {
+  if (range_share <= 0 || q->open_in < 10 || q->open_out < 10 || q->stay < 10 || q->spread_mean <= 0) return false;
+  const double base = (double)q->open_seen / q->open_frames;
+  return (double)q->open_stay / q->open_in - base < lift && base - (double)q->open_back / q->open_out < lift &&
+         q->step / q->stay >= range_share * q->spread_mean;
+}
+
 /* whether a cluster [lo, hi] (cm) of a cell comes and goes independently of
  * what the cells beside it in the row return at about its range: a surface
  * whose returns drop out at random drops out in each cell on its own, a
@@ -646,6 +673,16 @@ static uint32_t cell_stats(const cell_in_t *in, const int16_t *label, int k, clu
     }
   }
   cl[k].count = (uint32_t)(in->nf - in->nz);
+  for (int j = 0; j < k; j++) { /* mean difference: the values in order, each against those below it */
+    double n = 0, below = 0, sum = 0;
+    for (int i = 0; i < in->u; i++)
+      if (label[i] == j) {
+        sum += in->cnt[i] * (n * in->v[i] - below);
+        n += in->cnt[i];
+        below += (double)in->cnt[i] * in->v[i];
+      }
+    cl[j].spread_mean = n > 1 ? sum / (n * (n - 1) / 2) : 0;
+  }
   for (int i = 0; i < in->u; i++) /* the returns nearer and farther than each cluster */
     for (int j = 0; j < k; j++) {
       if (in->v[i] < cl[j].lo) cl[j].front += in->cnt[i];
@@ -669,13 +706,32 @@ static uint32_t cell_stats(const cell_in_t *in, const int16_t *label, int k, clu
       seen_in_win[m] = true;
       cl[m].windows++;
     }
+    for (int j = 0; j < k; j++)
+      if (x == 0 || (int32_t)x >= cl[j].lo) {
+        cl[j].open_frames++;
+        cl[j].open_seen += m == j;
+      }
     if (i + 1 < in->nf && in->t[in->order[i + 1]] - in->t[in->order[i]] <= in->pair_gap_s) {
+      const uint16_t y = in->smp[in->order[i + 1]];
       npairs++;
       if (memb[i + 1] >= 0) cl[memb[i + 1]].second++;
       if (m >= 0) {
         cl[m].pairs++;
-        cl[m].stay += memb[i + 1] == m;
+        if (memb[i + 1] == m) {
+          cl[m].stay++;
+          cl[m].step += abs((int)y - (int)x);
+        }
       }
+      for (int j = 0; j < k; j++) /* both frames could show it */
+        if ((x == 0 || (int32_t)x >= cl[j].lo) && (y == 0 || (int32_t)y >= cl[j].lo)) {
+          if (m == j) {
+            cl[j].open_in++;
+            cl[j].open_stay += memb[i + 1] == j;
+          } else {
+            cl[j].open_out++;
+            cl[j].open_back += memb[i + 1] == j;
+          }
+        }
     }
   }
   return npairs;
@@ -875,6 +931,11 @@ int rs_bg_learn(const rs_bg_learner_t *l, const rs_bg_params_t *p, float rate_hz
        * firings fall on either side): not decided here, but no vehicle stood
        * in it (what it hid hardly showed), so the support pass may take it */
       hidden[j] = hid && cl[j].hi - cl[j].lo <= (int32_t)lround(RS_BG_HIDDEN_SUPPORT * spread_max);
+      /* leaves of a dense canopy, present throughout as the flicker rule asks
+       * (the windows it could be seen in) */
+      if (!bg[j] && !wide[j] && (double)cl[j].windows / open >= p->coverage_min &&
+          leaves(&cl[j], p->flicker_lift, p->leaves_range))
+        bg[j] = true;
       /* under RS_BG_JUDGE_FRAMES frames nothing tells what stays from what
        * flickers: everything seen is the scene */
       if (nf < RS_BG_JUDGE_FRAMES) bg[j] = !wide[j];

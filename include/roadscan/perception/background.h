@@ -92,6 +92,13 @@ typedef struct {
                              once): a far surface whose returns drop out (ground at a grazing
                              angle, returning in 5 % of the frames, is in fewer than 80 % of the
                              windows); default 0.8, 0 = off; not stored in the model file */
+  double leaves_range;    /* ... or, over the frames it could be seen in (not hidden by a return in front
+                             of it), it comes and goes at random both ways (P(next in | in) - P(in) and
+                             P(in) - P(next in | out) below flicker_lift) and its range changes from one
+                             frame to the next by at least this share of the mean difference between
+                             two of its samples: leaves of a dense canopy behind a lane, whose
+                             presence traffic in front makes look steady; default 0.7, 0 = off; not
+                             stored in the model file */
   double window_s;        /* coverage window, default 5 s */
   double pair_gap_s;      /* samples closer than this count as consecutive, default 1 s */
   double margin_min;      /* a surface interval is the cluster's [min, max] widened by */
