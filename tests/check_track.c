@@ -1242,6 +1242,47 @@ START_TEST(t_still_lane) {
 }
 END_TEST
 
+/* still_coast. A van waits at x = 6.2 m, 28 m out, in a lane along y, seen whole for 3 s (its side
+ * views give the lane's axis); then a bus passing in front eats its box from the sensor's side over
+ * 0.3 s (the box narrows to 1.64 m, its centre sliding 0.18 m across the lane: its filter's velocity
+ * 0.6 m/s across, the speed it reports still 0), and hides it 2.2 s. A second van stops in the next lane (x = 9.7 m) while both are hidden
+ * and is seen first, 0.3 s before the first comes back where it stood. Returns whether the first
+ * van kept its id; *drift: how far across its last prediction had gone from where it stood. */
+static bool stood_hidden(int still_coast, double *drift) {
+  init_knob("still_coast", still_coast);
+  const double h = M_PI / 2;
+  uint32_t a = 0;
+  for (int f = 0; f < 62; f++) {
+    const double t = 0.1 * f;
+    clear();
+    if (f < 30)
+      put(t, 6.2, 28.0, 4.9, 2.0, h, 1.9, 280);
+    else if (f < 33) /* eaten from one side */
+      put(t, 6.2 + 0.06 * (f - 29), 28.0, 4.9, 2.0 - 0.12 * (f - 29), h, 1.9, (uint32_t)(280 - 30 * (f - 29)));
+    if (f >= 55) put(t, 9.7, 28.0, 4.9, 2.0, h, 1.9, 280);
+    if (f >= 58) put(t, 6.2, 28.0, 4.9, 2.0, h, 1.9, 280);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 29) {
+      a = tr.list.object_track[0];
+      ck_assert_int_eq(find_id(a)->state, RS_TRACK_CONFIRMED);
+      ck_assert_float_eq(find_id(a)->speed, 0.0f);
+    }
+    if (f == 54) *drift = find_id(a) ? find_id(a)->x[0] - 6.2 : 99.0;
+  }
+  return tr.list.object_track[1] == a;
+}
+
+START_TEST(t_still_coast) {
+  double off = 0, on = 0;
+  ck_assert(stood_hidden(1, &on));
+  ck_assert(!stood_hidden(0, &off));
+  ck_assert_double_lt(fabs(on), 0.5);
+  ck_assert_double_gt(off, 1.0);
+  ck_assert_int_eq(defaults().still_coast, 1);
+  knob_refused("still_coast", "2");
+}
+END_TEST
+
 /* brake_coast. A car at 8 m/s along y = 8 brakes at 2.5 m/s^2 from t = 1 s; from t = 2 s (at 5.5
  * m/s) it is hidden (a bus in the near lane) and stops 6.05 m on, at t = 4.2 s; seen again standing
  * from t = 4.6 s. Predicted on at 5.5 m/s it would be 14 m on, 8 m past it, out of the gate; a car
@@ -2786,6 +2827,7 @@ int main(void) {
   tcase_add_test(tc, t_lost_frame_dt);
   tcase_add_test(tc, t_capacity);
   tcase_add_test(tc, t_still_lane);
+  tcase_add_test(tc, t_still_coast);
   tcase_add_test(tc, t_brake_coast);
   tcase_add_test(tc, t_brake_not_at_circle);
   tcase_add_test(tc, t_crowd_and_config);

@@ -199,6 +199,10 @@ typedef struct {
                                   side views agree on an axis takes no object farther across that axis than
                                   reacq_across_m plus half its width plus a tenth of how far along it (the
                                   vehicle waiting in the next lane; default 1; docs/tracking.md) */
+  int still_coast;             /* 1: a vehicle's track (size known, 2.5 m long or more) that has reported no speed
+                                  at any update for 1 s is predicted where it stands while unseen (its velocity
+                                  set to 0 when first unseen), not on at the velocity its filter kept from views
+                                  that came and went (default 1; docs/tracking.md) */
   int brake_coast;             /* 1: a vehicle's track braking when last seen (its speed estimator's
                                   acceleration along its velocity, 0.5 m/s^2 or more; not at the blind
                                   circle's edge) is predicted braking at that rate while unseen, to a stop,
@@ -346,6 +350,7 @@ typedef struct {
   double x[4];               /* px py vx vy, sensor frame */
   double P[4][4];
   double px0, py0;           /* where it was born */
+  double t_moving;           /* capture time of its last update reporting a speed, or of its first (still_coast) */
   double spread;             /* the farthest measurement from there, m */
   double win_z[RS_TRACK_STILL_WINDOW][2]; /* its last measurements, a ring (confirm_still_window) */
   uint32_t win_points[RS_TRACK_STILL_WINDOW]; /* ... and their objects' returns */
