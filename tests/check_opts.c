@@ -342,6 +342,9 @@ START_TEST(t_programs) {
   ck_assert_int_eq(tu_exec("./roadscan-eval a b", &out), 2);
   ck_assert_msg(strstr(out, "roadscan-eval: 1 argument missing (usage: roadscan-eval CAPTURE TRUTH PRED") != NULL, "%s",
                 out);
+  /* a learning rule's share out of its range is refused by name, before the capture is read */
+  ck_assert_int_eq(tu_exec("./roadscan-learn no-such.pcap -o no-such.bg --leaves 2", &out), 2);
+  ck_assert_msg(strstr(out, "roadscan-learn: --leaves: 2 is out of range (0 to 1)") != NULL, "%s", out);
   ck_assert_int_eq(tu_exec("./roadscan-listen --quiet extra", &out), 2);
   ck_assert_msg(strstr(out, "roadscan-listen: unexpected argument 'extra' (see --help)") != NULL, "%s", out);
   ck_assert_int_eq(tu_exec("./roadscan-export a.pcap b.pcap --frame 1 -o x", &out), 2);
