@@ -53,15 +53,16 @@ if [ "${1:-}" = "--site" ]; then
     scripts/site-captures.sh "$out" "$2" "$3" "$4" VLP-32C VLP-16
   fi
 fi
-model() { # tag: its background model (with LEARN_ARGS one of its own, learned anew each run; a
-  # --site run's are always learned anew by site-captures.sh, with LEARN_ARGS)
+model() { # tag: its background model, learned anew each run by the current roadscan-learn (a model
+  # left from an older learner gave figures a fresh machine does not); with LEARN_ARGS one of its own;
+  # a --site run's are learned by site-captures.sh, with LEARN_ARGS
   if [ -n "${LEARN_ARGS:-}" ] && [ -z "${site_run:-}" ]; then echo "$out/$1-learnargs.bg"; else echo "$out/$1.bg"; fi
 }
 capture() { # tag sensor preset seed_learn seed_test [site args]
   local tag=$1 sensor=$2 sc=$3 sl=$4 st=$5 bg
   shift 5
   bg=$(model "$tag")
-  if [ ! -f "$bg" ] || [ -n "${LEARN_ARGS:-}" ]; then
+  if [ -z "${site_run:-}" ]; then
     [ -f "$out/$tag-learn.pcap" ] ||
       $bin/roadscan-sim --sensor "$sensor" --scenario "$sc" "$@" --seconds 150 --seed "$sl" -o "$out/$tag-learn.pcap" --labels "$out/$tag-learn.csv" 2>/dev/null
     $bin/roadscan-learn "$out/$tag-learn.pcap" -o "$bg" ${LEARN_ARGS:-} 2>/dev/null

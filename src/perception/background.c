@@ -568,6 +568,10 @@ static int chain_clusters(const int32_t *v, int u, int16_t *label, int32_t gap, 
   return g + 1;
 }
 
+/* whether a sample x (cm, 0 = no return) of a cell could show a cluster
+ * starting at lo: nothing returned in front of it */
+static bool shows(uint16_t x, int32_t lo) { return x == 0 || (int32_t)x >= lo; }
+
 /* one cell's samples, for the cluster statistics */
 typedef struct {
   const int32_t *v;
@@ -697,7 +701,7 @@ static uint32_t cell_stats(const cell_in_t *in, const int16_t *label, int k, clu
     }
     const uint16_t x = in->smp[in->order[i]];
     for (int j = 0; j < k; j++)
-      if (!open_in_win[j] && (x == 0 || (int32_t)x >= cl[j].lo)) {
+      if (!open_in_win[j] && shows(x, cl[j].lo)) {
         open_in_win[j] = true;
         cl[j].open++;
       }
@@ -707,7 +711,7 @@ static uint32_t cell_stats(const cell_in_t *in, const int16_t *label, int k, clu
       cl[m].windows++;
     }
     for (int j = 0; j < k; j++)
-      if (x == 0 || (int32_t)x >= cl[j].lo) {
+      if (shows(x, cl[j].lo)) {
         cl[j].open_frames++;
         cl[j].open_seen += m == j;
       }
@@ -723,7 +727,7 @@ static uint32_t cell_stats(const cell_in_t *in, const int16_t *label, int k, clu
         }
       }
       for (int j = 0; j < k; j++) /* both frames could show it */
-        if ((x == 0 || (int32_t)x >= cl[j].lo) && (y == 0 || (int32_t)y >= cl[j].lo)) {
+        if (shows(x, cl[j].lo) && shows(y, cl[j].lo)) {
           if (m == j) {
             cl[j].open_in++;
             cl[j].open_stay += memb[i + 1] == j;

@@ -2418,7 +2418,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     t->prev[0] = t->x[0];
     t->prev[1] = t->x[1];
     if (updated || rs_track_held(t)) t->distance_seen = t->distance;
-    if (updated && (t->speed > 0.0f || t->hits <= 1)) t->t_moving = t->t_update;
+    if (updated && t->speed > 0.0f) t->t_moving = t->t_update;
     if (t->state != RS_TRACK_TENTATIVE && updated) {
       if (t->speed > t->max_speed) t->max_speed = t->speed;
       t->sum_speed += t->speed;
@@ -2451,7 +2451,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     /* a small object (pedestrian, cyclist) is slow: its first pairing stays near */
     const double vsd = o->sensor.obb_length < 2.0f ? cf->init_small_speed_sd : cf->init_speed_sd;
     t->P[2][2] = t->P[3][3] = vsd * vsd;
-    t->t_state = t->t_birth = tr->obj_t[k];
+    t->t_state = t->t_birth = t->t_moving = tr->obj_t[k];
     t->px0 = t->prev[0] = z[0];
     t->py0 = t->prev[1] = z[1];
     t->state = RS_TRACK_TENTATIVE;

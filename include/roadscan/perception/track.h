@@ -350,7 +350,7 @@ typedef struct {
   double x[4];               /* px py vx vy, sensor frame */
   double P[4][4];
   double px0, py0;           /* where it was born */
-  double t_moving;           /* capture time of its last update reporting a speed, or of its first (still_coast) */
+  double t_moving;           /* capture time of its last update reporting a speed, or of its birth (still_coast) */
   double spread;             /* the farthest measurement from there, m */
   double win_z[RS_TRACK_STILL_WINDOW][2]; /* its last measurements, a ring (confirm_still_window) */
   uint32_t win_points[RS_TRACK_STILL_WINDOW]; /* ... and their objects' returns */
