@@ -1247,15 +1247,18 @@ END_TEST
  * 0.3 s (the box narrows to 1.64 m, its centre sliding 0.18 m across the lane: its filter's velocity
  * 0.6 m/s across, the speed it reports still 0), and hides it 2.2 s. A second van stops in the next lane (x = 9.7 m) while both are hidden
  * and is seen first, 0.3 s before the first comes back where it stood. Returns whether the first
- * van kept its id; *drift: how far across its last prediction had gone from where it stood. */
-static bool stood_hidden(int still_coast, double *drift) {
+ * van kept its id; *drift: how far across its last prediction had gone from where it stood. `first`:
+ * the frame the first van is first seen (0: from the start). */
+static bool stood_hidden(int still_coast, int first, double *drift) {
   init_knob("still_coast", still_coast);
   const double h = M_PI / 2;
   uint32_t a = 0;
   for (int f = 0; f < 62; f++) {
     const double t = 0.1 * f;
     clear();
-    if (f < 30)
+    if (f < first)
+      ;
+    else if (f < 30)
       put(t, 6.2, 28.0, 4.9, 2.0, h, 1.9, 280);
     else if (f < 33) /* eaten from one side */
       put(t, 6.2 + 0.06 * (f - 29), 28.0, 4.9, 2.0 - 0.12 * (f - 29), h, 1.9, (uint32_t)(280 - 30 * (f - 29)));
@@ -1273,11 +1276,15 @@ static bool stood_hidden(int still_coast, double *drift) {
 }
 
 START_TEST(t_still_coast) {
-  double off = 0, on = 0;
-  ck_assert(stood_hidden(1, &on));
-  ck_assert(!stood_hidden(0, &off));
+  double off = 0, on = 0, young = 0;
+  ck_assert(stood_hidden(1, 0, &on));
+  ck_assert(!stood_hidden(0, 0, &off));
   ck_assert_double_lt(fabs(on), 0.5);
   ck_assert_double_gt(off, 1.0);
+  /* first seen 0.7 s before it is hidden (under STILL_COAST_S since its birth): not yet standing, it
+   * is predicted on at its velocity */
+  stood_hidden(1, 25, &young);
+  ck_assert_double_gt(young, 1.0);
   ck_assert_int_eq(defaults().still_coast, 1);
   knob_refused("still_coast", "2");
 }
