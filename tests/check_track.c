@@ -2445,6 +2445,44 @@ START_TEST(t_still_window) {
 }
 END_TEST
 
+/* The steady rule (confirm_steady): a truck setting off 15 m away at 1.5 m/s,
+ * 9.6 m long, 300 returns a frame, moves 0.15 m a frame: farther than the
+ * still spread there (0.23 m) in two frames, so neither the still rule nor its
+ * window confirms it. It confirms at its fourth hit, when its last three
+ * measurements lie on one way at one pace; with the rule off it waits for
+ * confirm_move_m (0.8 m) to its seventh. The same truck's cluster jumping
+ * 0.3 m ahead in every other frame (two pieces taking turns, leaves in the
+ * wind before it) is not steady: the rule confirms it no sooner than without
+ * it. (A walker as
+ * steady is confirmed as soon by walking, confirm_walk_m.) Returns the frame
+ * of the first confirmation, -1 none. */
+static int steady_confirmed(int on, bool jumps) {
+  init_knob("confirm_steady", on);
+  int at = -1;
+  for (int f = 0; f < 20 && at < 0; f++) {
+    const double t = 90.0 + 0.1 * f;
+    clear();
+    put(t, -15.0 + 0.15 * f + (jumps && f % 2 ? 0.3 : 0.0), 2.0, 9.6, 2.5, 0.0, 3.2, 300);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    ck_assert_uint_eq(tr.list.count, 1);
+    if (tr.list.track[0].state != RS_TRACK_TENTATIVE) at = f;
+  }
+  ck_assert_uint_eq(tr.n.born, 1);
+  return at;
+}
+
+START_TEST(t_steady) {
+  ck_assert_int_eq(defaults().confirm_steady, 1);
+  ck_assert_int_eq(steady_confirmed(1, false), 3);
+  ck_assert_int_eq(steady_confirmed(0, false), 6);
+  const int jumping = steady_confirmed(1, true);
+  ck_assert_int_gt(jumping, 3);
+  ck_assert_int_eq(jumping, steady_confirmed(0, true));
+  knob_refused("confirm_steady", "2");
+  knob_refused("confirm_steady", "-1");
+}
+END_TEST
+
 START_TEST(t_far_still_confirms_fast) {
   uint32_t near_at;
   ck_assert_int_eq(far_still_confirmed(20.0, 15, &near_at), 2);
@@ -2547,12 +2585,13 @@ END_TEST
 /* across column 0 (+Y, azimuth 0): one track */
 /* A walker at 1.4 m/s is confirmed by its fourth frame (0.3 s: four hits,
  * its filtered position 0.3 m on, confirm_walk_m), not after the 0.8 m of
- * confirm_move_m (0.6 s and more) as with the rule off; the foliage of
+ * confirm_move_m (0.6 s and more) as with the rule off (and the steady rule
+ * off: with 40 returns it is as steady as a still object's bar asks); the foliage of
  * t_foliage_never_confirms at a walker's size (0.6 x 0.5 m, jittering
  * 0.3 m, there in half the frames, 40 s) still never confirms (it did with
  * three hits and the path half as straight as long). */
 static int walker_confirmed_frame(double walk_m) {
-  init_knob("confirm_walk_m", walk_m);
+  init_knobs("confirm_walk_m", walk_m, "confirm_steady", walk_m > 0 ? 1 : 0); /* (as steady as it walks: t_steady) */
   for (int f = 0; f < 20; f++) {
     const double t = 0.1 * f;
     clear();
@@ -2824,6 +2863,7 @@ int main(void) {
   tcase_add_test(tc, t_still_vehicle_confirms_fast);
   tcase_add_test(tc, t_far_still_confirms_fast);
   tcase_add_test(tc, t_still_window);
+  tcase_add_test(tc, t_steady);
   tcase_add_test(tc, t_walker_still_confirms_fast);
   tcase_add_test(tc, t_walker_upright_confirms_fast);
   tcase_add_test(tc, t_dup_box);

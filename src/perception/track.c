@@ -60,6 +60,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->size_weight = 2.0;
   c->confirm_still_spread = 0.15;
   c->confirm_still_window = 3;
+  c->confirm_steady = 1;
   c->confirm_still_points = 30;
   c->confirm_still_range = 20.0;
   c->confirm_walker_points = 20;
@@ -110,6 +111,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100) ||
       !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1 ||
       cfg->confirm_still_window < 0 || cfg->confirm_still_window > RS_TRACK_STILL_WINDOW ||
+      cfg->confirm_steady < 0 || cfg->confirm_steady > 1 ||
       cfg->confirm_walker_points < 0 || cfg->confirm_walker_points > 100000 ||
       cfg->confirm_upright_points < 0 || cfg->confirm_upright_points > 100000 ||
       !(cfg->confirm_still_range >= 0 && cfg->confirm_still_range <= 1000) ||
@@ -160,7 +162,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(confirm_walker_points, 0, 100000), KNOB_INT(confirm_upright_points, 0, 100000),
     KNOB(confirm_still_range, 0.0, 1000.0),
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
-    KNOB(confirm_cut_walk_m, 0.0, 20.0), KNOB_INT(confirm_still_window, 0, RS_TRACK_STILL_WINDOW),
+    KNOB(confirm_cut_walk_m, 0.0, 20.0), KNOB_INT(confirm_still_window, 0, RS_TRACK_STILL_WINDOW), KNOB_INT(confirm_steady, 0, 1),
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
     KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB(q_jerk, 0.01, 100.0),
     KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),       KNOB_INT(blind_turn, 0, 1),
@@ -1390,6 +1392,43 @@ static bool window_clear(const rs_tracker_t *tr, const rs_track_t *t, uint32_t w
   }
   return true;
 }
+/* the returns the still rules ask (need within confirm_still_range), at range r: falling with its square
+ * beyond, never below RS_TRACK_STILL_POINTS_MIN (nor above need) */
+static uint32_t range_bar(const rs_track_cfg_t *cf, int need, double r) {
+  const double r0 = cf->confirm_still_range;
+  if (!(r0 > 0) || !(r > r0)) return (uint32_t)need;
+  return (uint32_t)fmin(fmax(RS_TRACK_STILL_POINTS_MIN, ceil(need * (r0 / r) * (r0 / r))), need);
+}
+/* The steady rule (confirm_steady): the fast confirmation of a still
+ * object's returns, for one that moves at one pace along one way. A truck
+ * setting off from the line at 1.5 m/s, 1000 returns in every frame, moves
+ * 0.15 m a frame: not still, and 0.5 s from confirm_move_m (0.8 m). Its last
+ * confirm_still_window measurements (the window's ring, as window_still: the
+ * first measurement, often a partial view, is not among them once it has
+ * more hits than the window) each lie within the still spread of the point
+ * at its share of the way from the first of them to the last (evenly
+ * spaced: hit in every frame), that way is longer than the spread (a still
+ * one is the still rule's), and each object has the returns the still rule
+ * asks of a track of its size and range; the standing walker's lower bar
+ * (confirm_upright_points) is not taken: a bush swaying in the wind may
+ * wander one way for a few frames. Leaves' centres jump about: their steps
+ * are not one pace on one way. And, as for the window, no other track may
+ * claim it (window_clear). */
+static bool window_steady(const rs_track_cfg_t *cf, const rs_track_t *t, uint32_t bar, double spread) {
+  const uint32_t n = (uint32_t)cf->confirm_still_window;
+  if (!cf->confirm_steady || n < 3 || t->hits <= n) return false;
+  const uint32_t first = (t->hits - n) % RS_TRACK_STILL_WINDOW, last = (t->hits - 1) % RS_TRACK_STILL_WINDOW;
+  const double *a = t->win_z[first], *b = t->win_z[last];
+  if (!(norm2(b[0] - a[0], b[1] - a[1]) > spread)) return false;
+  for (uint32_t k = 0; k < n; k++) {
+    const uint32_t j = (first + k) % RS_TRACK_STILL_WINDOW;
+    const double f = (double)k / (double)(n - 1);
+    if (t->win_points[j] < bar ||
+        norm2(t->win_z[j][0] - (a[0] + f * (b[0] - a[0])), t->win_z[j][1] - (a[1] + f * (b[1] - a[1]))) > spread)
+      return false;
+  }
+  return true;
+}
 static bool still_fast(const rs_tracker_t *tr, const rs_track_t *t, uint32_t w, uint32_t i) {
   const rs_track_cfg_t *cf = &tr->cfg;
   if (t->misses != 0 || !(cf->confirm_still_spread > 0)) return false;
@@ -1397,13 +1436,16 @@ static bool still_fast(const rs_tracker_t *tr, const rs_track_t *t, uint32_t w, 
   int need = cf->confirm_still_points;
   const bool walker = walker_sized(t) && t->hits >= (uint32_t)cf->confirm_hits + 1;
   if (walker && cf->confirm_walker_points > 0 && cf->confirm_walker_points < need) need = cf->confirm_walker_points;
+  const int moving_need = need;
   if (walker && cf->confirm_upright_points > 0 && cf->confirm_upright_points < need && t->height >= UPRIGHT_M &&
       t->spread <= fmin(spread, UPRIGHT_SPREAD_M))
     need = cf->confirm_upright_points;
-  const double r = norm2(t->x[0], t->x[1]), r0 = cf->confirm_still_range;
-  uint32_t bar = (uint32_t)need;
-  if (r0 > 0 && r > r0) bar = (uint32_t)fmin(fmax(RS_TRACK_STILL_POINTS_MIN, ceil(need * (r0 / r) * (r0 / r))), need);
-  return t->points >= bar && (t->spread <= spread || (window_still(cf, t, bar, spread) && window_clear(tr, t, w, i)));
+  const double r = norm2(t->x[0], t->x[1]);
+  const uint32_t bar = range_bar(cf, need, r);
+  if (t->points >= bar && (t->spread <= spread || (window_still(cf, t, bar, spread) && window_clear(tr, t, w, i))))
+    return true;
+  const uint32_t steady_bar = range_bar(cf, moving_need, r); /* not the standing walker's */
+  return t->points >= steady_bar && window_steady(cf, t, steady_bar, spread) && window_clear(tr, t, w, i);
 }
 
 static rs_class_t classify(const rs_track_t *t) {

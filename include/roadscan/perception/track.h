@@ -165,6 +165,12 @@ typedef struct {
                                   (2 to RS_TRACK_STILL_WINDOW) lie within it of the first of them and no
                                   other track lies in its gate or beside it (default 3; 0 or 1 = from its
                                   first measurement only) */
+  int confirm_steady;          /* 1: a tentative track hit in every frame whose last confirm_still_window
+                                  measurements lie on one straight way at one pace (each within the still
+                                  spread of its share of the way from the first of them to the last, the way
+                                  longer than the spread), each object with the returns the still rule asks
+                                  (not the standing walker's bar), confirms as a still one would, when no
+                                  other track may claim it: a truck setting off at 1.5 m/s (default 1) */
   int confirm_still_points;    /* ... when its last object has this many returns or more (default 30):
                                   a vehicle waiting at the line, not leaves */
   double confirm_still_range;  /* m: beyond this range the returns needed fall with the square of the range,
