@@ -21,6 +21,11 @@
 # instead scores the far and storm presets (both sensors, seeds 11/12, captures in
 # out/presets) and prints their rows.
 #
+#   scripts/tracking.sh --loss
+# instead scores the test captures of the default site and sites 5, 13 and 17 made again with 5 % of
+# their packets lost (roadscan-sim packet_loss; in out/loss, with the lossless captures' models) and
+# prints their rows.
+#
 #   scripts/tracking.sh --turns
 # instead scores the turns preset (a quarter of the vehicles turn) at sites 1, 5
 # and 9 (seeds 11/12, 21/22, 41/42), and the same seeds with turn_share=0 (the
@@ -159,6 +164,29 @@ if [ "${1:-}" = "--turns" ]; then
       / unmatched/ { print "  " $0 }
       END { printf "%s: turned %d objects, %d of %d frames not with their track (left %d objects, %d of %d; right %d, %d of %d); straight %d objects, %d of %d\n",
             name, lo + ro, ll + rl, lf + rf, lo, ll, lf, ro, rl, rf, so, sl, sf }'
+  done
+  exit 0
+fi
+if [ "${1:-}" = "--loss" ]; then
+  # 5 % of the packets lost (roadscan-sim packet_loss): the 30 s test captures of the default site and of
+  # sites 5, 13 and 17 (their seeds) made again with the loss, each replayed with its site's model
+  # (learned without loss, as scripts/results.sh and site-captures.sh make it: run those first), in out/loss
+  out=out/loss
+  mkdir -p "$out"
+  header
+  for site in "1 out/results 12" "5 out/results 22" "13 out/site13 62" "17 out/site17 72"; do # (1: the default site)
+    set -- $site
+    for sensor in VLP-32C VLP-16; do
+      for sc in light rush; do
+        tag=$sensor-$sc$([ "$1" = 1 ] || echo "-site$1")
+        [ -f "$2/$tag.bg" ] || { echo "scripts/tracking.sh --loss: $2/$tag.bg is missing (scripts/results.sh, scripts/site-captures.sh)" >&2; exit 1; }
+        cp "$2/$tag.bg" "$out/$tag.bg"
+        [ -f "$out/$tag.pcap" ] && [ -f "$out/$tag-truth.csv" ] && [ -f "$out/$tag-states.csv" ] ||
+          $bin/roadscan-sim --sensor "$sensor" --scenario $sc --set site_seed="$1" --set packet_loss=0.05 --seconds 30 \
+            --seed "$3" -o "$out/$tag.pcap" --labels "$out/$tag-truth.csv" --truth-states "$out/$tag-states.csv" 2>/dev/null
+        row "$tag" "$sensor $sc, site $1, seed $3, 5 % of packets lost"
+      done
+    done
   done
   exit 0
 fi

@@ -4,11 +4,13 @@
 #include "roadscan/util/error.h"
 #include "testutil.h"
 
+#include <math.h>
 #include <string.h>
 
 static rs_slot_t slot;
 static rs_cluster_t cl;
 static rs_sensor_t sensor;
+static rs_sensor_t vlp32c;
 
 #define ROWS 16
 #define COLS 200
@@ -19,6 +21,7 @@ static void clear_map(int cols) {
   slot.meta.cols = (uint16_t)cols;
   memset(slot.range, 0, sizeof slot.range);
   memset(slot.label, 0, sizeof slot.label);
+  memset(slot.gap, 0, sizeof slot.gap);
 }
 
 static void put(int r, int c, float range) {
@@ -60,6 +63,53 @@ static void two_objects(rs_cluster_method_t m) {
   if (m == RS_CLUSTER_CCL) ck_assert_int_ge(lab(12, 150), 3);
   else ck_assert_int_eq(lab(12, 150), 2);
 }
+
+/* bridge_gap: a car's side at 10 m, rows 4-8, with the columns of lost packets empty (block columns
+ * gap_from-gap_to, 16 here: wider than the window's reach, which the rows' offsets narrow; in each row
+ * at its laser's azimuth offset from them, as the decoder puts its returns). When the slot says no firing fell there (rs_slot_t.gap) the window reaches across them,
+ * counting measured columns: one cluster; with bridge_gap 0, or where those columns were measured and
+ * hold nothing (a real space between two objects), two; a gap wider than bridge_gap is not reached
+ * across. sen: the sensor (its offsets). Returns the clusters. */
+static uint32_t bridged(const rs_sensor_t *sen, rs_cluster_method_t m, int bridge_gap, int gap_from, int gap_to,
+                        bool marked) {
+  clear_map(COLS);
+  for (int r = 4; r <= 8; r++) {
+    const int sh = (int)lround(sen->azimuth_offset_deg[sen->laser_of_row[r]] * COLS / 360.0);
+    block(r, r, 10, gap_from - 1 + sh, 10.0f);
+    block(r, r, gap_to + 1 + sh, gap_to + 13, 10.0f);
+  }
+  if (marked)
+    for (int c = gap_from; c <= gap_to; c++) slot.gap[c] = 1;
+  rs_cluster_cfg_t cfg;
+  rs_cluster_cfg_default(&cfg);
+  cfg.method = m;
+  cfg.bridge_gap = bridge_gap;
+  ck_assert_int_eq(rs_cluster_init(&cl, &cfg, sen), RS_OK);
+  rs_cluster_stats_t st;
+  rs_cluster_run(&cl, &slot, &st);
+  return st.clusters;
+}
+
+START_TEST(t_bridge_gap) {
+  rs_cluster_cfg_t cfg;
+  rs_cluster_cfg_default(&cfg);
+  ck_assert_int_eq(cfg.bridge_gap, 32);
+  const rs_cluster_method_t ms[] = {RS_CLUSTER_FSPC, RS_CLUSTER_FSPC_ADAPTIVE, RS_CLUSTER_CCL};
+  const rs_sensor_t *sens[] = {&sensor, &vlp32c};
+  for (int q = 0; q < 2; q++)
+    for (int k = 0; k < 3; k++) {
+      ck_assert_uint_eq(bridged(sens[q], ms[k], 32, 18, 33, true), 1);
+      ck_assert_uint_eq(bridged(sens[q], ms[k], 0, 18, 33, true), 2);
+      ck_assert_uint_eq(bridged(sens[q], ms[k], 32, 18, 33, false), 2);
+      ck_assert_uint_eq(bridged(sens[q], ms[k], 32, 18, 57, true), 2); /* 40 columns */
+      ck_assert_uint_eq(bridged(sens[q], ms[k], 40, 18, 57, true), 1);
+    }
+  cfg.bridge_gap = -1;
+  ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &sensor), RS_E_INVAL);
+  cfg.bridge_gap = RS_CLUSTER_BRIDGE_MAX + 1;
+  ck_assert_int_eq(rs_cluster_init(&cl, &cfg, &sensor), RS_E_INVAL);
+}
+END_TEST
 
 START_TEST(t_two_objects) {
   two_objects(RS_CLUSTER_FSPC);
@@ -196,7 +246,6 @@ START_TEST(t_adaptive_sparse) {
 }
 END_TEST
 
-static rs_sensor_t vlp32c;
 
 /* default adaptive settings and an empty VLP-32C map (32 rows x 1820 columns) */
 static void adaptive_vlp32c(rs_cluster_cfg_t *cfg) {
@@ -539,6 +588,7 @@ int main(void) {
   TCase *tc = tcase_create("core");
   tcase_set_timeout(tc, 60);
   tcase_add_test(tc, t_two_objects);
+  tcase_add_test(tc, t_bridge_gap);
   tcase_add_test(tc, t_seam);
   tcase_add_test(tc, t_core_border_noise);
   tcase_add_test(tc, t_window_clipping);

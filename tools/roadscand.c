@@ -206,6 +206,9 @@ static const rs_opt_t table[] = {
              "radius, CCL's range difference"},
     {.type = RS_OPT_INT, .name = "min-pts", .arg = "N", .off = offsetof(T, min_pts), .lo = 1, .hi = 255,
      .def = "15", .help = "core threshold, the centre counted (the largest with fspc-adaptive; not for ccl)"},
+    I("bridge-gap", "N", ccfg.bridge_gap, 0, RS_CLUSTER_BRIDGE_MAX,
+      "fspc, fspc-adaptive, ccl: a window reaches across up to N columns no firing fell in this turn (a lost "
+      "packet: 12 columns of a VLP-32C, 24 of a VLP-16 at 600 rpm), counting only measured ones (0 = off)"),
     I("seed-surfaces", "N", ccfg.adaptive.seed_surfaces, 0, 255,
       "fspc-adaptive: a return in a cell where the background has N or more static surfaces (foliage, edges: "
       "the sensor sees through) joins clusters but does not start one (0 = off)"),

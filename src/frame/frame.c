@@ -84,12 +84,25 @@ static void open_slot(rs_asm_t *a, rs_slot_t *slot) {
   slot->meta.cols = (uint16_t)cols;
   slot->meta.partial = slot->meta.seq == 0;
   memset(slot->colmask, 0, (size_t)cols);
+  memset(slot->gap, 1, (size_t)cols); /* until a block's firings fall there (cover) */
   for (int l = 0; l < RS_LAYERS; l++) {
     memset(slot->range + (size_t)l * RS_MAX_CELLS, 0, sizeof(float) * (size_t)rows * (size_t)cols);
     memset(slot->label + (size_t)l * RS_MAX_CELLS, 0, sizeof(uint16_t) * (size_t)rows * (size_t)cols);
   }
   a->slot_open = true;
   a->counted_packet = false;
+}
+
+/* the columns a block's firings fall in, by its azimuth: from its own for the group's firing time at
+ * the packet's rate, and half that again (the next block's azimuth jitters), at most COVER_MAX */
+#define COVER_MAX 64
+static void cover(const rs_asm_t *a, rs_slot_t *slot, const rs_packet_t *pkt, uint16_t az_cd) {
+  const int cols = a->cols;
+  const double w = 360.0 / cols, span = 1.5 * rs_model_group_us(a->sensor->info) * (double)pkt->az_rate;
+  int c = (int)((double)az_cd / 100.0 / w);
+  int n = (span > 0.0 && isfinite(span)) ? (int)ceil(span / w) + 1 : 1;
+  if (n > COVER_MAX) n = COVER_MAX;
+  for (int k = 0; k < n; k++) slot->gap[((c + k) % cols + cols) % cols] = 0;
 }
 
 static void count_packet(rs_asm_t *a, rs_slot_t *slot, const rs_packet_t *pkt, uint32_t index, double ts, uint16_t az) {
@@ -274,6 +287,7 @@ rs_asm_result_t rs_asm_feed(rs_asm_t *a, rs_slot_t *slot, const rs_packet_t *pkt
       a->pending_missing = 0;
     }
     a->block_seq[b] = slot->meta.seq;
+    cover(a, slot, pkt, az);
     while (pi < pkt->n_points && pkt->points[pi].block == b) write_point(a, slot, &pkt->points[pi++], index);
   }
   a->counted_packet = false;

@@ -14,6 +14,7 @@
 void rs_cluster_cfg_default(rs_cluster_cfg_t *c) {
   memset(c, 0, sizeof *c);
   c->method = RS_CLUSTER_FSPC;
+  c->bridge_gap = 32;
   c->fspc = (rs_fspc_cfg_t){.win_h = 5, .win_w = 11, .eps = 1.8f, .min_pts = 15};
   c->adaptive = (rs_fspc_adaptive_cfg_t){.win_h = 5,
                                          .win_w = 11,
@@ -96,6 +97,7 @@ int rs_cluster_init(rs_cluster_t *c, const rs_cluster_cfg_t *cfg, const rs_senso
       !(a->split_gap >= 0) || !(a->split_width > 0) || !(a->split_depth >= 0) || a->split_min < 1)
     return RS_E_INVAL;
   if (!(cfg->dbscan.eps > 0) || cfg->dbscan.min_pts < 1 || !(cfg->ccl.eps > 0)) return RS_E_INVAL;
+  if (cfg->bridge_gap < 0 || cfg->bridge_gap > RS_CLUSTER_BRIDGE_MAX) return RS_E_INVAL;
   c->cfg = *cfg;
   c->sensor = s;
   c->bg_surfaces = NULL;
@@ -154,17 +156,61 @@ static inline int bin_of(float r) {
   return b < 0 ? 0 : (b >= RS_ADAPT_BINS ? RS_ADAPT_BINS - 1 : b);
 }
 
+/* ---- the window across a lost packet (bridge_gap) ---------------------------
+ * A lost packet leaves 2.4 (VLP-32C) or 4.8 degrees (VLP-16) of a turn
+ * unmeasured (rs_slot_t.gap, by block azimuth: a row's returns lie at its
+ * laser's azimuth offset from it). A vehicle across it was two clusters, each
+ * a box cut where the gap is. Where a frame has such columns, a window's
+ * half-width counts measured columns of its row: it reaches across up to
+ * bridge_gap unmeasured ones (a gap wider, the partial frame's missing part,
+ * is not reached across). Without gaps the windows are the plain ones. The
+ * tables are made once a frame (a pass over the columns), only read after. */
+static void bridge_prepare(rs_cluster_t *c, const rs_slot_t *s) {
+  const int cols = s->meta.cols, rows = s->meta.rows;
+  c->bridge = false;
+  if (c->cfg.bridge_gap <= 0) return;
+  int m = 0;
+  for (int k = 0; k < cols; k++) {
+    c->rank[k] = (uint16_t)m;
+    if (!s->gap[k]) c->measured[m++] = (uint16_t)k;
+  }
+  c->nmeasured = m;
+  c->bridge = m < cols && m > 0;
+  if (!c->bridge) return;
+  for (int r = 0; r < rows && r < RS_MAX_ROWS; r++)
+    c->row_shift[r] = r < c->sensor->lasers
+                          ? (int16_t)lround(c->sensor->azimuth_offset_deg[c->sensor->laser_of_row[r]] * cols / 360.0)
+                          : 0;
+}
+/* row y's window columns about map column col, half-width hw in measured columns: its first column *a
+ * and how many, at most 2 hw + 1 + bridge_gap (else the plain window) */
+static void bridge_span(const rs_cluster_t *c, int cols, int y, int col, int hw, int *a, int *n) {
+  *a = col - hw;
+  *n = 2 * hw + 1;
+  if (!c->bridge || 2 * hw + 1 >= c->nmeasured) return;
+  const int sh = c->row_shift[y], b = ((col - sh) % cols + cols) % cols, m = c->nmeasured, k = c->rank[b];
+  const int lo = c->measured[((k - hw) % m + m) % m], hi = c->measured[((k + hw - (c->measured[k % m] != b)) % m + m) % m];
+  const int len = ((hi - lo) % cols + cols) % cols + 1;
+  if (len > 2 * hw + 1 + c->cfg.bridge_gap || len < 2 * hw + 1) return;
+  *a = lo + sh;
+  *n = len;
+}
+
 /* neighbours of cell (r, col) in a (2hh+1) x (2hw+1) window, counted until
  * `enough` (a core needs no more): rows nearest the centre first */
-static uint32_t count_window(const float *rr, int rows, int cols, int r, int col, int hh, int hw, float eps,
-                             uint32_t enough) {
+static uint32_t count_window(const rs_cluster_t *c, const float *rr, int rows, int cols, int r, int col, int hh, int hw,
+                             float eps, uint32_t enough) {
   const float x = rr[r * cols + col];
   uint32_t n = 0;
   for (int step = 0; step <= 2 * hh; step++) {
     int y = r + (step % 2 ? (step + 1) / 2 : -(step / 2)); /* r, r-1, r+1, r-2, r+2, ... */
     if (y < 0 || y >= rows) continue;
     const float *row = rr + (size_t)y * (size_t)cols;
-    if (col - hw >= 0 && col + hw < cols) {
+    if (c->bridge) {
+      int a, len;
+      bridge_span(c, cols, y, col, hw, &a, &len);
+      for (int d = 0; d < len; d++) n += fabsf(row[((a + d) % cols + cols) % cols] - x) < eps;
+    } else if (col - hw >= 0 && col + hw < cols) {
       for (int k = col - hw; k <= col + hw; k++) n += fabsf(row[k] - x) < eps;
     } else {
       for (int d = -hw; d <= hw; d++) {
@@ -213,6 +259,7 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
   const int rows = s->meta.rows, cols = s->meta.cols;
   if (adaptive && c->cols != cols) build_adaptive(c, cols);
   const int seed_surf = adaptive && c->bg_surfaces ? c->cfg.adaptive.seed_surfaces : 0;
+  bridge_prepare(c, s);
   /* core cells */
   for (uint32_t k = 0; k < nfg; k++) {
     const uint32_t i = c->fg[k];
@@ -227,7 +274,7 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
       mp = c->min_pts[r][b];
       e = c->eps_tab[r][b];
     }
-    c->core[i] = count_window(c->rr, rows, cols, r, col, hh, hw, e, mp) >= mp;
+    c->core[i] = count_window(c, c->rr, rows, cols, r, col, hh, hw, e, mp) >= mp;
     /* a cell the sensor sees through (several static surfaces) seeds no cluster */
     if (seed_surf > 0 && c->bg_surfaces[i] >= seed_surf) c->core[i] = 0;
   }
@@ -302,6 +349,18 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
       for (int y = r0; y <= r1; y++) {
         uint64_t *w = c->open + (size_t)y * (size_t)wpr;
         const uint32_t base = (uint32_t)y * (uint32_t)cols;
+        if (c->bridge) { /* this row's window across a gap: its segments again */
+          int a, len;
+          bridge_span(c, cols, y, col, hw, &a, &len);
+          a = (a % cols + cols) % cols;
+          if (len >= cols) {
+            seg_a[0] = 0, seg_n[0] = cols, nseg = 1;
+          } else if (a + len > cols) {
+            seg_a[0] = a, seg_n[0] = cols - a, seg_a[1] = 0, seg_n[1] = a + len - cols, nseg = 2;
+          } else {
+            seg_a[0] = a, seg_n[0] = len, nseg = 1;
+          }
+        }
         for (int g = 0; g < nseg; g++) {
           /* a segment longer than 64 columns (a huge window) is read in pieces */
           for (int a = seg_a[g], left = seg_n[g]; left > 0; a += 64, left -= 64) {

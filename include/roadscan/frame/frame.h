@@ -74,6 +74,11 @@ typedef struct {
 typedef struct {
   rs_frame_meta_t meta;
   uint8_t colmask[RS_MAX_COLS];
+  /* 1: no firing of this turn fell in the column, taken by block azimuth (a lost packet's blocks, or the
+   * partial frame's columns before its first packet or after its last); a firing lands in the map's
+   * column of its block azimuth plus its laser's azimuth offset. Set by the assembler; a map made by
+   * hand leaves it 0 (every column seen) */
+  uint8_t gap[RS_MAX_COLS];
   float range[RS_LAYERS * RS_MAX_CELLS];    /* metres, 0 = no return */
   uint8_t intensity[RS_LAYERS * RS_MAX_CELLS];
   rs_addr_t addr[RS_LAYERS * RS_MAX_CELLS]; /* which record filled the cell */

@@ -114,8 +114,12 @@ typedef struct {
 } rs_ccl_cfg_t;
 
 /* The method and each method's own parameters. */
+#define RS_CLUSTER_BRIDGE_MAX 128 /* bridge_gap's largest value (columns) */
 typedef struct {
   rs_cluster_method_t method;
+  int bridge_gap;        /* FSPC (all three kinds): a window's half-width counts the measured columns of its
+                            row, reaching across at most this many a lost packet left unmeasured
+                            (rs_slot_t.gap; 0 = off: the columns as they are; default 32) */
   rs_fspc_cfg_t fspc;
   rs_fspc_adaptive_cfg_t adaptive;
   rs_dbscan_cfg_t dbscan;
@@ -158,6 +162,13 @@ typedef struct {
   float rmin[RS_MAX_CLUSTERS];          /* split pass: each cluster's nearest range */
   uint64_t occ[RS_MAX_CLUSTERS];        /* split pass: its range bins (half the gap) with returns */
   rs_cluster_ret_t byrange[RS_MAX_CELLS]; /* split pass: clustered cells grouped by cluster, by range */
+  /* the window across a lost packet's columns (rs_slot_t.gap), FSPC: per row its laser's azimuth offset
+   * in columns; per block column the number of measured ones before it, and the measured ones in order */
+  bool bridge;                          /* this frame has columns no firing fell in */
+  int nmeasured;
+  int16_t row_shift[RS_MAX_ROWS];
+  uint16_t rank[RS_MAX_COLS];
+  uint16_t measured[RS_MAX_COLS];
   uint32_t members[RS_LAYERS * RS_MAX_CELLS]; /* clustered cells of the last run, layer 0 then 1, row-major */
   uint32_t nmembers;
 } rs_cluster_t;
