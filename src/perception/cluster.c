@@ -174,13 +174,32 @@ static void bridge_prepare(rs_cluster_t *c, const rs_slot_t *s) {
     c->rank[k] = (uint16_t)m;
     if (!s->gap[k]) c->measured[m++] = (uint16_t)k;
   }
+  c->rank[cols] = (uint16_t)m;
   c->nmeasured = m;
   c->bridge = m < cols && m > 0;
   if (!c->bridge) return;
-  for (int r = 0; r < rows && r < RS_MAX_ROWS; r++)
+  int lo = 0, hi = 0;
+  for (int r = 0; r < rows && r < RS_MAX_ROWS; r++) {
     c->row_shift[r] = r < c->sensor->lasers
                           ? (int16_t)lround(c->sensor->azimuth_offset_deg[c->sensor->laser_of_row[r]] * cols / 360.0)
                           : 0;
+    if (c->row_shift[r] < lo) lo = c->row_shift[r];
+    if (c->row_shift[r] > hi) hi = c->row_shift[r];
+  }
+  /* the map columns whose windows (any row's offset, the method's widest window) may hold an
+   * unmeasured column: block columns [col - hi - R, col - lo + R] */
+  const rs_cluster_method_t me = c->cfg.method;
+  const int R = me == RS_CLUSTER_CCL ? 1 : (me == RS_CLUSTER_FSPC_ADAPTIVE ? c->cfg.adaptive.win_w : c->cfg.fspc.win_w) / 2;
+  for (int col = 0; col < cols; col++) {
+    const int w0 = col - hi - R, w1 = col - lo + R + 1, span = w1 - w0;
+    int gaps;
+    if (span >= cols) gaps = cols - m;
+    else {
+      const int a = ((w0 % cols) + cols) % cols, b = a + span;
+      gaps = b <= cols ? span - (c->rank[b] - c->rank[a]) : span - ((m - c->rank[a]) + c->rank[b - cols]);
+    }
+    c->near_gap[col] = gaps > 0;
+  }
 }
 /* row y's window columns about map column col, half-width hw in measured columns: its first column *a
  * and how many, at most 2 hw + 1 + bridge_gap (else the plain window) */
@@ -188,7 +207,17 @@ static void bridge_span(const rs_cluster_t *c, int cols, int y, int col, int hw,
   *a = col - hw;
   *n = 2 * hw + 1;
   if (!c->bridge || 2 * hw + 1 >= c->nmeasured) return;
-  const int sh = c->row_shift[y], b = ((col - sh) % cols + cols) % cols, m = c->nmeasured, k = c->rank[b];
+  const int sh = c->row_shift[y], m = c->nmeasured;
+  int b = col - sh;
+  if (b < 0) b += cols;
+  else if (b >= cols) b -= cols;
+  const int k = c->rank[b];
+  /* most windows hold no unmeasured column: the plain one (measured columns of [b - hw, b + hw]) */
+  const int w0 = b - hw, w1 = b + hw + 1; /* [w0, w1) */
+  const int measured_in = w0 >= 0 && w1 <= cols ? c->rank[w1] - c->rank[w0]
+                          : w0 < 0           ? c->rank[w1] + (m - c->rank[cols + w0])
+                                             : (m - c->rank[w0]) + c->rank[w1 - cols];
+  if (measured_in == 2 * hw + 1) return;
   const int lo = c->measured[((k - hw) % m + m) % m], hi = c->measured[((k + hw - (c->measured[k % m] != b)) % m + m) % m];
   const int len = ((hi - lo) % cols + cols) % cols + 1;
   if (len > 2 * hw + 1 + c->cfg.bridge_gap || len < 2 * hw + 1) return;
@@ -206,10 +235,15 @@ static uint32_t count_window(const rs_cluster_t *c, const float *rr, int rows, i
     int y = r + (step % 2 ? (step + 1) / 2 : -(step / 2)); /* r, r-1, r+1, r-2, r+2, ... */
     if (y < 0 || y >= rows) continue;
     const float *row = rr + (size_t)y * (size_t)cols;
-    if (c->bridge) {
-      int a, len;
-      bridge_span(c, cols, y, col, hw, &a, &len);
-      for (int d = 0; d < len; d++) n += fabsf(row[((a + d) % cols + cols) % cols] - x) < eps;
+    int a = col - hw, len = 2 * hw + 1;
+    if (c->bridge && c->near_gap[col]) bridge_span(c, cols, y, col, hw, &a, &len);
+    if (len != 2 * hw + 1) { /* across a gap: a (from bridge_span) is within a turn of [0, cols) */
+      if (a < 0) a += cols;
+      else if (a >= cols) a -= cols;
+      for (int d = 0; d < len; d++) {
+        const int k = a + d < cols ? a + d : a + d - cols;
+        n += fabsf(row[k] - x) < eps;
+      }
     } else if (col - hw >= 0 && col + hw < cols) {
       for (int k = col - hw; k <= col + hw; k++) n += fabsf(row[k] - x) < eps;
     } else {
@@ -349,7 +383,7 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
       for (int y = r0; y <= r1; y++) {
         uint64_t *w = c->open + (size_t)y * (size_t)wpr;
         const uint32_t base = (uint32_t)y * (uint32_t)cols;
-        if (c->bridge) { /* this row's window across a gap: its segments again */
+        if (c->bridge && c->near_gap[col]) { /* this row's window across a gap: its segments again */
           int a, len;
           bridge_span(c, cols, y, col, hw, &a, &len);
           a = (a % cols + cols) % cols;
