@@ -165,6 +165,14 @@ static inline int bin_of(float r) {
  * bridge_gap unmeasured ones (a gap wider, the partial frame's missing part,
  * is not reached across). Without gaps the windows are the plain ones. The
  * tables are made once a frame (a pass over the columns), only read after. */
+/* measured block columns in [a, a + span) around the turn (rank: how many lie before each column) */
+static int measured_in(const rs_cluster_t *c, int cols, int a, int span) {
+  const int m = c->rank[cols];
+  if (span >= cols) return m;
+  a = (a % cols + cols) % cols;
+  const int b = a + span;
+  return b <= cols ? c->rank[b] - c->rank[a] : (m - c->rank[a]) + c->rank[b - cols];
+}
 static void bridge_prepare(rs_cluster_t *c, const rs_slot_t *s) {
   const int cols = s->meta.cols, rows = s->meta.rows;
   c->bridge = false;
@@ -175,7 +183,6 @@ static void bridge_prepare(rs_cluster_t *c, const rs_slot_t *s) {
     if (!s->gap[k]) c->measured[m++] = (uint16_t)k;
   }
   c->rank[cols] = (uint16_t)m;
-  c->nmeasured = m;
   c->bridge = m < cols && m > 0;
   if (!c->bridge) return;
   int lo = 0, hi = 0;
@@ -190,34 +197,23 @@ static void bridge_prepare(rs_cluster_t *c, const rs_slot_t *s) {
    * unmeasured column: block columns [col - hi - R, col - lo + R] */
   const rs_cluster_method_t me = c->cfg.method;
   const int R = me == RS_CLUSTER_CCL ? 1 : (me == RS_CLUSTER_FSPC_ADAPTIVE ? c->cfg.adaptive.win_w : c->cfg.fspc.win_w) / 2;
-  for (int col = 0; col < cols; col++) {
-    const int w0 = col - hi - R, w1 = col - lo + R + 1, span = w1 - w0;
-    int gaps;
-    if (span >= cols) gaps = cols - m;
-    else {
-      const int a = ((w0 % cols) + cols) % cols, b = a + span;
-      gaps = b <= cols ? span - (c->rank[b] - c->rank[a]) : span - ((m - c->rank[a]) + c->rank[b - cols]);
-    }
-    c->near_gap[col] = gaps > 0;
-  }
+  const int span = hi - lo + 2 * R + 1;
+  for (int col = 0; col < cols; col++)
+    c->near_gap[col] = measured_in(c, cols, col - hi - R, span) < (span < cols ? span : cols);
 }
 /* row y's window columns about map column col, half-width hw in measured columns: its first column *a
  * and how many, at most 2 hw + 1 + bridge_gap (else the plain window) */
 static void bridge_span(const rs_cluster_t *c, int cols, int y, int col, int hw, int *a, int *n) {
   *a = col - hw;
   *n = 2 * hw + 1;
-  if (!c->bridge || 2 * hw + 1 >= c->nmeasured) return;
-  const int sh = c->row_shift[y], m = c->nmeasured;
+  const int m = c->rank[cols];
+  if (!c->bridge || 2 * hw + 1 >= m) return;
+  const int sh = c->row_shift[y];
   int b = col - sh;
   if (b < 0) b += cols;
   else if (b >= cols) b -= cols;
   const int k = c->rank[b];
-  /* most windows hold no unmeasured column: the plain one (measured columns of [b - hw, b + hw]) */
-  const int w0 = b - hw, w1 = b + hw + 1; /* [w0, w1) */
-  const int measured_in = w0 >= 0 && w1 <= cols ? c->rank[w1] - c->rank[w0]
-                          : w0 < 0           ? c->rank[w1] + (m - c->rank[cols + w0])
-                                             : (m - c->rank[w0]) + c->rank[w1 - cols];
-  if (measured_in == 2 * hw + 1) return;
+  if (measured_in(c, cols, b - hw, 2 * hw + 1) == 2 * hw + 1) return; /* most windows: the plain one */
   const int lo = c->measured[((k - hw) % m + m) % m], hi = c->measured[((k + hw - (c->measured[k % m] != b)) % m + m) % m];
   const int len = ((hi - lo) % cols + cols) % cols + 1;
   if (len > 2 * hw + 1 + c->cfg.bridge_gap || len < 2 * hw + 1) return;
@@ -386,7 +382,8 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
         if (c->bridge && c->near_gap[col]) { /* this row's window across a gap: its segments again */
           int a, len;
           bridge_span(c, cols, y, col, hw, &a, &len);
-          a = (a % cols + cols) % cols;
+          if (a < 0) a += cols; /* (within a turn of [0, cols), as in count_window) */
+          else if (a >= cols) a -= cols;
           if (len >= cols) {
             seg_a[0] = 0, seg_n[0] = cols, nseg = 1;
           } else if (a + len > cols) {

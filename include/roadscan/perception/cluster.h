@@ -165,9 +165,8 @@ typedef struct {
   /* the window across a lost packet's columns (rs_slot_t.gap), FSPC: per row its laser's azimuth offset
    * in columns; per block column the number of measured ones before it, and the measured ones in order */
   bool bridge;                          /* this frame has columns no firing fell in */
-  int nmeasured;
   int16_t row_shift[RS_MAX_ROWS];
-  uint16_t rank[RS_MAX_COLS + 1];
+  uint16_t rank[RS_MAX_COLS + 1];       /* (rank[cols]: how many are measured) */
   uint16_t measured[RS_MAX_COLS];
   uint8_t near_gap[RS_MAX_COLS];        /* map columns some row's widest window about which may reach one */
   uint32_t members[RS_LAYERS * RS_MAX_CELLS]; /* clustered cells of the last run, layer 0 then 1, row-major */
