@@ -1841,6 +1841,99 @@ START_TEST(t_merge_parts) {
 }
 END_TEST
 
+/* A truck (9.5 x 2.5 m) drives east at 6 m/s along y = 6.25, 6 m beside the
+ * pole: seen whole for 2 s, then, nearer, as its near side alone (a box 9.5
+ * x 0.1 m at y = 5). From 4.5 s, for 1.2 s, a walker nobody tracked (out of
+ * the circle below the lowest beam) stands at (4, 2.5), between the truck
+ * and the sensor, within the truck's length: a thin part that fits with the
+ * side in the truck's size. With merge_front_m it is never merged with the
+ * truck's object: the truck's track is the same as with no walker there;
+ * off, the walker is merged and pulls the truck's track toward itself.
+ * Fills y[20] with the truck's track's y from 4 s on; returns the parts
+ * merged. (The walker's returns still carry the truck's id: the split-part
+ * rule, docs/tracking.md.) */
+static uint32_t truck_walker(double gap, bool walker, double y[20]) {
+  init_knob("merge_front_m", gap);
+  uint32_t truck = 0;
+  for (int f = 0; f < 60; f++) {
+    const double t = 0.1 * f, x = -25.0 + 6.0 * t;
+    clear();
+    if (f < 20) put(t, x, 6.25, 9.5, 2.5, 0.0, 3.0, 1500);
+    else put(t, x, 5.0, 9.5, 0.1, 0.0, 3.0, 3000);
+    if (walker && f >= 45 && f < 57) put(t, 4.0, 2.5, 0.45, 0.3, 0.0, 1.7, 50);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 20) truck = tr.list.object_track[0];
+    if (f > 20) ck_assert_uint_eq(tr.list.object_track[0], truck);
+    if (f >= 40) {
+      const rs_track_t *k = find_id(truck);
+      ck_assert_ptr_nonnull(k);
+      y[f - 40] = k->x[1];
+    }
+  }
+  ck_assert_uint_ne(truck, 0);
+  return tr.n.merged;
+}
+
+START_TEST(t_merge_front) {
+  double alone[20], on[20], off[20];
+  ck_assert_uint_eq(truck_walker(1.0, false, alone), 0);
+  ck_assert_uint_eq(truck_walker(1.0, true, on), 0);
+  double d_on = 0.0, d_off = 0.0;
+  for (int f = 0; f < 20; f++) d_on = fmax(d_on, fabs(on[f] - alone[f]));
+  ck_assert_double_eq_tol(d_on, 0.0, 1e-9); /* the truck's track as with no walker */
+  ck_assert_uint_eq(truck_walker(0.0, true, off), 12); /* off: merged in each of its 12 frames */
+  for (int f = 0; f < 20; f++) d_off = fmax(d_off, fabs(off[f] - alone[f]));
+  ck_assert_msg(d_off > 0.5, "off: the walker moved the truck's track by %.2f m at most", d_off);
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  ck_assert_double_eq(c.merge_front_m, 1.0);
+  knob_refused("merge_front_m", "-1");
+  knob_refused("merge_front_m", "21");
+}
+END_TEST
+
+/* tent_claim_m. Walker W walks east at 1.2 m/s along y = 1.5, 22 m out;
+ * at 7.5 s walker S appears standing at the kerb at (21.5, 2.3), shifting
+ * by 0.12 m each frame (never still enough, nor walking, to confirm within
+ * a second: its track stays tentative); at 8.2 s, just past S, W is hidden
+ * (behind the crowd) and its confirmed track coasts on. Returns the frames
+ * from then to 9 s in which S's object was given to W's track. */
+static int standing_taken(double claim) {
+  init_knob("tent_claim_m", claim);
+  uint32_t w = 0;
+  int taken = 0;
+  for (int f = 0; f < 90; f++) {
+    const double t = 0.1 * f;
+    clear();
+    int s_at = -1;
+    if (t < 8.2) put(t, 12.0 + 1.2 * t, 1.5, 0.45, 0.35, 0.0, 1.7, 14);
+    if (t >= 7.5) {
+      s_at = (int)objs.count;
+      put(t, 21.5 + (f % 2 ? 0.06 : -0.06), 2.3, 0.4, 0.3, 0.0, 1.7, 12);
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 60) {
+      w = tr.list.object_track[0];
+      ck_assert_uint_ne(w, 0);
+      ck_assert_int_eq(find_id(w)->state, RS_TRACK_CONFIRMED);
+    }
+    if (t >= 8.2 && s_at >= 0 && tr.list.object_track[s_at] == w) taken++;
+  }
+  return taken;
+}
+
+START_TEST(t_tent_claim) {
+  ck_assert_int_eq(standing_taken(0.5), 0);
+  ck_assert_int_gt(standing_taken(0.0), 0); /* off: W's track, predicted on past S, takes it */
+  ck_assert_int_gt(standing_taken(1.0), 0); /* W's track 0.95 m from S, S's own 0.1-0.3 m */
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  ck_assert_double_eq(c.tent_claim_m, 0.5);
+  knob_refused("tent_claim_m", "-1");
+  knob_refused("tent_claim_m", "21");
+}
+END_TEST
+
 /* A pedestrian walks 4 s toward the road, then stands hidden behind a
  * parked van; a car comes out from behind the van 1.8 m before where it
  * was last seen, seen side-on (4.5 x 1.8 m) or end-on (2 x 1.8 m). The pedestrian's track does not
@@ -2843,6 +2936,8 @@ int main(void) {
   tcase_add_test(tc, t_split_turned);
   tcase_add_test(tc, t_split_near_circle);
   tcase_add_test(tc, t_merge_parts);
+  tcase_add_test(tc, t_merge_front);
+  tcase_add_test(tc, t_tent_claim);
   tcase_add_test(tc, t_speed_follows);
   tcase_add_test(tc, t_speed_imm);
   tcase_add_test(tc, t_speed_full_length);

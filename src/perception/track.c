@@ -92,6 +92,8 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->circle_whole = 1;
   c->uncover_restart = 1;
   c->merge_parts = 1;
+  c->merge_front_m = 1.0;
+  c->tent_claim_m = 0.5;
   c->kin_accel = 2.5;
   c->walker_part = 1;
   c->blind_walker = 1;
@@ -129,7 +131,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->twin_s >= 0 && cfg->twin_s <= 60) || !(cfg->walker_reacq_s >= 0 && cfg->walker_reacq_s <= 60) ||
       !(cfg->seen_across_m >= 0 && cfg->seen_across_m <= 20) ||
       cfg->circle_whole < 0 || cfg->circle_whole > 1 || cfg->uncover_restart < 0 || cfg->uncover_restart > 1 ||
-      cfg->merge_parts < 0 || cfg->merge_parts > 1 || !(cfg->kin_accel >= 0 && cfg->kin_accel <= 10) ||
+      cfg->merge_parts < 0 || cfg->merge_parts > 1 || !(cfg->merge_front_m >= 0 && cfg->merge_front_m <= 20) || !(cfg->tent_claim_m >= 0 && cfg->tent_claim_m <= 20) || !(cfg->kin_accel >= 0 && cfg->kin_accel <= 10) ||
       cfg->walker_part < 0 || cfg->walker_part > 1 || cfg->speed_full_length < 0 || cfg->speed_full_length > 1 ||
       cfg->blind_walker < 0 || cfg->blind_walker > 1 || !(cfg->blind_walker_s >= 0 && cfg->blind_walker_s <= 60) ||
       cfg->blind_walker_fifo < 0 || cfg->blind_walker_fifo > 1 || !(cfg->split_car_m >= 0 && cfg->split_car_m <= 20) ||
@@ -169,7 +171,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1), KNOB_INT(dup_box, 0, 1),
     KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),      KNOB(twin_s, 0.0, 60.0),
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
-    KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(kin_accel, 0.0, 10.0),
+    KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(merge_front_m, 0.0, 20.0), KNOB(tent_claim_m, 0.0, 20.0), KNOB(kin_accel, 0.0, 10.0),
     KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1), KNOB(blind_walker_s, 0.0, 60.0),
     KNOB_INT(blind_walker_fifo, 0, 1), KNOB(split_car_m, 0.0, 20.0), KNOB_INT(stitch_kin, 0, 1),
     KNOB_INT(still_lane, 0, 1), KNOB_INT(brake_coast, 0, 1), KNOB_INT(still_coast, 0, 1),
@@ -1257,6 +1259,19 @@ static bool part_of_moving_vehicle(rs_tracker_t *tr, uint32_t k, const rs_object
   return part;
 }
 
+/* tent_claim_m: a tentative walker's track hit in the last frame
+ * (TENT_CLAIM_SEEN_S), TENT_CLAIM_HITS times or more, holds the walker-sized
+ * objects within TENT_CLAIM_NEAR_M of its prediction: in the confirmed round
+ * no track predicted more than tent_claim_m farther from one takes it.
+ * Confirmed tracks choose first so that a young track on a piece of a
+ * tracked object does not take it; but at site 33 a walker's track that
+ * walked on past a walker standing at the kerb (its own lost among the
+ * crowd there) took the standing one, 1.2-2.5 m behind its prediction,
+ * from the tentative track that had held it within 0.1 m for a second. */
+#define TENT_CLAIM_HITS 3
+#define TENT_CLAIM_SEEN_S 0.25 /* s: hit in the last frame */
+#define TENT_CLAIM_NEAR_M 0.3  /* m */
+#define TENT_CLAIM_REACH_M 1.0 /* m: the objects looked at, around the track's last state (a walker's step and the margin) */
 /* gated pairs of the tracks selected by `want` and the free objects */
 static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_round) {
   tr->edges = 0;
@@ -1279,6 +1294,8 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
       predict_pos(tr, t, tk, p, S);
       const double dx = z[0] - p[0], dy = z[1] - p[1], d = sqrt(dx * dx + dy * dy);
       const double unseen = tk - t->t_update; /* the gate grows while a track is not seen */
+      /* tent_claim_m: a walker's object a steady tentative track holds is not a confirmed track's from farther */
+      if (confirmed_round && d > (double)tr->tent_d[k] + cf->tent_claim_m) continue;
       if (d > (unseen > 0.5 ? fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (unseen - 0.5)) : cf->gate_m)) continue;
       if (off_lane(cf, t, dx, dy, unseen)) continue;
       const double dtu = tk - t->t_z; /* the speed the pairing implies, from the last measurement */
@@ -2073,6 +2090,32 @@ static int nearest_unseen(const rs_tracker_t *tr, uint32_t i, uint32_t q0, uint3
   return best;
 }
 
+/* merge_front_m: part b stands beside object a (its centre within a's
+ * length), on the sensor's side of it and more than `gap` out from its near
+ * face. The sensor sees a vehicle's near side and ends and its roof, never
+ * through it: nothing of the vehicle lies nearer than a face of it (a walker
+ * on the kerb between a truck passing the pole and the sensor does). On a's
+ * own axes when it is long and thin (FRONT_AXIS_*: a side, whose face the
+ * returns give, when the track's heading may be off), else on track t's (a
+ * box near square has no axis of its own: a truck's cab 60 m off, 2.3 x 1.7
+ * m, its front corner ahead). A part beyond a's ends (the rest of a bus's
+ * side, a face) is not judged. */
+#define FRONT_AXIS_LEN_M 2.0 /* m */
+#define FRONT_AXIS_RATIO 2.0 /* length over width */
+static bool in_front(double gap, const rs_track_t *t, const rs_object_t *a, const rs_object_t *b) {
+  if (!(gap > 0)) return false;
+  const bool own = a->sensor.obb_length >= FRONT_AXIS_LEN_M && a->sensor.obb_length >= FRONT_AXIS_RATIO * a->sensor.obb_width;
+  const double h = own ? a->sensor.obb_heading : t->heading, c = own ? cos(h) : t->hcos, s = own ? sin(h) : t->hsin;
+  double ea[4], eb[4];
+  box_on(a, h, c, s, ea);
+  box_on(b, h, c, s, eb);
+  const double u = 0.5 * (eb[0] + eb[1]);
+  if (u < ea[0] || u > ea[1]) return false;
+  if (ea[2] > 0) return eb[3] < ea[2] - gap; /* the sensor (u = v = 0) below a's band across */
+  if (ea[3] < 0) return eb[2] > ea[3] + gap; /* above it */
+  return false;                              /* within it: a lies ahead of or behind the sensor */
+}
+
 /* merge_parts: track i (t, of a long vehicle) took object o; the free thin
  * parts that fit with it in t's size on t's axes (fits_on, each tried against
  * the box grown so far) and lie in no other confirmed or coasting track's
@@ -2096,6 +2139,7 @@ static bool merge_parts(rs_tracker_t *tr, uint32_t i, const rs_object_list_t *ob
     const rs_object_t *b = &objs->obj[k];
     if (k == t->object || tr->taken_by[k] >= 0 || tr->shared[k] || b->points == 0) continue;
     if (b->sensor.obb_width > RS_TRACK_MERGE_PART_WID_M || !fits_on(tr, t, m, b, t->heading, t->hcos, t->hsin)) continue;
+    if (in_front(tr->cfg.merge_front_m, t, o, b)) continue;
     const double bx = b->sensor.obb_center[0], by = b->sensor.obb_center[1];
     const uint32_t nn = tracks_near(tr, bx, by, 10.0);
     bool other = false;
@@ -2211,6 +2255,23 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       t->held_object = (int32_t)k;
       tr->n.held++;
       if (L->object_track[k] == 0) L->object_track[k] = t->id;
+    }
+  }
+  /* tent_claim_m: the walker-sized objects a steady tentative walker's track holds (tent_d) */
+  for (uint32_t k = 0; k < nobj; k++) tr->tent_d[k] = INFINITY;
+  for (uint32_t i = 0; i < L->count && cf->tent_claim_m > 0; i++) {
+    const rs_track_t *t = &L->track[i];
+    if (t->state != RS_TRACK_TENTATIVE || t->hits < TENT_CLAIM_HITS || !walker_sized(t) || rs_track_held(t) ||
+        t_frame - t->t_update > TENT_CLAIM_SEEN_S)
+      continue;
+    objs_near_t it;
+    for (int32_t k = objs_near_first(tr, t->x[0], t->x[1], TENT_CLAIM_REACH_M, &it); k >= 0; k = objs_near_next(tr, &it)) {
+      const rs_object_t *o = &objs->obj[k];
+      if (o->sensor.obb_length >= WALKER_M || o->sensor.obb_width >= WALKER_M) continue;
+      double p[2], S[3];
+      predict_pos(tr, t, tr->obj_t[k], p, S);
+      const double d = norm2(o->sensor.obb_center[0] - p[0], o->sensor.obb_center[1] - p[1]);
+      if (d <= TENT_CLAIM_NEAR_M && d < tr->tent_d[k]) tr->tent_d[k] = (float)d;
     }
   }
   /* confirmed (and coasting) tracks first, then tentative ones */

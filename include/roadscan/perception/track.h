@@ -280,6 +280,16 @@ typedef struct {
                                   less) that fit with it in its size on its axes and lie in no other track's
                                   predicted box: a bus far off seen as its front face and pieces of its side at a
                                   grazing angle, whose track followed the pieces (default 1; docs/tracking.md) */
+  double tent_claim_m;         /* m: a walker-sized object within TENT_CLAIM_NEAR_M of the prediction of a tentative
+                                  walker's track hit in the last frame, 3 hits or more, is not taken by a confirmed
+                                  track predicted this much farther from it (confirmed tracks choose first: a walker's
+                                  track that walked on past a standing walker took the one a tentative track had
+                                  held for a second; 0 = off; default 0.5; docs/tracking.md) */
+  double merge_front_m;        /* m: merge_parts takes no part that stands beside its vehicle's object (its centre
+                                  within the object's length, on the object's own axes when it is long and thin, else
+                                  the track's) on the sensor's side, more than this far out from the object's near
+                                  side: a walker between a truck passing the pole and the sensor is not a piece of
+                                  the truck (0 = off; default 1; docs/tracking.md) */
   double seen_across_m;        /* m: a moving vehicle's track of known size, seen within the last 0.5 s, within 80 m
                                   of the sensor and not turning (under 0.1 rad/s), takes no object farther across
                                   its heading from its prediction than this (the next lane is 3-3.7 m over: a
@@ -460,6 +470,7 @@ typedef struct {
   uint8_t shared[RS_OBJ_MAX];          /* object box holds >= 2 confirmed predictions */
   uint8_t obj_part[RS_OBJ_MAX];        /* walker_part, this frame: 0 not asked yet, 1 no, 2 a moving vehicle's part */
   double obj_t[RS_OBJ_MAX];
+  float tent_d[RS_OBJ_MAX];           /* tent_claim_m, this frame: the nearest steady tentative walker's prediction (m) */
   double obj_cs[RS_OBJ_MAX][2];        /* cosine and sine of the object's box heading */
   const rs_object_t *obj_base;         /* the frame's objects (obj_cs's), obj_n of them */
   uint32_t obj_n;
