@@ -66,10 +66,11 @@ static void two_objects(rs_cluster_method_t m) {
 
 /* bridge_gap: a car's side at 10 m, rows 4-8, with the columns of lost packets empty (block columns
  * gap_from-gap_to, 16 here: wider than the window's reach, which the rows' offsets narrow; in each row
- * at its laser's azimuth offset from them, as the decoder puts its returns). When the slot says no firing fell there (rs_slot_t.gap) the window reaches across them,
- * counting measured columns: one cluster; with bridge_gap 0, or where those columns were measured and
- * hold nothing (a real space between two objects), two; a gap wider than bridge_gap is not reached
- * across. sen: the sensor (its offsets). Returns the clusters. */
+ * at its laser's azimuth offset from them, as the decoder puts its returns). When the slot says no
+ * firing fell there (rs_slot_t.gap) the window reaches across them, counting measured columns: one
+ * cluster; with bridge_gap 0, or where those columns were measured and hold nothing (a real space
+ * between two objects), two; a gap wider than bridge_gap is not reached across. sen: the sensor (its
+ * offsets). Returns the clusters. */
 static uint32_t bridged(const rs_sensor_t *sen, rs_cluster_method_t m, int bridge_gap, int gap_from, int gap_to,
                         bool marked) {
   clear_map(COLS);
@@ -245,7 +246,6 @@ START_TEST(t_adaptive_sparse) {
   ck_assert_int_ne(lab(0, 315), lab(9, 900));
 }
 END_TEST
-
 
 /* default adaptive settings and an empty VLP-32C map (32 rows x 1820 columns) */
 static void adaptive_vlp32c(rs_cluster_cfg_t *cfg) {

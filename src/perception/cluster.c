@@ -202,9 +202,9 @@ static void bridge_prepare(rs_cluster_t *c, const rs_slot_t *s) {
     c->near_gap[col] = measured_in(c, cols, col - hi - R, span) < (span < cols ? span : cols);
 }
 /* row y's window columns about map column col, half-width hw in measured columns: its first column *a
- * and how many, at most 2 hw + 1 + bridge_gap (else the plain window) */
+ * (within [0, cols)) and how many, at most 2 hw + 1 + bridge_gap (else the plain window) */
 static void bridge_span(const rs_cluster_t *c, int cols, int y, int col, int hw, int *a, int *n) {
-  *a = col - hw;
+  *a = ((col - hw) % cols + cols) % cols;
   *n = 2 * hw + 1;
   const int m = c->rank[cols];
   if (!c->bridge || 2 * hw + 1 >= m) return;
@@ -217,8 +217,27 @@ static void bridge_span(const rs_cluster_t *c, int cols, int y, int col, int hw,
   const int lo = c->measured[((k - hw) % m + m) % m], hi = c->measured[((k + hw - (c->measured[k % m] != b)) % m + m) % m];
   const int len = ((hi - lo) % cols + cols) % cols + 1;
   if (len > 2 * hw + 1 + c->cfg.bridge_gap || len < 2 * hw + 1) return;
-  *a = lo + sh;
+  *a = ((lo + sh) % cols + cols) % cols;
   *n = len;
+}
+
+/* columns [a, a + len) around the turn (a > -cols) as at most two segments: the whole turn when len
+ * reaches cols; one before column 0 (a < 0) is the second; returns how many */
+static int segments(int cols, int a, int len, int seg_a[2], int seg_n[2]) {
+  if (len >= cols) {
+    seg_a[0] = 0, seg_n[0] = cols;
+    return 1;
+  }
+  if (a < 0) {
+    seg_a[0] = 0, seg_n[0] = a + len, seg_a[1] = cols + a, seg_n[1] = -a;
+    return 2;
+  }
+  if (a + len > cols) {
+    seg_a[0] = a, seg_n[0] = cols - a, seg_a[1] = 0, seg_n[1] = a + len - cols;
+    return 2;
+  }
+  seg_a[0] = a, seg_n[0] = len;
+  return 1;
 }
 
 /* neighbours of cell (r, col) in a (2hh+1) x (2hw+1) window, counted until
@@ -233,9 +252,7 @@ static uint32_t count_window(const rs_cluster_t *c, const float *rr, int rows, i
     const float *row = rr + (size_t)y * (size_t)cols;
     int a = col - hw, len = 2 * hw + 1;
     if (c->bridge && c->near_gap[col]) bridge_span(c, cols, y, col, hw, &a, &len);
-    if (len != 2 * hw + 1) { /* across a gap: a (from bridge_span) is within a turn of [0, cols) */
-      if (a < 0) a += cols;
-      else if (a >= cols) a -= cols;
+    if (len != 2 * hw + 1) { /* across a gap: a (from bridge_span) within [0, cols) */
       for (int d = 0; d < len; d++) {
         const int k = a + d < cols ? a + d : a + d - cols;
         n += fabsf(row[k] - x) < eps;
@@ -353,28 +370,8 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
       const float x = c->rr[i];
       const float eb = adaptive ? e * c->cfg.adaptive.border_eps : e; /* reach of a cell that is not a core */
       /* the window's columns as at most two segments (it may wrap) */
-      int seg_a[2], seg_n[2], nseg = 0;
-      if (2 * hw + 1 >= cols) {
-        seg_a[0] = 0;
-        seg_n[0] = cols;
-        nseg = 1;
-      } else if (col - hw < 0) {
-        seg_a[0] = 0;
-        seg_n[0] = col + hw + 1;
-        seg_a[1] = cols + col - hw;
-        seg_n[1] = hw - col;
-        nseg = 2;
-      } else if (col + hw >= cols) {
-        seg_a[0] = col - hw;
-        seg_n[0] = cols - (col - hw);
-        seg_a[1] = 0;
-        seg_n[1] = col + hw - cols + 1;
-        nseg = 2;
-      } else {
-        seg_a[0] = col - hw;
-        seg_n[0] = 2 * hw + 1;
-        nseg = 1;
-      }
+      int seg_a[2], seg_n[2];
+      int nseg = segments(cols, col - hw, 2 * hw + 1, seg_a, seg_n);
       int r0 = r - hh < 0 ? 0 : r - hh, r1 = r + hh >= rows ? rows - 1 : r + hh;
       for (int y = r0; y <= r1; y++) {
         uint64_t *w = c->open + (size_t)y * (size_t)wpr;
@@ -382,15 +379,7 @@ static void fspc(rs_cluster_t *c, rs_slot_t *s, uint32_t nfg, bool adaptive, int
         if (c->bridge && c->near_gap[col]) { /* this row's window across a gap: its segments again */
           int a, len;
           bridge_span(c, cols, y, col, hw, &a, &len);
-          if (a < 0) a += cols; /* (within a turn of [0, cols), as in count_window) */
-          else if (a >= cols) a -= cols;
-          if (len >= cols) {
-            seg_a[0] = 0, seg_n[0] = cols, nseg = 1;
-          } else if (a + len > cols) {
-            seg_a[0] = a, seg_n[0] = cols - a, seg_a[1] = 0, seg_n[1] = a + len - cols, nseg = 2;
-          } else {
-            seg_a[0] = a, seg_n[0] = len, nseg = 1;
-          }
+          nseg = segments(cols, a, len, seg_a, seg_n);
         }
         for (int g = 0; g < nseg; g++) {
           /* a segment longer than 64 columns (a huge window) is read in pieces */
