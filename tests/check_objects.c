@@ -25,6 +25,7 @@ static void clear_map(void) {
   memset(slot.label, 0, sizeof slot.label);
   memset(slot.intensity, 0, sizeof slot.intensity);
   memset(slot.addr, 0, sizeof slot.addr);
+  memset(slot.gap, 0, sizeof slot.gap);
 }
 
 /* Casts the ray of every cell at a vertical box (centre cx, cy; length L
@@ -334,6 +335,47 @@ START_TEST(test_empty_frame) {
 }
 END_TEST
 
+/* The unmeasured columns the list carries (rs_object_list_t.gap): a column counts when more than half
+ * the rows did not measure it. A VLP-16's rows fire at their block's azimuth, so a lost packet's 24
+ * block columns are one run; a VLP-32C's rows lie 1.4 or 4.2 degrees (7 or 21 columns) either side, so
+ * one lost packet (12 columns) leaves no column unmeasured in more than 16 of its 32 rows, two in a
+ * row (24 columns) leave the 10 columns that both its 1.4-degree groups (22 rows) missed (where a
+ * 1.4-degree and a 4.2-degree group overlap, 16 rows: half, not more). */
+static void unmeasured_runs(rs_model_t model, int first, int last) {
+  clear_map();
+  ck_assert_int_eq(rs_sensor_init(&sensor, model), RS_OK);
+  slot.meta.rows = (uint16_t)sensor.lasers;
+  for (int c = first; c <= last; c++) slot.gap[c] = 1;
+  rs_objects_init(&objs, NULL);
+  rs_objects_extract(&objs, &slot, &sensor, &list);
+  ck_assert_uint_eq(list.gap_cols, COLS);
+}
+/* ... and the list holds the one run [first, last] */
+static void one_run(rs_model_t model, int first, int last, int run_first, int run_last) {
+  unmeasured_runs(model, first, last);
+  ck_assert_uint_eq(list.ngaps, 1);
+  ck_assert_uint_eq(list.gap[0][0], run_first);
+  ck_assert_uint_eq(list.gap[0][1], run_last);
+}
+START_TEST(test_unmeasured_columns) {
+  one_run(RS_MODEL_VLP16, 100, 123, 100, 123);
+  unmeasured_runs(RS_MODEL_VLP32C, 100, 111);
+  ck_assert_uint_eq(list.ngaps, 0);
+  one_run(RS_MODEL_VLP32C, 100, 123, 107, 116);
+  /* a whole frame: none; more runs than RS_OBJ_GAPS_MAX: the first kept, the rest counted */
+  unmeasured_runs(RS_MODEL_VLP16, 1, 0);
+  ck_assert_uint_eq(list.ngaps, 0);
+  clear_map();
+  ck_assert_int_eq(rs_sensor_init(&sensor, RS_MODEL_VLP16), RS_OK);
+  slot.meta.rows = (uint16_t)sensor.lasers;
+  for (int k = 0; k < RS_OBJ_GAPS_MAX + 5; k++) slot.gap[10 * k] = 1;
+  rs_objects_extract(&objs, &slot, &sensor, &list);
+  ck_assert_uint_eq(list.ngaps, RS_OBJ_GAPS_MAX);
+  ck_assert_uint_eq(list.gaps_dropped, 5);
+  ck_assert_uint_eq(list.gap[RS_OBJ_GAPS_MAX - 1][0], 10 * (RS_OBJ_GAPS_MAX - 1));
+}
+END_TEST
+
 int main(void) {
   Suite *s = suite_create("objects");
   TCase *tc = tcase_create("core");
@@ -345,6 +387,7 @@ int main(void) {
   tcase_add_test(tc, test_site_frame);
   tcase_add_test(tc, test_hidden_sides);
   tcase_add_test(tc, test_empty_frame);
+  tcase_add_test(tc, test_unmeasured_columns);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

@@ -2750,6 +2750,49 @@ START_TEST(t_walker_confirms_fast) {
 }
 END_TEST
 
+/* A walker at 1.4 m/s, 12 m out, is not in its second frame (f = 1): that frame did not measure
+ * the columns it stands in (a lost packet; the list's gap runs, here columns 310-326 of 1800, about
+ * 62-65 degrees). With gap_unseen that frame is no miss: the walking rule confirms it at its fourth hit
+ * (f = 4). Off, or with the frame's gap elsewhere (the other side of the sensor), it is a miss, the
+ * rules that ask for a hit in every frame are barred and it waits for confirm_move_m's 0.8 m (f >= 6). */
+static int gap_walker_confirmed(int on, bool gap_here, uint32_t *misses) {
+  init_knob("gap_unseen", on);
+  int at = -1;
+  for (int f = 0; f < 12 && at < 0; f++) {
+    const double t = 0.1 * f;
+    clear();
+    if (f == 1) {
+      objs.gap_cols = 1800;
+      objs.ngaps = 1;
+      objs.gap[0][0] = gap_here ? 310 : 1210;
+      objs.gap[0][1] = gap_here ? 326 : 1226;
+    } else {
+      put(t, 12.0 + 1.4 * t, 6.0, 0.6, 0.5, 0.0, 1.7, 40);
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    ck_assert_uint_eq(tr.list.count, 1);
+    if (tr.list.track[0].state == RS_TRACK_CONFIRMED) at = f;
+  }
+  *misses = tr.list.track[0].misses;
+  return at;
+}
+
+START_TEST(t_gap_unseen) {
+  uint32_t misses;
+  ck_assert_int_eq(defaults().gap_unseen, 1);
+  ck_assert_int_eq(gap_walker_confirmed(1, true, &misses), 4);
+  ck_assert_uint_eq(misses, 0);
+  ck_assert_uint_eq(tr.n.gap_unseen, 1);
+  ck_assert_int_ge(gap_walker_confirmed(0, true, &misses), 6);
+  ck_assert_uint_eq(misses, 1);
+  ck_assert_int_ge(gap_walker_confirmed(1, false, &misses), 6);
+  ck_assert_uint_eq(misses, 1);
+  ck_assert_uint_eq(tr.n.gap_unseen, 0);
+  knob_refused("gap_unseen", "2");
+  knob_refused("gap_unseen", "-1");
+}
+END_TEST
+
 START_TEST(t_across_column_zero) {
   init_default();
   for (int f = 0; f < 40; f++) {
@@ -2954,6 +2997,7 @@ int main(void) {
   tcase_add_test(tc, t_walkers_pass);
   tcase_add_test(tc, t_foliage_never_confirms);
   tcase_add_test(tc, t_walker_confirms_fast);
+  tcase_add_test(tc, t_gap_unseen);
   tcase_add_test(tc, t_walker_arc_confirms_fast);
   tcase_add_test(tc, t_still_vehicle_confirms_fast);
   tcase_add_test(tc, t_far_still_confirms_fast);

@@ -223,6 +223,25 @@ static uint32_t object_cells(const rs_slot_t *s, uint32_t *cells) {
   return n;
 }
 
+/* o->unmeasured: the map columns more than half the rows did not measure (rs_object_list_t.gap): row r's
+ * return in map column c is of block column c - its laser's azimuth offset. One pass over the block
+ * columns when the frame has none unmeasured; else rows x columns reads */
+static void unmeasured_columns(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen) {
+  const int rows = s->meta.rows, cols = s->meta.cols;
+  bool any = false;
+  for (int c = 0; c < cols && !any; c++) any = s->gap[c] != 0;
+  memset(o->unmeasured, 0, (size_t)cols);
+  if (!any || rows <= 0) return;
+  int shift[RS_MAX_ROWS];
+  for (int r = 0; r < rows && r < RS_MAX_ROWS; r++)
+    shift[r] = r < sen->lasers ? (int)lround(sen->azimuth_offset_deg[sen->laser_of_row[r]] * cols / 360.0) : 0;
+  for (int c = 0; c < cols; c++) {
+    int n = 0;
+    for (int r = 0; r < rows && r < RS_MAX_ROWS; r++) n += s->gap[((c - shift[r]) % cols + cols) % cols] != 0;
+    o->unmeasured[c] = 2 * n > rows;
+  }
+}
+
 void rs_objects_extract(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen, rs_object_list_t *out) {
   uint32_t n = object_cells(s, o->cells);
   rs_objects_extract_cells(o, s, sen, o->cells, n, out);
@@ -235,6 +254,23 @@ void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sens
   out->site_valid = o->have_pose;
   out->candidates_overflow = out->approx_boxes = 0;
   out->lowest_beam_deg = sen->lasers > 0 ? sen->elevation_deg[sen->laser_of_row[0]] : 0.0f; /* row 0: the lowest */
+  out->gap_cols = (uint16_t)cols;
+  out->ngaps = 0;
+  out->gaps_dropped = 0;
+  unmeasured_columns(o, s, sen);
+  const uint8_t *un = o->unmeasured;
+  for (int c = 0; c < cols; c++) { /* their runs, one pass */
+    if (!un[c] || (c > 0 && un[c - 1])) continue;
+    int e = c;
+    while (e + 1 < cols && un[e + 1]) e++;
+    if (out->ngaps < RS_OBJ_GAPS_MAX) {
+      out->gap[out->ngaps][0] = (uint16_t)c;
+      out->gap[out->ngaps][1] = (uint16_t)e;
+      out->ngaps++;
+    } else {
+      out->gaps_dropped++;
+    }
+  }
   if (o->trig_cols != cols) {
     for (int c = 0; c < cols; c++) {
       double az = (c + 0.5) * 2.0 * PI / cols;

@@ -102,6 +102,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->speed_full_length = 1;
   c->split_car_m = 5.0;
   c->stitch_kin = 1;
+  c->gap_unseen = 1;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -135,7 +136,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->walker_part < 0 || cfg->walker_part > 1 || cfg->speed_full_length < 0 || cfg->speed_full_length > 1 ||
       cfg->blind_walker < 0 || cfg->blind_walker > 1 || !(cfg->blind_walker_s >= 0 && cfg->blind_walker_s <= 60) ||
       cfg->blind_walker_fifo < 0 || cfg->blind_walker_fifo > 1 || !(cfg->split_car_m >= 0 && cfg->split_car_m <= 20) ||
-      cfg->stitch_kin < 0 || cfg->stitch_kin > 1)
+      cfg->stitch_kin < 0 || cfg->stitch_kin > 1 || cfg->gap_unseen < 0 || cfg->gap_unseen > 1)
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -173,7 +174,7 @@ static const rs_opt_t knobs[] = {
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
     KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(merge_front_m, 0.0, 20.0), KNOB(tent_claim_m, 0.0, 20.0), KNOB(kin_accel, 0.0, 10.0),
     KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1), KNOB(blind_walker_s, 0.0, 60.0),
-    KNOB_INT(blind_walker_fifo, 0, 1), KNOB(split_car_m, 0.0, 20.0), KNOB_INT(stitch_kin, 0, 1),
+    KNOB_INT(blind_walker_fifo, 0, 1), KNOB(split_car_m, 0.0, 20.0), KNOB_INT(stitch_kin, 0, 1), KNOB_INT(gap_unseen, 0, 1),
     KNOB_INT(still_lane, 0, 1), KNOB_INT(brake_coast, 0, 1), KNOB_INT(still_coast, 0, 1),
 };
 
@@ -2177,6 +2178,20 @@ static bool merge_parts(rs_tracker_t *tr, uint32_t i, const rs_object_list_t *ob
   return any;
 }
 
+/* whether the map column at (x, y) (sensor frame) was not measured this frame (gap_unseen): a lost
+ * packet's, by block azimuth (a row's returns lie at its laser's azimuth offset from it: a VLP-32C's
+ * rows within 4.2 degrees) */
+static bool in_gap(const rs_object_list_t *objs, double x, double y) {
+  if (objs->ngaps == 0 || objs->gap_cols == 0) return false;
+  double az = atan2(x, y);
+  if (az < 0) az += 2.0 * PI;
+  int c = (int)(az * objs->gap_cols / (2.0 * PI));
+  if (c >= objs->gap_cols) c = objs->gap_cols - 1;
+  for (uint32_t k = 0; k < objs->ngaps && k < RS_OBJ_GAPS_MAX; k++)
+    if (c >= objs->gap[k][0] && c <= objs->gap[k][1]) return true;
+  return false;
+}
+
 void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_frame) {
   rs_track_list_t *L = &tr->list;
   const rs_track_cfg_t *cf = &tr->cfg;
@@ -2487,6 +2502,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       predict(tr, t, t_frame);
       if (cf->brake_coast && !rs_track_held(t)) brake_step(t, t0);
       if (rs_track_held(t)) t->t_update = t_frame; /* seen, inside a shared cluster */
+      else if (cf->gap_unseen && in_gap(objs, t->x[0], t->x[1])) tr->n.gap_unseen++;
       else t->misses++;
     }
     const double since = t_frame - t->t_update;

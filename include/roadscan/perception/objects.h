@@ -39,6 +39,8 @@
 
 #define RS_OBJ_MAX RS_MAX_CLUSTERS
 #define RS_OBJ_CANDIDATES (1 << 18) /* hull candidates per frame and coordinate frame */
+#define RS_OBJ_GAPS_MAX 64          /* runs of unmeasured columns kept per frame (5 % of a VLP-16 turn's 75
+                                       packets lost: about 4) */
 #define RS_OBJ_HULL_EDGES 128
 
 typedef struct {
@@ -89,6 +91,14 @@ typedef struct {
   uint32_t candidates_overflow; /* objects whose hull lost candidates (box may be small) */
   uint32_t approx_boxes;    /* objects whose rectangle search skipped hull edges */
   float lowest_beam_deg;    /* the sensor's lowest beam's elevation (degrees; 0: not known) */
+  /* the map columns more than half the rows did not measure this frame (a lost packet's: rs_slot_t.gap is by block
+   * azimuth, and a row's returns lie at its laser's azimuth offset from it, so a VLP-32C's 2.4-degree
+   * hole is a different 2.4 degrees in each group of rows: no column is unmeasured in more than half), as
+   * runs [first, last] of the map's gap_cols columns (column c spans azimuths c to c + 1 times 360 /
+   * gap_cols degrees); at most RS_OBJ_GAPS_MAX runs, the rest left out (gaps_dropped) */
+  uint16_t gap_cols, ngaps;
+  uint32_t gaps_dropped;
+  uint16_t gap[RS_OBJ_GAPS_MAX][2];
   rs_object_t obj[RS_OBJ_MAX];
 } rs_object_list_t;
 
@@ -106,6 +116,7 @@ typedef struct {
   float dmin[2][RS_OBJ_MAX], dmax[2][RS_OBJ_MAX];
   float pmin[2][RS_OBJ_MAX][2], pmax[2][RS_OBJ_MAX][2];
   uint16_t touched[RS_LAYERS * RS_MAX_ROWS];
+  uint8_t unmeasured[RS_MAX_COLS];   /* this frame's map columns most rows did not measure */
   double sum[2][RS_OBJ_MAX][3];
   double isum[RS_OBJ_MAX];
   uint32_t first_pkt[RS_OBJ_MAX], last_pkt[RS_OBJ_MAX];
@@ -118,6 +129,7 @@ typedef struct {
 } rs_objects_t;
 
 _Static_assert(RS_OBJ_MAX <= UINT16_MAX, "object index fits in uint16_t");
+_Static_assert(RS_MAX_COLS <= UINT16_MAX, "a map column fits in uint16_t");
 
 void rs_objects_init(rs_objects_t *o, const rs_pose_t *pose /* NULL: no site frame */);
 /* The pose's rotation R = Rz(yaw) Ry(pitch) Rx(roll), row-major (site = R p + t). */

@@ -334,6 +334,10 @@ typedef struct {
                                   (1 m/s, 2 sd of the young track's velocity and 3 m of slack): a faster car
                                   passing behind the spot a slow track was predicted to is not it (default 1;
                                   docs/tracking.md) */
+  int gap_unseen;              /* 1: a track unseen in a frame whose columns at its predicted centre were not
+                                  measured (a lost packet, rs_object_list_t.gap) was not missed: the frame does
+                                  not count against its "hit in every frame" (misses), as it could not have
+                                  been seen; the time since it was last seen runs on (default 1; docs/tracking.md) */
   double split_car_m;          /* a moving vehicle's track (confirmed, 3 m/s or faster along its heading) never
                                   seen longer than this: a free object is a split part of it when both span no
                                   more than this along its axis and, across, no more than its width and the
@@ -451,6 +455,7 @@ typedef struct {
   uint64_t hold_overflow; /* held tracks beyond RS_TRACK_HOLD_MAX in one cluster (its returns go to the others) */
   uint64_t kin_stitched;  /* tracks taken up by the kinematic re-acquisition (kin_accel; also in stitched) */
   uint64_t merged;        /* split parts a long vehicle's track was updated with (merge_parts; also in absorbed) */
+  uint64_t gap_unseen;    /* frames a track went unseen predicted in unmeasured columns, not counted missed (gap_unseen) */
 } rs_track_counters_t;
 
 typedef struct {
