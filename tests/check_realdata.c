@@ -3,10 +3,12 @@
  * block azimuth field rolls over (counted here independently, straight
  * from the file), points per frame are steady, and consecutive frames of
  * the static sensors see the same scene; the model is identified from any
- * starting packet (a capture can start anywhere). */
+ * starting packet (a capture can start anywhere); a packet left out is the
+ * frame's one run of unmeasured columns, at that packet's azimuths. */
 #include "roadscan/util/error.h"
 #include "roadscan/frame/frame.h"
 #include "roadscan/capture/stream.h"
+#include "roadscan/perception/objects.h"
 #include "testutil.h"
 
 #include <math.h>
@@ -73,8 +75,22 @@ static double agreement(const rs_slot_t *a, const rs_slot_t *b) {
   return both ? (double)same / both : 0.0;
 }
 
+/* t_lost_packet: the data packet not fed (at or after drop_from), its block azimuths, and the object
+ * list of the frame that should have held it */
+static uint32_t drop_from = UINT32_MAX, dropped = UINT32_MAX;
+static uint16_t dropped_az[2];
+static bool dropped_seen;
+static rs_objects_t lost_objs;
+static rs_object_list_t lost_list;
+
 static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double ts) {
   (void)user;
+  if (index >= drop_from && dropped == UINT32_MAX) {
+    dropped = index;
+    dropped_az[0] = pkt->block_azimuth[0];
+    dropped_az[1] = pkt->block_azimuth[pkt->blocks - 1];
+    return;
+  }
   if (!as_ready) {
     rs_asm_cfg_t cfg = {.default_hz = 10.0};
     ck_assert_int_eq(rs_asm_init(&as, &cfg, &st.sensor), RS_OK);
@@ -82,6 +98,11 @@ static void on_packet(void *user, const rs_packet_t *pkt, uint32_t index, double
   }
   while (rs_asm_feed(&as, &slots[cur], pkt, index, ts) == RS_ASM_FRAME_DONE) {
     metas[nmeta++] = slots[cur].meta;
+    if (dropped != UINT32_MAX && !dropped_seen && slots[cur].meta.first_packet < dropped &&
+        slots[cur].meta.last_packet > dropped) {
+      rs_objects_extract(&lost_objs, &slots[cur], &st.sensor, &lost_list);
+      dropped_seen = true;
+    }
     if (nmeta >= 3 && !slots[cur ^ 1].meta.partial && !slots[cur].meta.partial) {
       double a = agreement(&slots[cur], &slots[cur ^ 1]);
       agree_sum += a;
@@ -98,13 +119,8 @@ static int cmp_u32(const void *x, const void *y) {
   return (a > b) - (a < b);
 }
 
-START_TEST(t_capture) {
-  const capture_t *c = &caps[_i];
-  char path[1024];
-  snprintf(path, sizeof path, "%s/%s", tu_shared_data(), c->file);
-  int data_packets = 0;
-  int rolls = rollovers_in_file(path, &data_packets);
-
+/* decodes and assembles a capture, leaving out its first data packet at or after index drop */
+static void replay(const char *path, uint32_t drop) {
   rs_capture_cfg_t cc = {.data_port = 2368};
   rs_capture_t cap;
   ck_assert_int_eq(rs_capture_open_file(&cap, path, &cc), RS_OK);
@@ -116,11 +132,24 @@ START_TEST(t_capture) {
   agree_sum = 0;
   agree_n = 0;
   agree_min = 1.0;
+  drop_from = drop;
+  dropped = UINT32_MAX;
+  dropped_seen = false;
   rs_frame_in_t f;
   while (rs_capture_next(&cap, &f, NULL) == 1) rs_stream_frame(&st, cap.linktype, &f, on_packet, NULL);
   rs_stream_finish(&st, on_packet, NULL);
   rs_capture_close(&cap);
   if (rs_asm_flush(&as, &slots[cur])) metas[nmeta++] = slots[cur].meta;
+}
+
+START_TEST(t_capture) {
+  const capture_t *c = &caps[_i];
+  char path[1024];
+  snprintf(path, sizeof path, "%s/%s", tu_shared_data(), c->file);
+  int data_packets = 0;
+  int rolls = rollovers_in_file(path, &data_packets);
+
+  replay(path, UINT32_MAX);
 
   ck_assert_int_eq(st.sensor.info->model, c->model);
   ck_assert_uint_eq(st.n.decoded, (uint64_t)data_packets);
@@ -152,6 +181,33 @@ START_TEST(t_capture) {
   }
   fprintf(stderr, "%s: %s %.2f Hz, %d frames, median %u points, range agreement min %.3f mean %.3f\n", c->file,
           st.sensor.info->name, rs_hz_from_rate(as.rate), nmeta, med, agree_min, agree_n ? agree_sum / agree_n : 0);
+}
+END_TEST
+
+/* One data packet left out in the middle of each real capture (a lost packet): the frame that should
+ * have held it lists one run of unmeasured columns (rs_object_list_t.gap, for the tracker's
+ * gap_unseen), and it spans that packet's block azimuths, read from the packet: from its first block's
+ * to one block step past its last, within a block step (a VLP-16's and an HDL-32E's rows fire at the
+ * block's azimuth). No other frame has one. */
+START_TEST(t_lost_packet) {
+  const capture_t *c = &caps[_i];
+  char path[1024];
+  snprintf(path, sizeof path, "%s/%s", tu_shared_data(), c->file);
+  int data_packets = 0;
+  rollovers_in_file(path, &data_packets);
+  rs_objects_init(&lost_objs, NULL);
+  replay(path, (uint32_t)data_packets / 2);
+  ck_assert_uint_ne(dropped, UINT32_MAX);
+  ck_assert(dropped_seen);
+  ck_assert_uint_eq(as.missing_packets, 1);
+  ck_assert_uint_eq(lost_list.ngaps, 1);
+  const double deg = 360.0 / lost_list.gap_cols;
+  const double a0 = dropped_az[0] / 100.0, a1 = dropped_az[1] / 100.0;
+  const double step = (a1 >= a0 ? a1 - a0 : a1 + 360.0 - a0) / 11.0; /* 12 blocks */
+  const double g0 = lost_list.gap[0][0] * deg, g1 = (lost_list.gap[0][1] + 1) * deg;
+  fprintf(stderr, "%s: packet %u left out (blocks %.2f-%.2f deg): unmeasured %.2f-%.2f deg\n", c->file, dropped, a0, a1, g0, g1);
+  ck_assert_double_le(fabs(g0 - a0), step + deg);
+  ck_assert_double_le(fabs(g1 - (a1 + step)), step + deg);
 }
 END_TEST
 
@@ -322,6 +378,7 @@ int main(void) {
   tcase_set_timeout(tc, 120);
   tcase_add_loop_test(tc, t_capture, 0, (int)(sizeof caps / sizeof caps[0]));
   tcase_add_test(tc, t_detect_any_start);
+  tcase_add_loop_test(tc, t_lost_packet, 0, (int)(sizeof caps / sizeof caps[0]));
   tcase_add_test(tc, t_background_vs_percentile);
   tcase_add_test(tc, t_ground);
   suite_add_tcase(s, tc);
