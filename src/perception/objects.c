@@ -224,20 +224,29 @@ static uint32_t object_cells(const rs_slot_t *s, uint32_t *cells) {
 }
 
 /* o->unmeasured: the map columns more than half the rows did not measure (rs_object_list_t.gap): row r's
- * return in map column c is of block column c - its laser's azimuth offset. One pass over the block
- * columns when the frame has none unmeasured; else rows x columns reads */
+ * return in map column c is of block column c - its laser's azimuth offset. The rows are grouped by
+ * offset (one group for a VLP-16 or an HDL-32E, four for a VLP-32C, eight for a VLS-128): one pass over
+ * the block columns when the frame has none unmeasured, else one read per column and group */
 static void unmeasured_columns(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen) {
-  const int rows = s->meta.rows, cols = s->meta.cols;
+  const int rows = s->meta.rows < RS_MAX_ROWS ? s->meta.rows : RS_MAX_ROWS, cols = s->meta.cols;
   bool any = false;
   for (int c = 0; c < cols && !any; c++) any = s->gap[c] != 0;
   memset(o->unmeasured, 0, (size_t)cols);
   if (!any || rows <= 0) return;
-  int shift[RS_MAX_ROWS];
-  for (int r = 0; r < rows && r < RS_MAX_ROWS; r++)
-    shift[r] = r < sen->lasers ? (int)lround(sen->azimuth_offset_deg[sen->laser_of_row[r]] * cols / 360.0) : 0;
+  int shift[RS_MAX_ROWS], count[RS_MAX_ROWS], ng = 0; /* the groups: their offset in columns, their rows */
+  for (int r = 0; r < rows; r++) {
+    const int sh = r < sen->lasers ? (int)lround(sen->azimuth_offset_deg[sen->laser_of_row[r]] * cols / 360.0) : 0;
+    int g = 0;
+    while (g < ng && shift[g] != sh) g++;
+    if (g == ng) {
+      shift[ng] = sh;
+      count[ng++] = 0;
+    }
+    count[g]++;
+  }
   for (int c = 0; c < cols; c++) {
     int n = 0;
-    for (int r = 0; r < rows && r < RS_MAX_ROWS; r++) n += s->gap[((c - shift[r]) % cols + cols) % cols] != 0;
+    for (int g = 0; g < ng; g++) n += s->gap[((c - shift[g]) % cols + cols) % cols] != 0 ? count[g] : 0;
     o->unmeasured[c] = 2 * n > rows;
   }
 }
