@@ -357,8 +357,18 @@ static void one_run(rs_model_t model, int first, int last, int run_first, int ru
   ck_assert_uint_eq(list.gap[0][0], run_first);
   ck_assert_uint_eq(list.gap[0][1], run_last);
 }
+/* a ground point 20 m out at azimuth deg (clockwise from +Y): in an unmeasured run? */
+static bool unmeasured_at_deg(double deg) {
+  const double a = deg * M_PI / 180.0;
+  return rs_objects_unmeasured_at(&list, 20.0 * sin(a), 20.0 * cos(a));
+}
 START_TEST(test_unmeasured_columns) {
-  one_run(RS_MODEL_VLP16, 100, 123, 100, 123);
+  one_run(RS_MODEL_VLP16, 100, 123, 100, 123); /* 20 to 24.8 degrees */
+  ck_assert(unmeasured_at_deg(20.1) && unmeasured_at_deg(24.7));
+  ck_assert(!unmeasured_at_deg(19.9) && !unmeasured_at_deg(24.9) && !unmeasured_at_deg(200.0));
+  one_run(RS_MODEL_VLP16, 1790, 1799, 1790, 1799); /* the turn's last 2 degrees, west of +Y */
+  ck_assert(unmeasured_at_deg(359.5) && unmeasured_at_deg(-0.5));
+  ck_assert(!unmeasured_at_deg(0.5) && !unmeasured_at_deg(357.9));
   unmeasured_runs(RS_MODEL_VLP32C, 100, 111);
   ck_assert_uint_eq(list.ngaps, 0);
   one_run(RS_MODEL_VLP32C, 100, 123, 107, 116);

@@ -2764,6 +2764,7 @@ static int gap_walker_confirmed(int on, bool gap_here, uint32_t *misses) {
     if (f == 1) {
       objs.gap_cols = 1800;
       objs.ngaps = 1;
+      objs.gaps_dropped = 2; /* (runs beyond the list's room: counted) */
       objs.gap[0][0] = gap_here ? 310 : 1210;
       objs.gap[0][1] = gap_here ? 326 : 1226;
     } else {
@@ -2783,6 +2784,7 @@ START_TEST(t_gap_unseen) {
   ck_assert_int_eq(gap_walker_confirmed(1, true, &misses), 4);
   ck_assert_uint_eq(misses, 0);
   ck_assert_uint_eq(tr.n.gap_unseen, 1);
+  ck_assert_uint_eq(tr.n.gap_runs_dropped, 2);
   ck_assert_int_ge(gap_walker_confirmed(0, true, &misses), 6);
   ck_assert_uint_eq(misses, 1);
   ck_assert_int_ge(gap_walker_confirmed(1, false, &misses), 6);

@@ -683,7 +683,8 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
     const rs_tracker_t *tr = p->cfg.tracker;
     fprintf(out, "  tracks: %llu born, %llu confirmed, %llu ended, %u alive; %llu frames with clusters shared by tracks, "
                  "%llu split parts absorbed (%llu measured with their track), %llu tracks joined to an older one (%llu out of the blind circle, "
-                 "%llu where a hidden vehicle may have got to), %llu frames unseen in unmeasured columns not counted missed, %llu beyond "
+                 "%llu where a hidden vehicle may have got to), %llu frames unseen in unmeasured columns not counted missed (%llu runs of them beyond "
+                 "%d in a frame left out), %llu beyond "
                  "the %d-track capacity, "
                  "%llu groups assigned greedily; %llu returns of shared clusters divided between their tracks (%llu beyond "
                  "%d per frame, %llu tracks beyond %d in one cluster, left with the others)\n",
@@ -691,6 +692,7 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
             tr->list.count, (unsigned long long)tr->n.held, (unsigned long long)tr->n.absorbed, (unsigned long long)tr->n.merged,
             (unsigned long long)(tr->n.stitched + tr->n.duplicates + tr->n.blind_linked),
             (unsigned long long)tr->n.blind_linked, (unsigned long long)tr->n.kin_stitched, (unsigned long long)tr->n.gap_unseen,
+            (unsigned long long)tr->n.gap_runs_dropped, RS_OBJ_GAPS_MAX,
             (unsigned long long)tr->n.overflow, RS_TRACK_MAX, (unsigned long long)tr->n.greedy_groups,
             (unsigned long long)pr->n.divided, (unsigned long long)pr->n.divided_overflow, RS_PROC_DIVIDED_MAX,
             (unsigned long long)tr->n.hold_overflow, RS_TRACK_HOLD_MAX);

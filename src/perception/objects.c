@@ -251,6 +251,17 @@ static void unmeasured_columns(rs_objects_t *o, const rs_slot_t *s, const rs_sen
   }
 }
 
+bool rs_objects_unmeasured_at(const rs_object_list_t *l, double x, double y) {
+  if (l->ngaps == 0 || l->gap_cols == 0) return false;
+  double az = atan2(x, y);
+  if (az < 0) az += 2.0 * PI;
+  int c = (int)(az * l->gap_cols / (2.0 * PI));
+  if (c >= l->gap_cols) c = l->gap_cols - 1; /* (az rounded up to 2 pi) */
+  for (uint32_t k = 0; k < l->ngaps && k < RS_OBJ_GAPS_MAX; k++)
+    if (c >= l->gap[k][0] && c <= l->gap[k][1]) return true;
+  return false;
+}
+
 void rs_objects_extract(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen, rs_object_list_t *out) {
   uint32_t n = object_cells(s, o->cells);
   rs_objects_extract_cells(o, s, sen, o->cells, n, out);
@@ -269,12 +280,12 @@ void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sens
   unmeasured_columns(o, s, sen);
   const uint8_t *un = o->unmeasured;
   for (int c = 0; c < cols; c++) { /* their runs, one pass */
-    if (!un[c] || (c > 0 && un[c - 1])) continue;
-    int e = c;
-    while (e + 1 < cols && un[e + 1]) e++;
+    if (!un[c]) continue;
+    const int first = c;
+    while (c + 1 < cols && un[c + 1]) c++;
     if (out->ngaps < RS_OBJ_GAPS_MAX) {
-      out->gap[out->ngaps][0] = (uint16_t)c;
-      out->gap[out->ngaps][1] = (uint16_t)e;
+      out->gap[out->ngaps][0] = (uint16_t)first;
+      out->gap[out->ngaps][1] = (uint16_t)c;
       out->ngaps++;
     } else {
       out->gaps_dropped++;

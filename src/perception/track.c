@@ -2178,24 +2178,11 @@ static bool merge_parts(rs_tracker_t *tr, uint32_t i, const rs_object_list_t *ob
   return any;
 }
 
-/* whether the map column at (x, y) (sensor frame) was not measured this frame (gap_unseen): a lost
- * packet's, by block azimuth (a row's returns lie at its laser's azimuth offset from it: a VLP-32C's
- * rows within 4.2 degrees) */
-static bool in_gap(const rs_object_list_t *objs, double x, double y) {
-  if (objs->ngaps == 0 || objs->gap_cols == 0) return false;
-  double az = atan2(x, y);
-  if (az < 0) az += 2.0 * PI;
-  int c = (int)(az * objs->gap_cols / (2.0 * PI));
-  if (c >= objs->gap_cols) c = objs->gap_cols - 1;
-  for (uint32_t k = 0; k < objs->ngaps && k < RS_OBJ_GAPS_MAX; k++)
-    if (c >= objs->gap[k][0] && c <= objs->gap[k][1]) return true;
-  return false;
-}
-
 void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_frame) {
   rs_track_list_t *L = &tr->list;
   const rs_track_cfg_t *cf = &tr->cfg;
   const uint32_t nobj = objs->count < RS_OBJ_MAX ? objs->count : RS_OBJ_MAX;
+  tr->n.gap_runs_dropped += objs->gaps_dropped;
   tr->n.frames++;
   tr->low_tan = objs->lowest_beam_deg < -1.0f ? tan(-objs->lowest_beam_deg * PI / 180.0) : 0.0;
   L->t = t_frame;
@@ -2502,7 +2489,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       predict(tr, t, t_frame);
       if (cf->brake_coast && !rs_track_held(t)) brake_step(t, t0);
       if (rs_track_held(t)) t->t_update = t_frame; /* seen, inside a shared cluster */
-      else if (cf->gap_unseen && in_gap(objs, t->x[0], t->x[1])) tr->n.gap_unseen++;
+      else if (cf->gap_unseen && rs_objects_unmeasured_at(objs, t->x[0], t->x[1])) tr->n.gap_unseen++;
       else t->misses++;
     }
     const double since = t_frame - t->t_update;

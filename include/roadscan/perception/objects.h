@@ -116,7 +116,7 @@ typedef struct {
   float dmin[2][RS_OBJ_MAX], dmax[2][RS_OBJ_MAX];
   float pmin[2][RS_OBJ_MAX][2], pmax[2][RS_OBJ_MAX][2];
   uint16_t touched[RS_LAYERS * RS_MAX_ROWS];
-  uint8_t unmeasured[RS_MAX_COLS];   /* this frame's map columns most rows did not measure */
+  uint8_t unmeasured[RS_MAX_COLS];   /* this frame's map columns more than half the rows did not measure */
   double sum[2][RS_OBJ_MAX][3];
   double isum[RS_OBJ_MAX];
   uint32_t first_pkt[RS_OBJ_MAX], last_pkt[RS_OBJ_MAX];
@@ -143,6 +143,10 @@ void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sens
                               uint32_t n, rs_object_list_t *out);
 /* The ground-plane position (sensor frame, m) of cell i's return, as the
  * last extraction placed it (its column tables are the last frame's). */
+/* Whether the map column of ground point (x, y) (sensor frame; its azimuth as rs_objects_xy's: x along
+ * its sine, y along its cosine) lies in one of the list's runs of unmeasured columns (gap). */
+bool rs_objects_unmeasured_at(const rs_object_list_t *l, double x, double y);
+
 static inline void rs_objects_xy(const rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen, uint32_t i,
                                  float xy[2]) {
   const uint32_t cols = (uint32_t)s->meta.cols, c = (i % RS_MAX_CELLS) % cols;

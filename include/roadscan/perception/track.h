@@ -456,6 +456,7 @@ typedef struct {
   uint64_t kin_stitched;  /* tracks taken up by the kinematic re-acquisition (kin_accel; also in stitched) */
   uint64_t merged;        /* split parts a long vehicle's track was updated with (merge_parts; also in absorbed) */
   uint64_t gap_unseen;    /* frames a track went unseen predicted in unmeasured columns, not counted missed (gap_unseen) */
+  uint64_t gap_runs_dropped; /* runs of unmeasured columns beyond RS_OBJ_GAPS_MAX in a frame, not known to gap_unseen */
 } rs_track_counters_t;
 
 typedef struct {
