@@ -366,6 +366,7 @@ START_TEST(test_unmeasured_columns) {
   one_run(RS_MODEL_VLP16, 100, 123, 100, 123); /* 20 to 24.8 degrees */
   ck_assert(unmeasured_at_deg(20.1) && unmeasured_at_deg(24.7));
   ck_assert(!unmeasured_at_deg(19.9) && !unmeasured_at_deg(24.9) && !unmeasured_at_deg(200.0));
+  ck_assert(!rs_objects_unmeasured_at(&list, NAN, 20.0) && !rs_objects_unmeasured_at(&list, 7.5, NAN)); /* in none */
   one_run(RS_MODEL_VLP16, 1790, 1799, 1790, 1799); /* the turn's last 2 degrees, west of +Y */
   ck_assert(unmeasured_at_deg(359.5) && unmeasured_at_deg(-0.5));
   ck_assert(!unmeasured_at_deg(0.5) && !unmeasured_at_deg(357.9));

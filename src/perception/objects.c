@@ -254,6 +254,7 @@ static void unmeasured_columns(rs_objects_t *o, const rs_slot_t *s, const rs_sen
 bool rs_objects_unmeasured_at(const rs_object_list_t *l, double x, double y) {
   if (l->ngaps == 0 || l->gap_cols == 0) return false;
   double az = atan2(x, y);
+  if (!isfinite(az)) return false; /* (a NaN cast to a column is undefined) */
   if (az < 0) az += 2.0 * PI;
   int c = (int)(az * l->gap_cols / (2.0 * PI));
   if (c >= l->gap_cols) c = l->gap_cols - 1; /* (az rounded up to 2 pi) */

@@ -141,12 +141,13 @@ void rs_objects_extract(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *
  * or a cluster label are skipped): no scan of the whole map. */
 void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen, const uint32_t *cells,
                               uint32_t n, rs_object_list_t *out);
-/* The ground-plane position (sensor frame, m) of cell i's return, as the
- * last extraction placed it (its column tables are the last frame's). */
 /* Whether the map column of ground point (x, y) (sensor frame; its azimuth as rs_objects_xy's: x along
- * its sine, y along its cosine) lies in one of the list's runs of unmeasured columns (gap). */
+ * its sine, y along its cosine) lies in one of the list's runs of unmeasured columns (gap). A point
+ * that is not finite lies in none. */
 bool rs_objects_unmeasured_at(const rs_object_list_t *l, double x, double y);
 
+/* The ground-plane position (sensor frame, m) of cell i's return, as the
+ * last extraction placed it (its column tables are the last frame's). */
 static inline void rs_objects_xy(const rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen, uint32_t i,
                                  float xy[2]) {
   const uint32_t cols = (uint32_t)s->meta.cols, c = (i % RS_MAX_CELLS) % cols;
