@@ -6,6 +6,7 @@
  * falls behind, truncation. */
 #include "testutil.h"
 
+#include <math.h>
 #include <signal.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -684,6 +685,126 @@ static long object_labels(const char *path, unsigned char *ids, size_t n) {
   return count;
 }
 
+/* the index of header column name in a CSV header line (-1: none) */
+static int csv_col(const char *header, const char *name) {
+  const size_t n = strlen(name);
+  int i = 0;
+  for (const char *c = header; c; c = strchr(c, ','), c = c ? c + 1 : NULL, i++)
+    if (strncmp(c, name, n) == 0 && (c[n] == ',' || c[n] == '\n' || c[n] == '\0')) return i;
+  return -1;
+}
+/* field i of a CSV line, as a long */
+static long csv_long(const char *line, int i) {
+  const char *c = line;
+  for (int k = 0; k < i && c; k++) c = strchr(c, ',') ? strchr(c, ',') + 1 : NULL;
+  ck_assert_ptr_nonnull(c);
+  return strtol(c, NULL, 10);
+}
+
+/* Objects: one line per cluster of each frame (--frames-out's count), its id the label its returns
+ * carry with --no-tracking minus 2, its points the number of them (the label file's returns taken
+ * frame by frame, as many as the frame's foreground), its box around its centroid; and the errors. */
+START_TEST(t_objects_out) {
+  char cmd[4096], ob[600], la[600], fr[600];
+  const char *out;
+  snprintf(ob, sizeof ob, "%s", tu_tmp("obj.csv"));
+  snprintf(la, sizeof la, "%s", tu_tmp("obj-labels.csv"));
+  snprintf(fr, sizeof fr, "%s", tu_tmp("obj-frames.csv"));
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s --no-publish --quiet --no-tracking "
+           "--objects-out %s --labels-out %s --frames-out %s", cap, model, ob, la, fr);
+  ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
+  enum { FRAMES = 4096 };
+  static long fg[FRAMES], nclusters[FRAMES], nobj[FRAMES];
+  static long pts[FRAMES][64];
+  char line[1024], head[1024];
+  FILE *f = fopen(fr, "r");
+  ck_assert_ptr_nonnull(f);
+  ck_assert_ptr_nonnull(fgets(head, sizeof head, f));
+  const int c_fg = csv_col(head, "foreground"), c_cl = csv_col(head, "clusters");
+  ck_assert_int_ge(c_fg, 0);
+  ck_assert_int_ge(c_cl, 0);
+  long nframes = 0;
+  while (fgets(line, sizeof line, f)) {
+    ck_assert_int_lt(nframes, FRAMES);
+    ck_assert_int_eq(csv_long(line, 0), nframes);
+    fg[nframes] = csv_long(line, c_fg);
+    nclusters[nframes++] = csv_long(line, c_cl);
+  }
+  fclose(f);
+  ck_assert_int_gt(nframes, 20);
+  f = fopen(ob, "r");
+  ck_assert_ptr_nonnull(f);
+  ck_assert_ptr_nonnull(fgets(line, sizeof line, f));
+  ck_assert_str_eq(line, "frame,t,object,x,y,length,width,heading,z_min,z_max,centroid_x,centroid_y,centroid_z,points,"
+                         "range_min,occluded,site_x,site_y,site_heading\n");
+  long rows = 0, last_frame = -1;
+  while (fgets(line, sizeof line, f)) {
+    long frame, id;
+    double t, x, y, len, wid, hd, z0, z1, cx, cy, cz, rmin;
+    unsigned long n, occ;
+    ck_assert_msg(sscanf(line, "%ld,%lf,%ld,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lu,%lf,%lu", &frame, &t, &id, &x, &y,
+                         &len, &wid, &hd, &z0, &z1, &cx, &cy, &cz, &n, &rmin, &occ) == 16, "%s", line);
+    ck_assert_int_ge(frame, last_frame); /* frame by frame, ids 1, 2, ... within a frame */
+    ck_assert_int_lt(frame, nframes);
+    if (frame != last_frame) ck_assert_int_eq(id, 1);
+    else ck_assert_int_eq(id, nobj[frame] + 1);
+    nobj[frame] = id;
+    last_frame = frame;
+    ck_assert_msg(t > 1e9 && len >= wid && wid >= 0 && z1 >= z0 && n > 0 && rmin > 0 && occ <= 3, "%s", line);
+    /* the centroid inside the box (grown by a centimetre for rounding) */
+    const double u = (cx - x) * cos(hd) + (cy - y) * sin(hd), v = -(cx - x) * sin(hd) + (cy - y) * cos(hd);
+    ck_assert_msg(fabs(u) <= 0.5 * len + 0.01 && fabs(v) <= 0.5 * wid + 0.01 && cz >= z0 - 0.01 && cz <= z1 + 0.01, "%s",
+                  line);
+    ck_assert_msg(strstr(line, ",,,\n") != NULL, "no pose, no site columns: %s", line);
+    if (id < 64) pts[frame][id] = (long)n;
+    rows++;
+  }
+  fclose(f);
+  ck_assert_int_gt(rows, 20);
+  for (long k = 0; k < nframes; k++) ck_assert_msg(nobj[k] == nclusters[k], "frame %ld: %ld objects, %ld clusters", k, nobj[k], nclusters[k]);
+  /* the label file, frame by frame: each object's returns */
+  f = fopen(la, "r");
+  ck_assert_ptr_nonnull(f);
+  long k = 0, left = fg[0], checked = 0;
+  static long seen[FRAMES][64];
+  while (fgets(line, sizeof line, f)) {
+    unsigned pk, bl, ch, lab;
+    if (sscanf(line, "%u,%u,%u,%u", &pk, &bl, &ch, &lab) != 4) continue;
+    while (left == 0 && k + 1 < nframes) left = fg[++k];
+    ck_assert_int_gt(left, 0);
+    left--;
+    if (lab >= 3) {
+      ck_assert_msg((long)lab - 2 <= nobj[k], "frame %ld: label %u, %ld objects", k, lab, nobj[k]);
+      if (lab - 2 < 64) seen[k][lab - 2]++;
+    }
+  }
+  fclose(f);
+  ck_assert_int_eq(left, 0);
+  for (long i = 0; i < nframes; i++)
+    for (long id = 1; id <= nobj[i] && id < 64; id++) {
+      ck_assert_msg(seen[i][id] == pts[i][id], "frame %ld object %ld: %ld returns labelled, %ld points", i, id,
+                    seen[i][id], pts[i][id]);
+      checked++;
+    }
+  ck_assert_int_gt(checked, 20);
+  /* with tracking on, the same objects */
+  char ob2[600];
+  snprintf(ob2, sizeof ob2, "%s", tu_tmp("obj2.csv"));
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s --no-publish --quiet --objects-out %s", cap, model,
+           ob2);
+  ck_assert_msg(tu_exec(cmd, &out) == 0, "%s", out);
+  ck_assert_str_eq(tu_slurp_text(ob2), tu_slurp_text(ob));
+  /* the errors */
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --cluster none --objects-out %s", cap, ob2);
+  ck_assert_int_eq(tu_exec(cmd, &out), 2);
+  ck_assert_msg(strstr(out, "--objects-out needs clustering") != NULL, "%s", out);
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --fast --background %s --no-publish --objects-out /nonexistent-dir/o.csv",
+           cap, model);
+  ck_assert_int_ne(tu_exec(cmd, &out), 0);
+  ck_assert_msg(strstr(out, "--objects-out /nonexistent-dir/o.csv: cannot write") != NULL, "%s", out);
+}
+END_TEST
+
 /* Tracks: the CSV's header and frames, byte-identical output from a replay
  * at another speed (when it dropped no frame), labels by track id, only the
  * confirmed ones with --labels-tracks confirmed, and the errors. */
@@ -891,6 +1012,7 @@ int main(void) {
   tcase_add_test(tc, t_live_capture_with_cap_net_raw_only);
   tcase_add_test(tc, t_python_example);
   tcase_add_test(tc, t_tracks_outputs);
+  tcase_add_test(tc, t_objects_out);
   suite_add_tcase(s, tc);
   return tu_run(s);
 }

@@ -235,6 +235,7 @@ static const rs_opt_t table[] = {
       "fspc-adaptive: ... and no part of fewer than N returns"),
     RS_OPT_HEAD("track", "Tracking: objects followed over time (docs/tracking.md), on with clustering"),
     F("no-tracking", no_tracking, "no tracker stage: labels are cluster numbers, no track lists"),
+    S("objects-out", "FILE", cfg.objects_out, "one CSV line per object per frame (its id: its returns' label - 2 with --no-tracking)"),
     S("tracks-out", "FILE", cfg.tracks_out, "one CSV line per track per frame"),
     {.type = RS_OPT_CHOICE, .name = "labels-tracks", .arg = "WHICH", .off = offsetof(T, labels_confirmed),
      .choices = "all|confirmed",
@@ -528,6 +529,7 @@ int main(int argc, char **argv) {
       cfg->tracker = &tracker;
     }
   }
+  if (cfg->objects_out && cfg->cluster == NULL) return bad("--objects-out needs clustering");
   if (cfg->tracks_out && cfg->tracker == NULL) return bad("--tracks-out needs tracking (clustering, no --no-tracking)");
   if ((st.lines.n > 0 || st.zones.n > 0 || cfg->counts_out || cfg->crossings_out) && cfg->tracker == NULL)
     return bad("counting needs tracking (clustering, no --no-tracking)");

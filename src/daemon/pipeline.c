@@ -25,6 +25,11 @@ const char *rs_pipeline_tracks_header(void) {
          "cov_xx,cov_xy,cov_yy,site_x,site_y,site_z,site_vx,site_vy,site_heading";
 }
 
+const char *rs_pipeline_objects_header(void) {
+  return "frame,t,object,x,y,length,width,heading,z_min,z_max,centroid_x,centroid_y,centroid_z,points,range_min,"
+         "occluded,site_x,site_y,site_heading";
+}
+
 const char *rs_pipeline_csv_header(void) {
   return "frame,t_first,t_last,packets,points,columns,missing_packets,dropped_frames,"
          "out_of_order,duplicates,late_points,shifted,collisions,partial,rows,cols,rate_hz,return_mode,"
@@ -98,7 +103,8 @@ int rs_pipeline_init(rs_pipeline_t *p, const rs_pipeline_cfg_t *cfg, rs_slot_t *
            p->cap.buffer_bytes / 1024);
   }
   /* last, so that no failure above leaves them allocated */
-  if ((cfg->tracks_out && !open_csv(p, &p->tracks_out, cfg->tracks_out, "--tracks-out", rs_pipeline_tracks_header())) ||
+  if ((cfg->objects_out && !open_csv(p, &p->objects_out, cfg->objects_out, "--objects-out", rs_pipeline_objects_header())) ||
+      (cfg->tracks_out && !open_csv(p, &p->tracks_out, cfg->tracks_out, "--tracks-out", rs_pipeline_tracks_header())) ||
       (cfg->counts_out && !open_csv(p, &p->counts_out, cfg->counts_out, "--counts-out", rs_pipeline_counts_header())) ||
       (cfg->crossings_out &&
        !open_csv(p, &p->crossings_out, cfg->crossings_out, "--crossings-out", rs_pipeline_crossings_header()))) {
@@ -365,6 +371,27 @@ static void write_tracks(FILE *f, const rs_slot_t *s, const rs_track_list_t *tl)
   }
 }
 
+/* sink: the objects CSV, one line per object of the frame (its id is its cluster's label - 2, as in
+ * --labels-out with --no-tracking; t the middle of its returns' capture times; sensor frame, and the
+ * site frame's centre and heading with a pose) */
+static void write_objects(FILE *f, const rs_slot_t *s, const rs_object_list_t *ol) {
+  const uint32_t n = ol->count < RS_OBJ_MAX ? ol->count : RS_OBJ_MAX;
+  for (uint32_t k = 0; k < n; k++) {
+    const rs_object_t *o = &ol->obj[k];
+    const rs_obj_geom_t *g = &o->sensor;
+    const double t = o->points > 0 && o->t_last >= o->t_first ? 0.5 * (o->t_first + o->t_last) : s->meta.t_last;
+    fprintf(f, "%" PRIu64 ",%.6f,%u,%.3f,%.3f,%.2f,%.2f,%.4f,%.3f,%.3f,%.3f,%.3f,%.3f,%u,%.3f,%u", s->meta.seq, t, o->id,
+            (double)g->obb_center[0], (double)g->obb_center[1], (double)g->obb_length, (double)g->obb_width,
+            (double)g->obb_heading, (double)g->box_min[2], (double)g->box_max[2], (double)g->centroid[0],
+            (double)g->centroid[1], (double)g->centroid[2], o->points, (double)o->range_min, (unsigned)o->occluded);
+    if (ol->site_valid)
+      fprintf(f, ",%.3f,%.3f,%.4f\n", (double)o->site.obb_center[0], (double)o->site.obb_center[1],
+              (double)o->site.obb_heading);
+    else
+      fputs(",,,\n", f);
+  }
+}
+
 /* the label each cluster's returns get in --labels-out: 2 + its track's id */
 static void track_labels(rs_pipeline_t *p, const rs_proc_report_t *r) {
   const rs_track_list_t *tl = r->tracks;
@@ -475,6 +502,7 @@ static void process_frame(rs_pipeline_t *p, rs_slot_t *s) {
     if (s->meta.last_packet_ns > 0) rs_timing_add(&p->t_latency, published_ns - s->meta.last_packet_ns);
     if (r.tracks) rs_publish_tracks(p->cfg.publish, &s->meta, r.tracks, rs_publish_utime());
   }
+  if (p->objects_out && r.objects) write_objects(p->objects_out, s, r.objects);
   if (p->tracks_out && r.tracks) write_tracks(p->tracks_out, s, r.tracks);
   count_sinks(p, &r);
   if (p->labels_open) {
@@ -538,6 +566,10 @@ static void *proc_main(void *arg) {
     p->input_status = RS_E_IO;
     snprintf(p->input_err, sizeof p->input_err, "--crossings-out %s: write failed", p->cfg.crossings_out);
   }
+  if (p->objects_out && (fflush(p->objects_out) != 0 || ferror(p->objects_out))) {
+    p->input_status = RS_E_IO;
+    snprintf(p->input_err, sizeof p->input_err, "--objects-out %s: write failed", p->cfg.objects_out);
+  }
   if (p->tracks_out && (fflush(p->tracks_out) != 0 || ferror(p->tracks_out))) {
     p->input_status = RS_E_IO;
     snprintf(p->input_err, sizeof p->input_err, "--tracks-out %s: write failed", p->cfg.tracks_out);
@@ -581,6 +613,8 @@ void rs_pipeline_join(rs_pipeline_t *p) {
 
 void rs_pipeline_deinit(rs_pipeline_t *p) {
   rs_proc_deinit(&p->proc);
+  if (p->objects_out) fclose(p->objects_out);
+  p->objects_out = NULL;
   if (p->tracks_out) fclose(p->tracks_out);
   p->tracks_out = NULL;
   if (p->counts_out) fclose(p->counts_out);

@@ -59,6 +59,7 @@ typedef struct {
   rs_objects_t *objects;       /* optional with cluster: object work area (rs_objects_init done) */
   rs_object_list_t *object_list; /* required with objects: the frame's objects */
   rs_tracker_t *tracker;       /* optional with objects: rs_track_init done */
+  const char *objects_out;     /* optional CSV (with objects), one line per object per frame */
   const char *tracks_out;      /* optional CSV, one line per track per frame */
   rs_counter_t *counter;       /* optional with tracker: counting lines (rs_count_init done) */
   const char *counts_out;      /* optional CSV, the counts of every closed interval */
@@ -112,6 +113,7 @@ typedef struct {
   rs_label_entry_t *label_buf; /* its sort area (allocated at init) */
   bool labels_open;
   uint32_t label_map[RS_OBJ_MAX]; /* cluster k -> the label written (tracks) */
+  FILE *objects_out;           /* the --objects-out sink */
   FILE *tracks_out;            /* the --tracks-out sink */
   FILE *counts_out;            /* the --counts-out sink */
   FILE *crossings_out;         /* the --crossings-out sink */
@@ -137,5 +139,7 @@ const char *rs_pipeline_counts_header(void);
 const char *rs_pipeline_crossings_header(void);
 /* The tracks CSV header (one line, no newline). */
 const char *rs_pipeline_tracks_header(void);
+/* the --objects-out CSV's header line (no newline) */
+const char *rs_pipeline_objects_header(void);
 
 #endif
