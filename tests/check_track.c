@@ -631,6 +631,61 @@ START_TEST(t_blind_walker_fifo) {
 }
 END_TEST
 
+/* blind_walker_line. Under the sensor of walkers_under_sensor (3 m up, the circle 4.85 m): walker E
+ * walks east along y = 2 at 1.2 m/s; walker N walks north-east at 1.2 m/s along a crossing, goes into
+ * the circle 1 s before E, 5 m south-west of the pole, and stops inside (it never comes out). When E
+ * comes out on the far side both tracks' times fit it, and so does the way: from where N went in to
+ * where E came out it runs 23 degrees off N's heading and 22 off E's (the link allows 40). By the
+ * order alone N's track, gone in first,
+ * takes E (as VLP-16 rush at site 33, a walker come out along the sidewalk given the id of one gone
+ * in along the crossing); with the line rule N's line passes 3.9 m from where E came out and E's own
+ * 0.0 m: E's track takes E. With N not there, a walker who turned inside (E coming out 20 degrees
+ * off its line) is still linked: the rule only ranks. Returns whether E keeps one id from start to
+ * end; *linked: the links made. */
+static bool crossing_walker_kept(double line_m, bool with_n, double e_turn, uint32_t *linked) {
+  init_knob("blind_walker_line", line_m);
+  const double rb = 1.3 / tan(15.0 * M_PI / 180.0), c45 = cos(0.25 * M_PI);
+  uint32_t first = 0, last = 0;
+  bool n_in = false;
+  for (int f = 0; f < 300; f++) {
+    const double t = 0.1 * f, xe = -15.0 + 1.2 * t, sn = 1.2 * t;
+    clear();
+    objs.lowest_beam_deg = -15.0f;
+    double ex = xe, ey = 2.0; /* E: along y = 2, or, past the pole with e_turn, bent e_turn radians off */
+    if (e_turn != 0 && xe > 0) ex = xe * cos(e_turn), ey = 2.0 + xe * sin(e_turn);
+    if (hypot(ex, ey) > rb + 0.1) put_walker(t, ex, ey, xe > 0 ? e_turn : 0.0, 3.0);
+    const int e = objs.count == 1 ? 0 : -1;
+    const double nx = -11.23 + c45 * sn, ny = -8.23 + c45 * sn; /* N: in at 7.7 s, then inside */
+    n_in = n_in || hypot(nx, ny) <= rb + 0.1;
+    if (with_n && !n_in) put_walker(t, nx, ny, 0.25 * M_PI, 3.0);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    for (uint32_t i = 0; i < tr.list.count && e == 0; i++) {
+      const rs_track_t *k = &tr.list.track[i];
+      if (k->state != RS_TRACK_CONFIRMED || k->object != 0) continue;
+      if (first == 0) first = k->id;
+      last = k->id;
+    }
+  }
+  ck_assert_uint_ne(first, 0);
+  *linked = tr.n.blind_linked;
+  return first == last;
+}
+
+START_TEST(t_blind_walker_line) {
+  uint32_t linked;
+  ck_assert(crossing_walker_kept(1.5, true, 0.0, &linked)); /* the default */
+  ck_assert_uint_eq(linked, 1);
+  ck_assert(!crossing_walker_kept(0.0, true, 0.0, &linked)); /* the order alone: N's track took E */
+  ck_assert_uint_eq(linked, 1);
+  ck_assert(crossing_walker_kept(1.5, false, 0.35, &linked)); /* E alone, out 20 degrees off its line */
+  ck_assert_uint_eq(linked, 1);
+  rs_track_cfg_t c = defaults();
+  ck_assert_double_eq(c.blind_walker_line, 1.5);
+  knob_refused("blind_walker_line", "21");
+  knob_refused("blind_walker_line", "-1");
+}
+END_TEST
+
 /* Not any car that comes out: the waiting car of t_blind_circle pulls
  * into the circle and turns off unseen; 2 s later a car on the crossing
  * road comes out of the circle north of the pole, driving north, across
@@ -2966,6 +3021,7 @@ int main(void) {
   tcase_add_test(tc, t_below_beam_top);
   tcase_add_test(tc, t_blind_circle);
   tcase_add_test(tc, t_blind_walker);
+  tcase_add_test(tc, t_blind_walker_line);
   tcase_add_test(tc, t_blind_walker_fifo);
   tcase_add_test(tc, t_blind_circle_crossing);
   tcase_add_test(tc, t_blind_circle_turn);

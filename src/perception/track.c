@@ -99,6 +99,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->blind_walker = 1;
   c->blind_walker_s = 12.0;
   c->blind_walker_fifo = 1;
+  c->blind_walker_line = 1.5;
   c->speed_full_length = 1;
   c->split_car_m = 5.0;
   c->stitch_kin = 1;
@@ -135,7 +136,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->merge_parts < 0 || cfg->merge_parts > 1 || !(cfg->merge_front_m >= 0 && cfg->merge_front_m <= 20) || !(cfg->tent_claim_m >= 0 && cfg->tent_claim_m <= 20) || !(cfg->kin_accel >= 0 && cfg->kin_accel <= 10) ||
       cfg->walker_part < 0 || cfg->walker_part > 1 || cfg->speed_full_length < 0 || cfg->speed_full_length > 1 ||
       cfg->blind_walker < 0 || cfg->blind_walker > 1 || !(cfg->blind_walker_s >= 0 && cfg->blind_walker_s <= 60) ||
-      cfg->blind_walker_fifo < 0 || cfg->blind_walker_fifo > 1 || !(cfg->split_car_m >= 0 && cfg->split_car_m <= 20) ||
+      cfg->blind_walker_fifo < 0 || cfg->blind_walker_fifo > 1 || !(cfg->blind_walker_line >= 0 && cfg->blind_walker_line <= 20) || !(cfg->split_car_m >= 0 && cfg->split_car_m <= 20) ||
       cfg->stitch_kin < 0 || cfg->stitch_kin > 1 || cfg->gap_unseen < 0 || cfg->gap_unseen > 1)
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
@@ -174,7 +175,7 @@ static const rs_opt_t knobs[] = {
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
     KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(merge_front_m, 0.0, 20.0), KNOB(tent_claim_m, 0.0, 20.0), KNOB(kin_accel, 0.0, 10.0),
     KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1), KNOB(blind_walker_s, 0.0, 60.0),
-    KNOB_INT(blind_walker_fifo, 0, 1), KNOB(split_car_m, 0.0, 20.0), KNOB_INT(stitch_kin, 0, 1), KNOB_INT(gap_unseen, 0, 1),
+    KNOB_INT(blind_walker_fifo, 0, 1), KNOB(blind_walker_line, 0.0, 20.0), KNOB(split_car_m, 0.0, 20.0), KNOB_INT(stitch_kin, 0, 1), KNOB_INT(gap_unseen, 0, 1),
     KNOB_INT(still_lane, 0, 1), KNOB_INT(brake_coast, 0, 1), KNOB_INT(still_coast, 0, 1),
 };
 
@@ -413,10 +414,17 @@ static double blind_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_t
  * the longest wait (blind_walker_s) o went in (of walkers in a line whose
  * times fit, the first in is the first out: their paces at the edge, slowed
  * by the walker ahead, tell less than their order); without it, how far the
- * time is from that; or -1. */
+ * time is from that; or -1. With blind_walker_line, a walker whose line (its
+ * heading through where it was last seen) passes farther than that from
+ * where y was born comes after every walker whose line passes nearer: one
+ * who walked in along another way (a crossing) and stopped inside, or
+ * turned, is not the first choice for one coming out along this one. */
 #define WBLIND_MIN_V 0.5      /* m/s */
 #define WBLIND_TIME_SHARE 0.3 /* of the time expected */
 #define WBLIND_TIME_S 1.0     /* s */
+/* blind_walk_link's rank added for a walker off the way's line (blind_walker_line): over every rank on
+ * it, which is at most blind_walker_s (60 s at most) or the time's fit (under blind_walker_s) */
+#define WBLIND_OFF_LINE 1000.0
 /* the part of blind_walk_link that asks of o alone: might walker o, gone in, come out at (px, py) at time
  * t? how far the time is from its way's length at its pace, or -1 */
 static double out_fit(const rs_tracker_t *tr, const rs_track_t *o, double px, double py, double t) {
@@ -438,7 +446,12 @@ static double blind_walk_link(const rs_tracker_t *tr, const rs_track_t *o, const
   if (!(vy >= WBLIND_MIN_V) || y->x[2] * dx + y->x[3] * dy < BLIND_COS * vy * d) return -1.0;
   const double off = out_fit(tr, o, y->px0, y->py0, y->t_birth);
   if (off < 0) return -1.0;
-  return tr->cfg.blind_walker_fifo ? tr->cfg.blind_walker_s - (y->t_birth - o->t_update) : off;
+  const double rank = tr->cfg.blind_walker_fifo ? tr->cfg.blind_walker_s - (y->t_birth - o->t_update) : off;
+  /* blind_walker_line: y born off o's line (its heading through where it was last seen) by more than that:
+   * after every walker on whose line it came out (the ranks above stay below WBLIND_OFF_LINE) */
+  const double h = o->heading;
+  return tr->cfg.blind_walker_line > 0 && fabs(dx * sin(h) - dy * cos(h)) > tr->cfg.blind_walker_line ? rank + WBLIND_OFF_LINE
+                                                                                                         : rank;
 }
 
 /* blind_walker: walker's track t was last seen at the blind circle's edge walking into it (towards the

@@ -319,6 +319,12 @@ typedef struct {
                                   out as (their paces at the circle's edge, slowed by the one ahead, are a poor
                                   clock); 0: the best time fit, and the gate as for one walker (default 1;
                                   docs/tracking.md, The blind circle) */
+  double blind_walker_line;    /* m: with blind_walker, a gone-in walker's track whose line (its heading through where
+                                  it was last seen) passes farther than this from where the young track was born
+                                  is linked only when no walker's track whose line passes nearer fits (a walker
+                                  who went in along a crossing and stopped inside is not the first choice for one
+                                  coming out along the sidewalk; default 1.5; 0 = the order alone;
+                                  docs/tracking.md) */
   int speed_full_length;       /* 1: the speed estimator measures a vehicle seen in part by its full length (its largest
                                   smoothed length, falling 0.05 m an update): the box's centre moved by half of what
                                   the box misses of it, not of the smoothed length, which shrinks while the view
