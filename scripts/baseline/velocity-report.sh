@@ -35,7 +35,7 @@ bin=$PWD/out/baseline/rsbaseline
 one() { # DIR CAPTURE
   local d=$1 c=$2 o=out/baseline/$2
   [ -f "$d/$c.pcap" ] || { echo "$c: no capture ($d/$c.pcap; scripts/tracking.sh makes it)"; return 0; }
-  if [ ! -f "$o-objects.csv" ]; then
+  if [ ! -f "$o-objects.csv" ] || [ ! -f "$o-clusters.csv" ] || [ ! -f "$o-frames.csv" ]; then
     build/bin/roadscand --pcap "$d/$c.pcap" --fast --background "$d/$c.bg" --no-publish --quiet --no-tracking --allow-root \
       --labels-out "$o-clusters.csv" --objects-out "$o-objects.csv" --frames-out "$o-frames.csv"
   fi
