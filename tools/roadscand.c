@@ -235,7 +235,6 @@ static const rs_opt_t table[] = {
       "fspc-adaptive: ... and no part of fewer than N returns"),
     RS_OPT_HEAD("track", "Tracking: objects followed over time (docs/tracking.md), on with clustering"),
     F("no-tracking", no_tracking, "no tracker stage: labels are cluster numbers, no track lists"),
-    S("objects-out", "FILE", cfg.objects_out, "one CSV line per object per frame (its id: its returns' label - 2 with --no-tracking)"),
     S("tracks-out", "FILE", cfg.tracks_out, "one CSV line per track per frame"),
     {.type = RS_OPT_CHOICE, .name = "labels-tracks", .arg = "WHICH", .off = offsetof(T, labels_confirmed),
      .choices = "all|confirmed",
@@ -319,6 +318,8 @@ static const rs_opt_t table[] = {
     F("syslog", use_syslog, "log to syslog (daemon facility) instead of stderr"),
     S("frames-out", "FILE", frames_path, "one CSV line per frame"),
     S("labels-out", "FILE", cfg.labels_out, "the pipeline's label of every return (specs/point-labels.md)"),
+    S("objects-out", "FILE", cfg.objects_out,
+      "one CSV line per object per frame (docs/objects-and-lcm.md; with --no-tracking its id is its returns' label - 2)"),
     F("quiet", quiet, "no summary at the end"),
     F("allow-root", allow_root,
       "run as root (refused otherwise: live capture needs only CAP_NET_RAW, a replay no privilege; the "

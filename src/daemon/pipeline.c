@@ -379,7 +379,7 @@ static void write_objects(FILE *f, const rs_slot_t *s, const rs_object_list_t *o
   for (uint32_t k = 0; k < n; k++) {
     const rs_object_t *o = &ol->obj[k];
     const rs_obj_geom_t *g = &o->sensor;
-    const double t = o->points > 0 && o->t_last >= o->t_first ? 0.5 * (o->t_first + o->t_last) : s->meta.t_last;
+    const double t = rs_object_time(o, s->meta.t_last);
     fprintf(f, "%" PRIu64 ",%.6f,%u,%.3f,%.3f,%.2f,%.2f,%.4f,%.3f,%.3f,%.3f,%.3f,%.3f,%u,%.3f,%u", s->meta.seq, t, o->id,
             (double)g->obb_center[0], (double)g->obb_center[1], (double)g->obb_length, (double)g->obb_width,
             (double)g->obb_heading, (double)g->box_min[2], (double)g->box_max[2], (double)g->centroid[0],

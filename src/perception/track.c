@@ -314,7 +314,6 @@ static int hidden_end(const rs_track_t *t, const rs_object_t *o, const double e[
   return hidden_end_on(t->hcos, t->hsin, o, e, 0.02); /* ends within about a degree of one line of sight: 0 */
 }
 
-static double obj_time(const rs_object_t *o, double t_frame);
 /* how near the sensor the lowest beam reaches a top at sensor z = top (m; 0: everywhere, or not known) */
 static double reach_at(const rs_tracker_t *tr, double top) {
   return tr->low_tan > 0 && top < -0.05 ? -top / tr->low_tan : 0.0;
@@ -509,7 +508,7 @@ static bool below_beam_view(const rs_tracker_t *tr, const rs_track_t *t, const r
                             double *z, double *sd, double *misfit) {
   const double rb = beam_reach(tr, t);
   if (!(rb > 0) || !t->seen_whole) return false; /* a size learned inside rb is the seen part's */
-  const double dt = fmax(0.0, obj_time(o, t->t_state) - t->t_state);
+  const double dt = fmax(0.0, rs_object_time(o, t->t_state) - t->t_state);
   const double pcx = t->x[0] + t->x[2] * dt, pcy = t->x[1] + t->x[3] * dt;
   const double len = t->length, wid = t->width, c = t->hcos, s = t->hsin;
   if (near_edge(pcx, pcy, len, wid) > rb) return false; /* all of it beyond rb */
@@ -918,10 +917,6 @@ static void set_heading(rs_track_t *t, float h) {
   t->hsd = sin((double)h);
   t->hcos = (float)t->hcd;
   t->hsin = (float)t->hsd;
-}
-
-static double obj_time(const rs_object_t *o, double t_frame) {
-  return o->points > 0 && o->t_last >= o->t_first ? 0.5 * (o->t_first + o->t_last) : t_frame;
 }
 
 /* is (px, py) inside object o's oriented box (heading cosine c, sine s) grown by m? */
@@ -2211,7 +2206,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     tr->shared[k] = 0;
     tr->obj_part[k] = 0;
     L->object_track[k] = 0;
-    tr->obj_t[k] = obj_time(o, t_frame);
+    tr->obj_t[k] = rs_object_time(o, t_frame);
     if (tr->obj_t[k] < t_frame - 1.0 || tr->obj_t[k] > t_frame + 1.0) tr->obj_t[k] = t_frame;
     tr->obj_cs[k][0] = cos(o->sensor.obb_heading);
     tr->obj_cs[k][1] = sin(o->sensor.obb_heading);

@@ -146,6 +146,12 @@ void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sens
  * that is not finite lies in none. */
 bool rs_objects_unmeasured_at(const rs_object_list_t *l, double x, double y);
 
+/* Object o's time: the middle of its returns' capture times (s), or fallback when it has none (the
+ * tracker's measurement time, the --objects-out t). */
+static inline double rs_object_time(const rs_object_t *o, double fallback) {
+  return o->points > 0 && o->t_last >= o->t_first ? 0.5 * (o->t_first + o->t_last) : fallback;
+}
+
 /* The ground-plane position (sensor frame, m) of cell i's return, as the
  * last extraction placed it (its column tables are the last frame's). */
 static inline void rs_objects_xy(const rs_objects_t *o, const rs_slot_t *s, const rs_sensor_t *sen, uint32_t i,
