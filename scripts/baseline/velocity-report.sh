@@ -11,7 +11,8 @@
 # (scripts/baseline/rsbaseline.go), its labels rewritten to the tracks (relabel.py) and scored by
 # roadscan-eval --tracking. --max-tracks: its capacity (its default, 100, counts deleted tracks for
 # 5 s); --confirmed: only returns of tracks confirmed at the time are objects (as roadscand
-# --labels-tracks confirmed). Prints one line per capture and the means; JSON in
+# --labels-tracks confirmed). Then the real captures of ../shared/data, when there: each tracker's
+# track rows, confirmed rows and tracks (no truth). Prints the means; JSON in
 # out/baseline/<capture><sfx>.json, beside roadscan's out/tracking/<capture><ours-sfx>.json when there
 # (scripts/tracking.sh's, made with that sfx).
 set -euo pipefail
@@ -49,6 +50,26 @@ caps=()
 for s in "" -site5 -site9; do for se in VLP-32C VLP-16; do for p in light rush; do caps+=("out/results $se-$p$s"); done; done; done
 for s in 13 17 21 25 29 33; do for se in VLP-32C VLP-16; do for p in light rush; do caps+=("out/site$s $se-$p-site$s"); done; done; done
 for c in "${caps[@]}"; do one $c; done
+# the real captures of ../shared/data (no truth: what each tracker makes of them; the models learned
+# on their first second, as docs/tracking.md's real-capture figures)
+if [ -d ../shared/data ]; then
+  for c in vlp-16-test-90deg-1-50-frames sample_velodyne_vlp16_gps monterey-first-100-packets; do
+    p=../shared/data/$c.pcap o=out/baseline/real-$c
+    [ -f "$p" ] || { echo "$c: not in ../shared/data"; continue; }
+    [ -f "$o.bg" ] || build/bin/roadscan-learn "$p" --seconds 1 -o "$o.bg" > /dev/null 2>&1
+    build/bin/roadscand --pcap "$p" --fast --background "$o.bg" --no-publish --quiet --allow-root --tracks-out "$o-ours.csv" \
+      --objects-out "$o-objects.csv" --frames-out "$o-frames.csv"
+    (cd "$VR_SRC" && "$bin" -objects "$OLDPWD/$o-objects.csv" -frames "$OLDPWD/$o-frames.csv" -assoc "$OLDPWD/$o$sfx-assoc.csv" \
+       -tracks "$OLDPWD/$o$sfx-tracks.csv" -max-tracks "$max")
+    for w in "velocity.report:$o$sfx-tracks.csv" "roadscan:$o-ours.csv"; do
+      f=${w#*:}
+      echo "$c, ${w%%:*}: $(($(wc -l < "$f") - 1)) track rows, $(grep -c ',confirmed,' "$f" || true) confirmed," \
+        "$(tail -n +2 "$f" | cut -d, -f3 | sort -u | wc -l) tracks"
+    done
+  done
+else
+  echo "../shared/data: absent, real captures skipped"
+fi
 python3 - "$sfx" "$ours" <<'PY'
 import json, os, sys
 sfx, ours_sfx = sys.argv[1], sys.argv[2]
