@@ -2198,6 +2198,44 @@ START_TEST(t_walker_part) {
 }
 END_TEST
 
+/* miss_cost: the run's first two frames of VLP-32C rush at the held-out site 21 (`--objects-out`,
+ * rounded): a van waiting 11 m off, and beside it two slivers of returns, each a track of its own at
+ * the first frame. At the second, every track tentative, the van's track is the only one whose gate
+ * holds a sliver (1.9 m from its centre). Pairing as many tracks as the group allows gave the van's
+ * object to the first sliver's track (2.8 m away: its box and its speed from that jump) and the van's
+ * track a sliver; with a track left without an object dearer than 24, the van keeps its id. */
+static uint32_t van_and_slivers(double miss_cost, uint32_t *van_first, uint64_t *left) {
+  init_knob("miss_cost", miss_cost);
+  clear();
+  put(0.0, -5.249, 9.718, 5.60, 1.98, 0.0, 2.2, 1155);
+  put(0.0, -7.845, 10.603, 0.46, 0.03, 0.0, 0.6, 11);
+  put(0.0, -5.747, 10.376, 1.56, 0.04, 0.0, 0.6, 39);
+  rs_track_frame(&tr, &objs, 0.0);
+  *van_first = tr.list.object_track[0];
+  clear();
+  put(0.1, -5.219, 9.714, 5.64, 1.99, 0.0, 2.2, 1160);
+  put(0.1, -3.438, 10.222, 0.41, 0.04, 0.0, 0.6, 12);
+  put(0.1, -5.444, 10.550, 0.86, 0.03, 0.0, 0.6, 22);
+  rs_track_frame(&tr, &objs, 0.1);
+  *left = tr.n.miss_left;
+  return tr.list.object_track[0];
+}
+START_TEST(t_miss_cost) {
+  uint32_t first = 0;
+  uint64_t left_with = 0, left_without = 0;
+  const uint32_t with = van_and_slivers(24.0, &first, &left_with);
+  ck_assert_uint_ne(first, 0);
+  ck_assert_uint_eq(with, first); /* the van keeps its track */
+  const uint32_t without = van_and_slivers(0.0, &first, &left_without);
+  ck_assert_uint_ne(without, first); /* off: a sliver's track takes the van */
+  ck_assert_uint_gt(left_with, left_without); /* the sliver's track went without, and was counted */
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  ck_assert(c.miss_cost == 24.0);
+  knob_refused("miss_cost", "-1");
+}
+END_TEST
+
 /* Two walkers pass each other in opposite directions, 0.4-0.9 m apart
  * across; their clusters merge while they are within 1-3 m of each other
  * along (up to 2.3 s), one cluster of both, then come apart: each keeps
@@ -2937,6 +2975,8 @@ START_TEST(t_crowd_and_config) {
   INIT_REFUSED(speed_imm, 2);
   INIT_REFUSED(q_jerk, 0);
   INIT_REFUSED(confirm_walker_points, -1);
+  INIT_REFUSED(miss_cost, NAN);
+  INIT_REFUSED(miss_cost, 1001);
 #undef INIT_REFUSED
   /* set by name: in range taken, out of range refused with the parameter's name */
   rs_track_cfg_t c;
@@ -3052,6 +3092,7 @@ int main(void) {
   tcase_add_test(tc, t_walked_not_vehicle);
   tcase_add_test(tc, t_walker_reacq);
   tcase_add_test(tc, t_walker_part);
+  tcase_add_test(tc, t_miss_cost);
   tcase_add_test(tc, t_walkers_pass);
   tcase_add_test(tc, t_foliage_never_confirms);
   tcase_add_test(tc, t_walker_confirms_fast);

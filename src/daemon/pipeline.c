@@ -720,7 +720,7 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
                  "%llu where a hidden vehicle may have got to), %llu frames unseen in unmeasured columns not counted missed (%llu runs of them beyond "
                  "%d in a frame left out), %llu beyond "
                  "the %d-track capacity, "
-                 "%llu groups assigned greedily; %llu returns of shared clusters divided between their tracks (%llu beyond "
+                 "%llu groups assigned greedily, %llu tracks of exactly solved groups left without an object; %llu returns of shared clusters divided between their tracks (%llu beyond "
                  "%d per frame, %llu tracks beyond %d in one cluster, left with the others)\n",
             (unsigned long long)tr->n.born, (unsigned long long)tr->n.confirmed, (unsigned long long)tr->n.ended,
             tr->list.count, (unsigned long long)tr->n.held, (unsigned long long)tr->n.absorbed, (unsigned long long)tr->n.merged,
@@ -728,7 +728,7 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
             (unsigned long long)tr->n.blind_linked, (unsigned long long)tr->n.kin_stitched, (unsigned long long)tr->n.gap_unseen,
             (unsigned long long)tr->n.gap_runs_dropped, RS_OBJ_GAPS_MAX,
             (unsigned long long)tr->n.overflow, RS_TRACK_MAX, (unsigned long long)tr->n.greedy_groups,
-            (unsigned long long)pr->n.divided, (unsigned long long)pr->n.divided_overflow, RS_PROC_DIVIDED_MAX,
+            (unsigned long long)tr->n.miss_left, (unsigned long long)pr->n.divided, (unsigned long long)pr->n.divided_overflow, RS_PROC_DIVIDED_MAX,
             (unsigned long long)tr->n.hold_overflow, RS_TRACK_HOLD_MAX);
   }
   if (p->cfg.counter) {

@@ -3,8 +3,9 @@
  * Per frame: predict every track to each object's time, gate (grid lookup
  * around the prediction, then Mahalanobis, Euclidean and implied speed),
  * mark clusters that hold two confirmed tracks, assign (confirmed tracks,
- * then tentative ones: Hungarian per connected group, greedy beyond
- * RS_TRACK_GROUP_MAX), update, absorb split parts, give birth, confirm, end.
+ * then tentative ones: Hungarian per connected group, a track left without
+ * an object at miss_cost, greedy beyond RS_TRACK_GROUP_MAX), update, absorb
+ * split parts, give birth, confirm, end.
  * Every loop is bounded by RS_TRACK_MAX, RS_OBJ_MAX or the edge capacity. */
 #include "roadscan/perception/track.h"
 
@@ -104,6 +105,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->split_car_m = 5.0;
   c->stitch_kin = 1;
   c->gap_unseen = 1;
+  c->miss_cost = 24.0;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -137,7 +139,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->walker_part < 0 || cfg->walker_part > 1 || cfg->speed_full_length < 0 || cfg->speed_full_length > 1 ||
       cfg->blind_walker < 0 || cfg->blind_walker > 1 || !(cfg->blind_walker_s >= 0 && cfg->blind_walker_s <= 60) ||
       cfg->blind_walker_fifo < 0 || cfg->blind_walker_fifo > 1 || !(cfg->blind_walker_line >= 0 && cfg->blind_walker_line <= 20) || !(cfg->split_car_m >= 0 && cfg->split_car_m <= 20) ||
-      cfg->stitch_kin < 0 || cfg->stitch_kin > 1 || cfg->gap_unseen < 0 || cfg->gap_unseen > 1)
+      cfg->stitch_kin < 0 || cfg->stitch_kin > 1 || cfg->gap_unseen < 0 || cfg->gap_unseen > 1 ||
+      !(cfg->miss_cost >= 0 && cfg->miss_cost <= 1000))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -175,7 +178,7 @@ static const rs_opt_t knobs[] = {
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
     KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(merge_front_m, 0.0, 20.0), KNOB(tent_claim_m, 0.0, 20.0), KNOB(kin_accel, 0.0, 10.0),
     KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1), KNOB(blind_walker_s, 0.0, 60.0),
-    KNOB_INT(blind_walker_fifo, 0, 1), KNOB(blind_walker_line, 0.0, 20.0), KNOB(split_car_m, 0.0, 20.0), KNOB_INT(stitch_kin, 0, 1), KNOB_INT(gap_unseen, 0, 1),
+    KNOB_INT(blind_walker_fifo, 0, 1), KNOB(blind_walker_line, 0.0, 20.0), KNOB(split_car_m, 0.0, 20.0), KNOB_INT(stitch_kin, 0, 1), KNOB_INT(gap_unseen, 0, 1), KNOB(miss_cost, 0.0, 1000.0),
     KNOB_INT(still_lane, 0, 1), KNOB_INT(brake_coast, 0, 1), KNOB_INT(still_coast, 0, 1),
 };
 
@@ -1121,6 +1124,7 @@ static uint16_t find(uint16_t *c, uint16_t i) {
 /* one association round over the edges: tracks and objects of each connected
  * group assigned optimally (or greedily when the group is too large) */
 static void assign(rs_tracker_t *tr, uint32_t nobj) {
+  const rs_track_cfg_t *cf = &tr->cfg;
   const uint32_t nt = tr->list.count, ne = tr->edges;
   if (ne == 0) return;
   uint16_t *c = tr->comp; /* tracks 0..nt-1, objects RS_TRACK_MAX + k */
@@ -1169,26 +1173,34 @@ static void assign(rs_tracker_t *tr, uint32_t nobj) {
       for (uint32_t e = e0; e < e1; e++) {
         rs_track_t *t = &tr->list.track[tr->gedge[e].t];
         if (t->object >= 0 || tr->taken_by[tr->gedge[e].o] >= 0) continue;
+        if (cf->miss_cost > 0 && tr->gedge[e].c > cf->miss_cost) continue; /* as the exact solution would */
         t->object = tr->gedge[e].o;
         tr->taken_by[tr->gedge[e].o] = tr->gedge[e].t;
       }
       continue;
     }
-    const int n = ntg > nog ? ntg : nog;
+    /* miss_cost: columns nog.. are each track's "no object" (at miss_cost, its own only); rows ntg.. take
+     * what the tracks leave, at no cost. Off: as many pairs as the group allows, then the cheapest */
+    const bool miss = cf->miss_cost > 0;
+    const int n = miss ? ntg + nog : (ntg > nog ? ntg : nog);
     for (int i = 0; i < n; i++)
-      for (int j = 0; j < n; j++) tr->cost[i][j] = BIG;
+      for (int j = 0; j < n; j++) tr->cost[i][j] = miss && i >= ntg ? 0.0 : BIG;
+    for (int i = 0; miss && i < ntg; i++) tr->cost[i][nog + i] = cf->miss_cost;
     for (uint32_t e = e0; e < e1; e++) {
       int a = 0, b = 0;
       while (tr->gt[a] != tr->gedge[e].t) a++;
       while (tr->go[b] != tr->gedge[e].o) b++;
       tr->cost[a][b] = tr->gedge[e].c;
     }
-    int as[RS_TRACK_GROUP_MAX], iwork[2 * (RS_TRACK_GROUP_MAX + 1)];
-    double work[3 * (RS_TRACK_GROUP_MAX + 1)];
-    unsigned char used[RS_TRACK_GROUP_MAX + 1];
-    rs_assign_min(&tr->cost[0][0], n, RS_TRACK_GROUP_MAX, as, work, iwork, used);
+    int as[2 * RS_TRACK_GROUP_MAX], iwork[2 * (2 * RS_TRACK_GROUP_MAX + 1)];
+    double work[3 * (2 * RS_TRACK_GROUP_MAX + 1)];
+    unsigned char used[2 * RS_TRACK_GROUP_MAX + 1];
+    rs_assign_min(&tr->cost[0][0], n, 2 * RS_TRACK_GROUP_MAX, as, work, iwork, used);
     for (int i = 0; i < ntg; i++) {
-      if (as[i] < 0 || as[i] >= nog || tr->cost[i][as[i]] >= BIG) continue;
+      if (as[i] < 0 || as[i] >= nog || tr->cost[i][as[i]] >= BIG) {
+        tr->n.miss_left++;
+        continue;
+      }
       rs_track_t *t = &tr->list.track[tr->gt[i]];
       t->object = tr->go[as[i]];
       tr->taken_by[tr->go[as[i]]] = tr->gt[i];

@@ -39,11 +39,14 @@
  * freedom), Euclidean distance and the speed the pairing implies. The gate
  * graph is split into connected groups; each group of at most
  * RS_TRACK_GROUP_MAX tracks and objects is solved exactly on a static cost
- * matrix, a larger one greedily (counted). Ties break by track id, then
- * object order. A moving vehicle's track takes nothing off its lane
- * (reacq_across_m once unseen, seen_across_m while seen); a walker's track
- * takes no vehicle (walked_hits, walker_reacq_s); two tracks on one vehicle
- * end as one (dup_box, twin_s).
+ * matrix, a larger one greedily (counted). A track may be left without an
+ * object at miss_cost: no pairing dearer than that is made, to pair one more
+ * track or at all (the matrix has a column per track for it, so it is up to
+ * twice RS_TRACK_GROUP_MAX wide). Ties break by track id, then object order.
+ * A moving vehicle's track takes nothing off its lane (reacq_across_m once
+ * unseen, seen_across_m while seen); a walker's track takes no vehicle
+ * (walked_hits, walker_reacq_s); two tracks on one vehicle end as one
+ * (dup_box, twin_s).
  * - One cluster over two confirmed tracks (queued cars touching): the
  *   predicted centres of both lie in its box; neither takes it, both keep
  *   their ids and are held (predicted, kept alive, speeds kept) until they
@@ -119,7 +122,8 @@
                                      often clusters to 8 or 9) */
 
 _Static_assert(RS_TRACK_MAX <= RS_OBJ_MAX, "a track index fits where an object index does");
-_Static_assert(RS_TRACK_GROUP_MAX * RS_TRACK_GROUP_MAX <= 4096, "the association matrix stays small");
+_Static_assert(4 * RS_TRACK_GROUP_MAX * RS_TRACK_GROUP_MAX <= 16384,
+               "the association matrix (a group's tracks and objects, and a column per track for no object) stays small");
 _Static_assert(RS_TRACK_MAX + RS_OBJ_MAX <= UINT16_MAX, "group roots fit in uint16_t");
 _Static_assert((RS_TRACK_GRID_BUCKETS & (RS_TRACK_GRID_BUCKETS - 1)) == 0, "buckets: a power of two");
 
@@ -344,6 +348,12 @@ typedef struct {
                                   measured (a lost packet, rs_object_list_t.gap) was not missed: the frame does
                                   not count against its "hit in every frame" (misses), as it could not have
                                   been seen; the time since it was last seen runs on (default 1; docs/tracking.md) */
+  double miss_cost;            /* the cost of leaving a gated track without an object in the optimal assignment
+                                  (a pairing's: Mahalanobis distance squared + log det + the returns' unlikeness):
+                                  the sum of the tracks' pairings, or this for each left out, is the least; so no
+                                  pairing dearer than this is made, nor one track paired at the price of another's
+                                  growing dearer by more (0 = off: each group pairs as many tracks as it can, then
+                                  the cheapest way; default 24; docs/tracking.md, Association) */
   double split_car_m;          /* a moving vehicle's track (confirmed, 3 m/s or faster along its heading) never
                                   seen longer than this: a free object is a split part of it when both span no
                                   more than this along its axis and, across, no more than its width and the
@@ -462,6 +472,8 @@ typedef struct {
   uint64_t kin_stitched;  /* tracks taken up by the kinematic re-acquisition (kin_accel; also in stitched) */
   uint64_t merged;        /* split parts a long vehicle's track was updated with (merge_parts; also in absorbed) */
   uint64_t gap_unseen;    /* frames a track went unseen predicted in unmeasured columns, not counted missed (gap_unseen) */
+  uint64_t miss_left;     /* tracks of exactly solved groups left without an object: each object in their gate went
+                             to another track, or (miss_cost) every pairing left cost more than going without */
   uint64_t gap_runs_dropped; /* runs of unmeasured columns beyond RS_OBJ_GAPS_MAX in a frame, not known to gap_unseen */
 } rs_track_counters_t;
 
@@ -489,7 +501,7 @@ typedef struct {
   long obj_cell[RS_OBJ_MAX][2];        /* the grid cell of the object's box centre */
   uint16_t comp[RS_TRACK_MAX + RS_OBJ_MAX];
   uint16_t gt[RS_TRACK_GROUP_MAX], go[RS_TRACK_GROUP_MAX];
-  double cost[RS_TRACK_GROUP_MAX][RS_TRACK_GROUP_MAX];
+  double cost[2 * RS_TRACK_GROUP_MAX][2 * RS_TRACK_GROUP_MAX];
   uint32_t edges;                      /* gated pairs this round */
   rs_track_edge_t edge[RS_TRACK_MAX * RS_TRACK_EDGES_PER_TRACK];
   rs_track_edge_t gedge[RS_TRACK_MAX * RS_TRACK_EDGES_PER_TRACK]; /* the same, grouped */
