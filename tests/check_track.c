@@ -2203,7 +2203,7 @@ END_TEST
  * the first frame. At the second, every track tentative, the van's track is the only one whose gate
  * holds a sliver (1.9 m from its centre). Pairing as many tracks as the group allows gave the van's
  * object to the first sliver's track (2.8 m away: its box and its speed from that jump) and the van's
- * track a sliver; with a track left without an object dearer than 24, the van keeps its id. */
+ * track a sliver; when leaving a track without an object costs 24, the van keeps its id. */
 static uint32_t van_and_slivers(double miss_cost, uint32_t *van_first, uint64_t *left) {
   init_knob("miss_cost", miss_cost);
   clear();

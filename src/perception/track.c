@@ -1192,10 +1192,10 @@ static void assign(rs_tracker_t *tr, uint32_t nobj) {
       while (tr->go[b] != tr->gedge[e].o) b++;
       tr->cost[a][b] = tr->gedge[e].c;
     }
-    int as[2 * RS_TRACK_GROUP_MAX], iwork[2 * (2 * RS_TRACK_GROUP_MAX + 1)];
-    double work[3 * (2 * RS_TRACK_GROUP_MAX + 1)];
-    unsigned char used[2 * RS_TRACK_GROUP_MAX + 1];
-    rs_assign_min(&tr->cost[0][0], n, 2 * RS_TRACK_GROUP_MAX, as, work, iwork, used);
+    int as[RS_TRACK_ASSIGN_MAX], iwork[2 * (RS_TRACK_ASSIGN_MAX + 1)];
+    double work[3 * (RS_TRACK_ASSIGN_MAX + 1)];
+    unsigned char used[RS_TRACK_ASSIGN_MAX + 1];
+    rs_assign_min(&tr->cost[0][0], n, RS_TRACK_ASSIGN_MAX, as, work, iwork, used);
     for (int i = 0; i < ntg; i++) {
       if (as[i] < 0 || as[i] >= nog || tr->cost[i][as[i]] >= BIG) {
         tr->n.miss_left++;

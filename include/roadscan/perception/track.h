@@ -107,6 +107,7 @@
 
 #define RS_TRACK_MAX 512         /* tracks alive at once */
 #define RS_TRACK_GROUP_MAX 48    /* tracks or objects in one exactly solved association group */
+#define RS_TRACK_ASSIGN_MAX (2 * RS_TRACK_GROUP_MAX) /* its matrix's side: tracks, objects (miss_cost) */
 #define RS_TRACK_ENDED_MAX 128   /* end events per frame */
 #define RS_TRACK_SPLIT_MARGIN 1.0f
 #define RS_TRACK_MERGE_LEN_M 6.0f     /* merge_parts: a track this long (a bus, a truck) */
@@ -122,7 +123,7 @@
                                      often clusters to 8 or 9) */
 
 _Static_assert(RS_TRACK_MAX <= RS_OBJ_MAX, "a track index fits where an object index does");
-_Static_assert(4 * RS_TRACK_GROUP_MAX * RS_TRACK_GROUP_MAX <= 16384,
+_Static_assert(RS_TRACK_ASSIGN_MAX * RS_TRACK_ASSIGN_MAX <= 16384,
                "the association matrix (a group's tracks and objects, and a column per track for no object) stays small");
 _Static_assert(RS_TRACK_MAX + RS_OBJ_MAX <= UINT16_MAX, "group roots fit in uint16_t");
 _Static_assert((RS_TRACK_GRID_BUCKETS & (RS_TRACK_GRID_BUCKETS - 1)) == 0, "buckets: a power of two");
@@ -501,7 +502,7 @@ typedef struct {
   long obj_cell[RS_OBJ_MAX][2];        /* the grid cell of the object's box centre */
   uint16_t comp[RS_TRACK_MAX + RS_OBJ_MAX];
   uint16_t gt[RS_TRACK_GROUP_MAX], go[RS_TRACK_GROUP_MAX];
-  double cost[2 * RS_TRACK_GROUP_MAX][2 * RS_TRACK_GROUP_MAX];
+  double cost[RS_TRACK_ASSIGN_MAX][RS_TRACK_ASSIGN_MAX];
   uint32_t edges;                      /* gated pairs this round */
   rs_track_edge_t edge[RS_TRACK_MAX * RS_TRACK_EDGES_PER_TRACK];
   rs_track_edge_t gedge[RS_TRACK_MAX * RS_TRACK_EDGES_PER_TRACK]; /* the same, grouped */
