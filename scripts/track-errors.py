@@ -46,6 +46,11 @@
         of the sensor (its first row) and is younger than 2.5 s (a vehicle pulling away from
         beside the pole, out of the circle below the lowest beam: circle_whole,
         docs/tracking.md) or not; per kind its rows, share of the squared error and RMSE.
+    scripts/track-errors.py common STATES MOTDUMP_A TRACKS_A MOTDUMP_B TRACKS_B [STATES MOTDUMP_A ...]
+        Two trackers' vehicle speed error on the same rows: per capture (five files each: the true
+        states, then each tracker's --mot-dump and track file), the frames where both have a
+        confirmed track matched (IoU > 0.5) to the same true vehicle within 80 m; the speed RMSE of
+        each on those rows, and of each on all of its own such rows (as roadscan-eval scores it).
     scripts/track-errors.py spot REPORT...
         Pooled over roadscan-eval --tracking --json reports made with --counts and --crossings (as
         scripts/tracking.sh leaves them in out/tracking/*.json): the vehicles' spot speed RMSE at the
@@ -446,10 +451,7 @@ def matched_rows(mot_path, tracks_path, states_path):
     80 m: (frame, track, track row, true speed, whether the track had another road user before,
     the frame it first had this one, the capture's first time)"""
     states, cls = load_states(states_path)
-    rows = {}
-    with open(tracks_path, newline="") as f:
-        for r in csv.DictReader(f):
-            rows[(int(r["frame"]), int(r["track"]))] = r
+    rows = track_rows(tracks_path)
     pairs = match_pairs(mot_path)
     t0 = min(rows[0][0] for rows in states.values())
     first_with, had = {}, {}  # (track, truth) -> first frame matched; track -> the truths it matched
@@ -457,13 +459,27 @@ def matched_rows(mot_path, tracks_path, states_path):
         first_with.setdefault((track, truth), frame)
         took = bool(had.setdefault(track, set()) - {truth})
         had[track].add(truth)
-        r = rows.get((frame, track))
-        if r is None or r["state"] != "confirmed" or cls.get(truth) not in VEHICLES:
-            continue
-        s = at(states[truth], float(r["t"]))
-        if s is None or math.hypot(s[0], s[1]) > 80.0:
-            continue
-        yield frame, track, r, math.hypot(s[2], s[3]), took, first_with[(track, truth)], t0
+        rs = scored_row(rows, frame, track, truth, states, cls)
+        if rs is not None:
+            yield frame, track, rs[0], math.hypot(rs[1][2], rs[1][3]), took, first_with[(track, truth)], t0
+
+
+def track_rows(tracks_path):
+    """(frame, track) -> the track file's row"""
+    with open(tracks_path, newline="") as f:
+        return {(int(r["frame"]), int(r["track"])): r for r in csv.DictReader(f)}
+
+
+def scored_row(rows, frame, track, truth, states, cls):
+    """(track row, true state) when the match is one roadscan-eval scores for vehicle speed (a
+    confirmed row, a true vehicle within 80 m), else None"""
+    r = rows.get((frame, track))
+    if r is None or r["state"] != "confirmed" or cls.get(truth) not in VEHICLES:
+        return None
+    s = at(states[truth], float(r["t"]))
+    if s is None or math.hypot(s[0], s[1]) > 80.0:
+        return None
+    return r, s
 
 
 def matched_one(mot_path, tracks_path, states_path):
@@ -889,13 +905,45 @@ def budget(*paths):
               f"track {track}, vehicle {vehicle}) {100.0 * q / total:.1f} % of the squared error")
 
 
+def speed_rows(mot_path, tracks_path, states, cls):
+    """(frame, truth) -> the speed error of the confirmed row matched (IoU > 0.5) to that true vehicle
+    within 80 m"""
+    rows, out = track_rows(tracks_path), {}
+    for frame, track, truth in match_pairs(mot_path):
+        rs = scored_row(rows, frame, track, truth, states, cls)
+        if rs is not None:
+            out[(frame, truth)] = float(rs[0]["speed"]) - math.hypot(rs[1][2], rs[1][3])
+    return out
+
+
+def common(*paths):
+    if len(paths) % 5:
+        sys.exit(__doc__.strip())
+    rms = lambda es: math.sqrt(sum(e * e for e in es) / len(es)) if es else float("nan")
+    tot = {"a": [], "b": [], "ca": [], "cb": []}
+    for k in range(0, len(paths), 5):
+        states, cls = load_states(paths[k])
+        a = speed_rows(paths[k + 1], paths[k + 2], states, cls)
+        b = speed_rows(paths[k + 3], paths[k + 4], states, cls)
+        both = sorted(set(a) & set(b))
+        ca, cb = [a[x] for x in both], [b[x] for x in both]
+        for key, v in (("a", list(a.values())), ("b", list(b.values())), ("ca", ca), ("cb", cb)):
+            tot[key] += v
+        print(f"{paths[k + 2]}: A {len(a)} rows {rms(list(a.values())):.3f} m/s, B {len(b)} rows {rms(list(b.values())):.3f}; "
+              f"both {len(both)} rows: A {rms(ca):.3f}, B {rms(cb):.3f}")
+    if len(paths) > 5:
+        print(f"all: A {len(tot['a'])} rows {rms(tot['a']):.3f} m/s, B {len(tot['b'])} rows {rms(tot['b']):.3f}; "
+              f"both {len(tot['ca'])} rows: A {rms(tot['ca']):.3f}, B {rms(tot['cb']):.3f}")
+    return tot
+
+
 def main(argv):
     modes = {"speed": speed, "ids": ids, "close": close, "traffic": traffic, "unmatched": unmatched, "matched": matched,
              "born": born, "spot": spot, "crossings": crossings, "late": late, "reacquired": reacquired,
-             "budget": budget, "visible": visible}
+             "budget": budget, "visible": visible, "common": common}
     if len(argv) < 2 or argv[0] not in modes or \
             (argv[0] not in ("close", "traffic", "matched", "born", "spot", "crossings", "late", "reacquired", "budget",
-                             "visible") and len(argv) != 3):
+                             "visible", "common") and len(argv) != 3):
         sys.exit(__doc__.strip())
     modes[argv[0]](*argv[1:])
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""scripts/track-errors.py budget and visible on hand-made runs with known answers.
+"""scripts/track-errors.py budget, visible and common on hand-made runs with known answers.
 
 Four true cars at 5 m/s and five tracks, 10 Hz for 10 s:
   car 1: track 1 from the first frame to the last (the capture's first 3 s, then 2 s or more);
@@ -10,6 +10,11 @@ Four true cars at 5 m/s and five tracks, 10 Hz for 10 s:
   car 4: track 3 takes it at 8.0 s (took it over under 2 s ago).
 Track 1 reports 0 in its rows at 6.0-6.4 s (reported 0 while moving); track 2 reports a velocity
 1 m/s across its car's way in its first second (velocity error across, none along).
+
+common: two cars over 100 frames; tracker A follows car 1 throughout reporting 0.5 m/s too fast and car
+2 in frames 0-49 exactly; tracker B follows car 1 in frames 20-79 1 m/s too slow (tentative in 20-29)
+and car 2 throughout 0.2 m/s too fast, and a walker (not a vehicle); the rows both score are car 1's
+frames 30-79 and car 2's 0-49.
 
 visible: five cars at 10 m/s across the east line (x 41.5) at 1.15 s, one lane each; car 1's
 crossing counted; car 2 a true instance in every frame, car 3 from 3.0 s, car 4 from 5.0 s, car 5
@@ -40,7 +45,7 @@ def car_state(car, f):
 
 def main():
     with tempfile.TemporaryDirectory() as tmp:
-        return check(tmp) or check_visible(tmp)
+        return check(tmp) or check_visible(tmp) or check_common(tmp)
 
 
 def check_visible(tmp):
@@ -157,6 +162,46 @@ def check(tmp):
         print(f"reported under half: {slow}; wanted 5 rows in 1 pair (track 1, 6.0-6.4 s)")
         return 1
     print(f"{sum(got.values())} rows in their kinds; 5 reported 0 while moving, under half in 1 pair")
+    return 0
+
+
+def check_common(tmp):
+    states_p = os.path.join(tmp, "cstates.csv")
+    with open(states_p, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["t", "id", "class", "x", "y", "vx", "vy", "heading", "length", "width", "height"])
+        for fr in range(FRAMES):
+            t = f"{T0 + 0.1 * fr:.3f}"
+            for car in (1, 2):
+                x, y, vx, vy = car_state(car, fr)
+                w.writerow([t, car, "car", x, y, vx, vy, 0.0, 4.5, 1.8, 1.5])
+            w.writerow([t, 3, "pedestrian", 5.0, 5.0 + 0.1 * fr, 0.0, 1.0, 1.57, 0.5, 0.5, 1.7])
+
+    def tracker(name, rows):  # rows: (frame, track, truth, state, speed)
+        mot_p, tracks_p = os.path.join(tmp, f"{name}-mot.csv"), os.path.join(tmp, f"{name}-tracks.csv")
+        with open(mot_p, "w", newline="") as m, open(tracks_p, "w", newline="") as t:
+            wm, wt = csv.writer(m), csv.writer(t)
+            wm.writerow(["frame", "truth", "pred", "iou"])
+            wt.writerow(["frame", "t", "track", "state", "speed"])
+            for fr, track, truth, state, v in rows:
+                wm.writerow([fr, truth, track + 2, "0.900000"])
+                wt.writerow([fr, f"{T0 + 0.1 * fr:.3f}", track, state, f"{v:.3f}"])
+        return mot_p, tracks_p
+
+    a = tracker("A", [(fr, 1, 1, "confirmed", 5.5) for fr in range(FRAMES)] +
+                [(fr, 2, 2, "confirmed", 5.0) for fr in range(50)])
+    b = tracker("B", [(fr, 7, 1, "tentative" if fr < 30 else "confirmed", 4.0) for fr in range(20, 80)] +
+                [(fr, 8, 2, "confirmed", 5.2) for fr in range(FRAMES)] +
+                [(fr, 9, 3, "confirmed", 3.0) for fr in range(FRAMES)])
+    with contextlib.redirect_stdout(io.StringIO()):
+        tot = te.common(states_p, *a, *b)
+    rms = lambda es: math.sqrt(sum(e * e for e in es) / len(es))
+    got = (len(tot["a"]), len(tot["b"]), len(tot["ca"]), round(rms(tot["ca"]), 4), round(rms(tot["cb"]), 4))
+    want = (150, 150, 100, round(math.sqrt(50 * 0.25 / 100), 4), round(math.sqrt((50 * 1.0 + 50 * 0.04) / 100), 4))
+    if got != want:
+        print(f"common: rows A, B, both; RMSE A, B on both {got}\nwanted {want}")
+        return 1
+    print(f"common: {got[2]} rows both score, A {got[3]} B {got[4]} m/s")
     return 0
 
 

@@ -2,9 +2,10 @@
 """relabel.py LABELS FRAMES ASSOC OUT [confirmed]
 
 Turns roadscand's cluster labels (--no-tracking --labels-out) into another tracker's track labels:
-a return of object k in frame f gets 2 + the track ASSOC gives (f, k) (rsbaseline's output), 2 when
-none (or, with "confirmed", when that track was not confirmed then). The label file holds, frame by
-frame, as many returns as --frames-out's foreground column says (docs/objects-and-lcm.md)."""
+a return of object k in frame f gets 2 + the track ASSOC gives (f, k) (a harness's --assoc output,
+scripts/baseline/run.sh), 2 when none (or, with "confirmed", when that track was not confirmed
+then). The label file holds, frame by frame, as many returns as --frames-out's foreground column
+says (docs/objects-and-lcm.md)."""
 import csv
 import sys
 
@@ -26,6 +27,9 @@ with open(lab) as f, open(out, 'w') as o:
             continue
         while left == 0:
             fi += 1
+            if fi == len(fg):
+                sys.exit(f"relabel.py: {lab} does not hold the returns {frm} counts (more returns than its "
+                         f"{len(fg)} frames' {sum(fg)})")
             left = fg[fi]
         left -= 1
         p, b, c, l = line.rstrip('\n').split(',')
