@@ -250,6 +250,17 @@ static void start_learning(rs_bgu_t *u, const rs_slot_t *s) {
   hand_over(u, RS_BGU_LEARNING);
 }
 
+/* Whether the samples are enough for a relearn: the store 90 % full (the
+ * window), or more samples than the model in use was learned from (a first
+ * model of a few seconds is bettered early). The learner needs many samples
+ * to tell a queue's cars from the scene: learned from 120 frames of the first
+ * two minutes of a rush capture, a model takes 5 % of the road users'
+ * returns for background, from 600 frames 0.7 % (docs/background.md). */
+static bool enough_samples(const rs_bgu_t *u) {
+  const uint32_t n = (uint32_t)u->store.nframes;
+  return (uint64_t)n * 10 >= (uint64_t)u->store.max_frames * 9 || n > u->models[u->active].frames;
+}
+
 bool rs_bgu_frame(rs_bgu_t *u, const rs_slot_t *s) {
   if (s->meta.partial) return false;
   const int st = atomic_load_explicit(&u->state, memory_order_acquire);
@@ -278,9 +289,13 @@ bool rs_bgu_frame(rs_bgu_t *u, const rs_slot_t *s) {
     start_learning(u, s);
     return atomic_load_explicit(&u->state, memory_order_acquire) == RS_BGU_READY && take_over(u, s);
   }
-  /* keeping it current: one frame in k into the ring */
-  if (++u->skip >= u->k) {
-    u->skip = 0;
+  /* keeping it current: one frame in k into the ring, in bursts of
+   * RS_BGU_BURST consecutive frames (the learner's rules read what a cell
+   * returns from one frame to the next) */
+  const int burst = u->k > 1 ? RS_BGU_BURST : 1;
+  const int phase = u->skip;
+  u->skip = (u->skip + 1) % (u->k * burst);
+  if (phase < burst) {
     if (u->store.nframes == 0) u->t_first = s->meta.t_first;
     rs_bg_learner_set(&u->store, u->ring, s);
     u->ring = (u->ring + 1) % u->store.max_frames;
@@ -289,7 +304,7 @@ bool rs_bgu_frame(rs_bgu_t *u, const rs_slot_t *s) {
   /* the oldest sample: the ring's next slot once full */
   const double oldest = u->store.nframes < u->store.max_frames ? u->t_first : u->store.t[u->ring];
   const double span = s->meta.t_first - oldest;
-  if (u->store.nframes >= 2 && span >= 0.9 * fmin(u->cfg.window_s, RS_BG_SITE_SECONDS) &&
+  if (u->store.nframes >= 2 && span >= 0.9 * fmin(u->cfg.window_s, RS_BG_SITE_SECONDS) && enough_samples(u) &&
       s->meta.t_first - u->t_last_learn >= u->cfg.every_s) {
     start_learning(u, s);
     return atomic_load_explicit(&u->state, memory_order_acquire) == RS_BGU_READY && take_over(u, s);

@@ -85,7 +85,9 @@ const rs_ground_t *rs_proc_ground(const rs_proc_t *p) { return p->ground_builds 
 const rs_bg_model_t *rs_proc_model(const rs_proc_t *p) { return p->bgu_on ? rs_bgu_model(&p->bgu) : NULL; }
 
 /* Says once when the model in use was learned at another rate, or from less
- * than a site with traffic needs (it is used all the same, and kept current). */
+ * than a site with traffic needs (it is used all the same, and kept current).
+ * Only of the first model: an updated one learned from samples one frame in
+ * k, whose count says nothing of the seconds they span. */
 static void check_model(rs_proc_t *p, const rs_bg_model_t *m, const rs_slot_t *s) {
   if (m == NULL || s->meta.partial) return;
   if (!p->rate_checked && m->rate_hz > 0) {
@@ -96,7 +98,7 @@ static void check_model(rs_proc_t *p, const rs_bg_model_t *m, const rs_slot_t *s
              want);
   }
   const double hz = m->rate_hz > 0 ? m->rate_hz : (s->meta.rate_hz > 0 ? s->meta.rate_hz : 10.0);
-  if (!p->few_warned && m->frames < RS_BG_SITE_SECONDS * hz * 0.5) {
+  if (!p->few_warned && (!p->bgu_on || p->bgu.updates == 0) && m->frames < RS_BG_SITE_SECONDS * hz * 0.5) {
     p->few_warned = true;
     rs_log(RS_LOG_WARN,
            "the background model was learned from %u frames (%.1f s at %.1f Hz): a site with traffic needs %.0f s "

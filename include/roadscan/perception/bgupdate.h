@@ -27,9 +27,11 @@
  *
  * Sampling: the first model from every complete frame of the first
  * learn_seconds (up to the store); afterwards one frame in k, so that the
- * store spans the last window_s seconds. A relearn is due every every_s
+ * store spans the last window_s seconds, in bursts of RS_BGU_BURST
+ * consecutive frames (the learner reads frame-to-frame changes). A relearn is due every every_s
  * seconds of sensor time (capture time) once the samples span at least
- * min(window_s, 120 s). The candidate replaces the model in use when the
+ * min(window_s, 120 s) and fill 90 % of the store, or outnumber the frames
+ * the model in use was learned from. The candidate replaces the model in use when the
  * samples' returns it calls background are not fewer than the model in
  * use's by more than 0.1 % of them, and it keeps at least 90 % of the
  * cells with a surface. */
@@ -45,6 +47,7 @@
 #include <stdint.h>
 
 #define RS_BGU_BUDGET (128ull * 1024 * 1024) /* sample store */
+#define RS_BGU_BURST 10 /* relearn samples: this many consecutive frames at a time */
 #define RS_BG_SITE_SECONDS 120.0 /* a site with traffic needs this much to tell what stops from the scene */
 
 typedef struct {
@@ -71,7 +74,7 @@ typedef struct {
     double hz;
   } geo;
   bool ready;                  /* store allocated (at the first frame: the map's size) */
-  int k, skip;                 /* one frame in k is sampled */
+  int k, skip;                 /* one frame in k is sampled, RS_BGU_BURST in a row; skip: the phase */
   int ring;                    /* next slot once the store is full */
   double t_first;              /* sensor time of the oldest sample */
   double t_last_learn;         /* sensor time of the last relearn started */
