@@ -168,8 +168,9 @@ static const rs_opt_t table[] = {
     F("relearn", relearn, "with --learn-out: learn anew even when a model is stored (and replace it)"),
     {.type = RS_OPT_DOUBLE, .name = "update-minutes", .arg = "M", .off = offsetof(T, cfg.update_window_s), .lo = 0,
      .hi = 1440, .scale = 60.0,
-     .help = "keep the model current from the last M minutes of frames (a relearn on sampled frames in a "
-             "low-priority thread, taken over when it explains them at least as well; 0 = off)"},
+     .help = "keep the model current from the last M minutes of frames (a relearn on frames sampled in bursts "
+             "in a low-priority thread, once 90 % of the window is sampled, taken over when it explains them at "
+             "least as well; 0 = off)"},
     D("update-every", "S", cfg.update_every_s, 5.0, 86400.0, "relearn every S seconds of sensor time"),
     I("see-through", "N", see_through, 0, RS_BG_SURFACES,
       "a return in a cell where the background has N or more static surfaces (foliage, edges), or none, is "
