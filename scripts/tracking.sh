@@ -26,6 +26,14 @@
 # their packets lost (roadscan-sim packet_loss; in out/loss, with the lossless captures' models) and
 # prints their rows.
 #
+#   scripts/tracking.sh --long
+# instead scores four 12-minute captures (seeds never used elsewhere: VLP-16 and VLP-32C rush at
+# site 29, seed 301; VLP-16 rush and light at site 33, seed 311; in out/long, with the sites' models
+# of scripts/site-captures.sh: run scripts/tracking.sh --site 29 101 102 and --site 33 111 112
+# first) and prints their rows, then per line and direction counted / true (enough crossings to
+# measure the 2 % count target; docs/tracking.md, Where it stands). Takes about 15 minutes on 2
+# cores, 5 more when the captures do not exist (about 6 GB).
+#
 #   scripts/tracking.sh --turns
 # instead scores the turns preset (a quarter of the vehicles turn) at sites 1, 5
 # and 9 (seeds 11/12, 21/22, 41/42), and the same seeds with turn_share=0 (the
@@ -187,6 +195,35 @@ if [ "${1:-}" = "--loss" ]; then
         row "$tag" "$sensor $sc, site $1, seed $3, 5 % of packets lost"
       done
     done
+  done
+  exit 0
+fi
+if [ "${1:-}" = "--long" ]; then
+  out=out/long
+  mkdir -p "$out"
+  header
+  for c in "VLP-16 rush 29 301" "VLP-32C rush 29 301" "VLP-16 rush 33 311" "VLP-16 light 33 311"; do
+    set -- $c
+    tag=$1-$2-site$3-720
+    src=out/site$3/$1-$2-site$3.bg
+    [ -f "$src" ] || { echo "scripts/tracking.sh --long: $src is missing (scripts/tracking.sh --site $3 ...)" >&2; exit 1; }
+    cp "$src" "$out/$tag.bg"
+    [ -f "$out/$tag.pcap" ] && [ -f "$out/$tag-truth.csv" ] && [ -f "$out/$tag-states.csv" ] ||
+      $bin/roadscan-sim --sensor "$1" --scenario "$2" --set site_seed="$3" --seconds 720 --seed "$4" -o "$out/$tag.pcap" \
+        --labels "$out/$tag-truth.csv" --truth-states "$out/$tag-states.csv" 2>/dev/null
+    row "$tag" "$1 $2, site $3, seed $4, 12 minutes"
+    rm -f "out/tracking/$tag${sfx:-}-labels.csv" # large: the JSON report keeps the figures
+  done
+  for c in VLP-16-rush-site29-720 VLP-32C-rush-site29-720 VLP-16-rush-site33-720 VLP-16-light-site33-720; do
+    python3 - "$c" "out/tracking/$c${sfx:-}.json" <<'PY'
+import json, sys
+j = json.load(open(sys.argv[2]))
+rows = [(k[6:].replace('_', ' '), v['counted'], v['true']) for k, v in j.items() if k.startswith('count_') and v['true']]
+ok = sum(1 for n, a, b in rows if not n.startswith('walk') and abs(a - b) <= 0.02 * b)
+road = sum(1 for n, a, b in rows if not n.startswith('walk'))
+print(f"{sys.argv[1]}: road lines' directions within 2 %: {ok} of {road}; " +
+      ", ".join(f"{n} {a}/{b} ({100 * abs(a - b) / b:.1f} %)" for n, a, b in rows))
+PY
   done
   exit 0
 fi
