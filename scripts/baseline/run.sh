@@ -37,23 +37,30 @@ done
 [ -n "$sfx" ] || { echo "$0: --sfx names this run's files (out/baseline/<capture><sfx>...)" >&2; exit 2; }
 read -r -a cmd <<< "$BASELINE"
 (cd "${BASELINE_DIR:-.}" && command -v "${cmd[0]}" > /dev/null) || { echo "${cmd[0]}: not found" >&2; exit 1; }
-harness() { (cd "${BASELINE_DIR:-.}" && "${cmd[@]}" "$@"); }
 mkdir -p out/baseline
 root=$PWD
-objects() { # PCAP BG OUT-PREFIX [extra roadscand args]: the run's objects, frames and cluster labels
+harness() { # OUT-PREFIX: the harness on its objects and frames, writing its assoc and tracks files (stale ones removed
+  # first, so a harness that writes nothing is caught)
+  local o=$1
+  rm -f "$o$sfx-assoc.csv" "$o$sfx-tracks.csv"
+  (cd "${BASELINE_DIR:-.}" && "${cmd[@]}" --objects "$root/$o-objects.csv" --frames "$root/$o-frames.csv" \
+    --assoc "$root/$o$sfx-assoc.csv" --tracks "$root/$o$sfx-tracks.csv") ||
+    { echo "$0: the harness failed on $o-objects.csv (exit $?): $BASELINE" >&2; exit 1; }
+  [ -f "$o$sfx-assoc.csv" ] && [ -f "$o$sfx-tracks.csv" ] ||
+    { echo "$0: the harness wrote no $o$sfx-assoc.csv or $o$sfx-tracks.csv: $BASELINE" >&2; exit 1; }
+}
+objects() { # PCAP BG OUT-PREFIX: the run's objects, frames and cluster labels
   local p=$1 bg=$2 o=$3
-  shift 3
   if [ ! -f "$o-objects.csv" ] || [ ! -f "$o-clusters.csv" ] || [ ! -f "$o-frames.csv" ]; then
     build/bin/roadscand --pcap "$p" --fast --background "$bg" --no-publish --quiet --no-tracking --allow-root \
-      --labels-out "$o-clusters.csv" --objects-out "$o-objects.csv" --frames-out "$o-frames.csv" "$@"
+      --labels-out "$o-clusters.csv" --objects-out "$o-objects.csv" --frames-out "$o-frames.csv"
   fi
 }
 one() { # DIR CAPTURE
   local d=$1 c=$2 o=out/baseline/$2
   [ -f "$d/$c.pcap" ] || { echo "$c: no capture ($d/$c.pcap; scripts/tracking.sh makes it)"; return 0; }
   objects "$d/$c.pcap" "$d/$c.bg" "$o"
-  harness --objects "$root/$o-objects.csv" --frames "$root/$o-frames.csv" --assoc "$root/$o$sfx-assoc.csv" \
-    --tracks "$root/$o$sfx-tracks.csv"
+  harness "$o"
   python3 scripts/baseline/relabel.py "$o-clusters.csv" "$o-frames.csv" "$o$sfx-assoc.csv" "$o$sfx-labels.csv" "$which"
   build/bin/roadscan-eval --tracking "$d/$c.pcap" "$d/$c-truth.csv" "$o$sfx-labels.csv" --json --truth-states "$d/$c-states.csv" \
     --tracks "$o$sfx-tracks.csv" > "$o$sfx.json"
@@ -72,8 +79,7 @@ if [ -d ../shared/data ]; then
     [ -f "$o.bg" ] || build/bin/roadscan-learn "$p" --seconds 1 -o "$o.bg" > /dev/null 2>&1
     build/bin/roadscand --pcap "$p" --fast --background "$o.bg" --no-publish --quiet --allow-root --tracks-out "$o-ours.csv" \
       --objects-out "$o-objects.csv" --frames-out "$o-frames.csv"
-    harness --objects "$root/$o-objects.csv" --frames "$root/$o-frames.csv" --assoc "$root/$o$sfx-assoc.csv" \
-      --tracks "$root/$o$sfx-tracks.csv"
+    harness "$o"
     for w in "${cmd[0]##*/}:$o$sfx-tracks.csv" "roadscan:$o-ours.csv"; do
       f=${w#*:}
       echo "$c, ${w%%:*}: $(($(wc -l < "$f") - 1)) track rows, $(grep -c ',confirmed,' "$f" || true) confirmed," \

@@ -78,10 +78,16 @@ static void learn_once(rs_bgu_t *u) {
     return;
   }
   const rs_bg_model_t *cur = &u->models[u->active], *cand = &u->models[spare];
+  /* a first model of fewer frames than a site with traffic needs (a few seconds' --learn-seconds) took
+   * whatever stood then for the scene and so "explains" more than any model of more evidence: a
+   * candidate of more frames is not held to that comparison, only to the surfaces (a rush capture
+   * learned from 1.5 s: every candidate was refused for 5 minutes; docs/background.md) */
+  const double hz = cur->rate_hz > 0 ? cur->rate_hz : 10.0;
+  const bool few = u->updates == 0 && cur->frames < RS_BG_SITE_SECONDS * hz * 0.5 && cand->frames > cur->frames;
   const double e_cur = rs_bgu_explained(cur, &u->cfg.rules, &u->store),
                e_cand = rs_bgu_explained(cand, &u->cfg.rules, &u->store);
   const size_t s_cur = cells_with_surfaces(cur), s_cand = cells_with_surfaces(cand);
-  if (e_cand < e_cur - 0.001)
+  if (!few && e_cand < e_cur - 0.001)
     snprintf(u->reason, sizeof u->reason, "it explains %.2f %% of the recent returns, the model in use %.2f %%",
              100.0 * e_cand, 100.0 * e_cur);
   else if (s_cand * 10 < s_cur * 9)
@@ -250,15 +256,15 @@ static void start_learning(rs_bgu_t *u, const rs_slot_t *s) {
   hand_over(u, RS_BGU_LEARNING);
 }
 
-/* Whether the samples are enough for a relearn: the store 90 % full (the
- * window), or more samples than the model in use was learned from (a first
- * model of a few seconds is bettered early). The learner needs many samples
- * to tell a queue's cars from the scene: learned from 120 frames of the first
- * two minutes of a rush capture, a model takes 5 % of the road users'
- * returns for background, from 600 frames 0.7 % (docs/background.md). */
-static bool enough_samples(const rs_bgu_t *u) {
-  const uint32_t n = (uint32_t)u->store.nframes;
-  return (uint64_t)n * 10 >= (uint64_t)u->store.max_frames * 9 || n > u->models[u->active].frames;
+/* Whether the samples are enough for a relearn: they span 90 % of the
+ * window, or outnumber the frames the model in use was learned from (a first
+ * model of a few seconds is bettered early, from the store filled with every
+ * frame). The learner needs many samples to tell a queue's cars from the
+ * scene: learned from 120 frames of the first two minutes of a rush capture,
+ * a model takes 5 % of the road users' returns for background, from 600
+ * frames 0.7 % (docs/background.md). */
+static bool enough_samples(const rs_bgu_t *u, double span) {
+  return span >= 0.9 * u->cfg.window_s || (uint32_t)u->store.nframes > u->models[u->active].frames;
 }
 
 bool rs_bgu_frame(rs_bgu_t *u, const rs_slot_t *s) {
@@ -289,13 +295,14 @@ bool rs_bgu_frame(rs_bgu_t *u, const rs_slot_t *s) {
     start_learning(u, s);
     return atomic_load_explicit(&u->state, memory_order_acquire) == RS_BGU_READY && take_over(u, s);
   }
-  /* keeping it current: one frame in k into the ring, in bursts of
-   * RS_BGU_BURST consecutive frames (the learner's rules read what a cell
-   * returns from one frame to the next) */
+  /* keeping it current: every frame into the store until it is full, then
+   * one frame in k into the ring, in bursts of RS_BGU_BURST consecutive
+   * frames (the learner's rules read what a cell returns from one frame to
+   * the next), so that the ring comes to span the window */
   const int burst = u->k > 1 ? RS_BGU_BURST : 1;
   const int phase = u->skip;
   u->skip = (u->skip + 1) % (u->k * burst);
-  if (phase < burst) {
+  if (phase < burst || u->store.nframes < u->store.max_frames) { /* every frame until the store is full */
     if (u->store.nframes == 0) u->t_first = s->meta.t_first;
     rs_bg_learner_set(&u->store, u->ring, s);
     u->ring = (u->ring + 1) % u->store.max_frames;
@@ -304,7 +311,7 @@ bool rs_bgu_frame(rs_bgu_t *u, const rs_slot_t *s) {
   /* the oldest sample: the ring's next slot once full */
   const double oldest = u->store.nframes < u->store.max_frames ? u->t_first : u->store.t[u->ring];
   const double span = s->meta.t_first - oldest;
-  if (u->store.nframes >= 2 && span >= 0.9 * fmin(u->cfg.window_s, RS_BG_SITE_SECONDS) && enough_samples(u) &&
+  if (u->store.nframes >= 2 && span >= 0.9 * fmin(u->cfg.window_s, RS_BG_SITE_SECONDS) && enough_samples(u, span) &&
       s->meta.t_first - u->t_last_learn >= u->cfg.every_s) {
     start_learning(u, s);
     return atomic_load_explicit(&u->state, memory_order_acquire) == RS_BGU_READY && take_over(u, s);

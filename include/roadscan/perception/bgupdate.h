@@ -28,13 +28,13 @@
  * Sampling: the first model from every complete frame of the first
  * learn_seconds (up to the store); afterwards one frame in k, so that the
  * store spans the last window_s seconds, in bursts of RS_BGU_BURST
- * consecutive frames (the learner reads frame-to-frame changes). A relearn is due every every_s
- * seconds of sensor time (capture time) once the samples span at least
- * min(window_s, 120 s) and fill 90 % of the store, or outnumber the frames
- * the model in use was learned from. The candidate replaces the model in use when the
- * samples' returns it calls background are not fewer than the model in
- * use's by more than 0.1 % of them, and it keeps at least 90 % of the
- * cells with a surface. */
+ * consecutive frames (the learner reads frame-to-frame changes). A relearn
+ * is due every every_s seconds of sensor time (capture time) once the
+ * samples span at least min(window_s, 120 s) and fill 90 % of the store, or
+ * outnumber the frames the model in use was learned from. The candidate
+ * replaces the model in use when the samples' returns it calls background
+ * are not fewer than the model in use's by more than 0.1 % of them, and it
+ * keeps at least 90 % of the cells with a surface. */
 #ifndef ROADSCAN_BGUPDATE_H
 #define ROADSCAN_BGUPDATE_H
 
@@ -49,6 +49,7 @@
 #define RS_BGU_BUDGET (128ull * 1024 * 1024) /* sample store */
 #define RS_BGU_BURST 10 /* relearn samples: this many consecutive frames at a time */
 #define RS_BG_SITE_SECONDS 120.0 /* a site with traffic needs this much to tell what stops from the scene */
+_Static_assert(RS_BGU_BURST >= 1 && RS_BGU_BURST <= 100, "a burst is a few consecutive frames");
 
 typedef struct {
   double learn_seconds;   /* > 0 with no initial model: learn the first model from this many seconds */
