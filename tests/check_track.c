@@ -539,7 +539,7 @@ static int walkers_under_sensor(int on, uint32_t *links) {
 /* blind_walker_s: one walker of walkers_under_sensor, at 0.9 m/s along y = 2, is unseen for 9.8 s
  * under the sensor; returns whether its track keeps one id */
 static bool slow_walker_kept(double keep_s) {
-  init_knob("blind_walker_s", keep_s);
+  init_knobs("blind_walker_s", keep_s, "blind_walker_cross", 0.0);
   const double rb = 1.3 / tan(15.0 * M_PI / 180.0);
   uint32_t first = 0, last = 0;
   for (int f = 0; f < 300; f++) {
@@ -570,9 +570,66 @@ START_TEST(t_blind_walker) {
   ck_assert_int_eq(c.blind_walker, 1);
   knob_refused("blind_walker", "2");
   ck_assert(slow_walker_kept(12.0)); /* the default: kept 12 s */
-  ck_assert(!slow_walker_kept(8.0));
+  ck_assert(!slow_walker_kept(8.0)); /* (blind_walker_cross 0 there: blind_walker_s alone) */
   ck_assert_double_eq(c.blind_walker_s, 12.0);
   knob_refused("blind_walker_s", "61");
+}
+END_TEST
+
+/* blind_walker_cross and blind_walker_alone. Under a VLP-16 4.9 m up (the lowest beam 15 degrees down: a
+ * 1.7 m head is unseen within 11.9 m), walkers walk east along a sidewalk 1.5 m off the pole at 1.2 m/s,
+ * unseen for 23.7 m of it, 19.8 s (a 12-minute VLP-16 capture at site 33: walkers unseen 15-22 s there,
+ * each came out as a new track). Walker A alone, or, with `wait`, A and B 4 s behind it, A waiting 12 s
+ * at the corner under the pole (x = 0) while B walks on: B comes out first, 19.8 s after it went in, 23.8
+ * s after A, and both tracks' times fit it. Fills first[] and last[] (the first and the last id of a
+ * confirmed track on each). */
+static void long_unseen_walkers(bool wait, uint32_t first[2], uint32_t last[2]) {
+  const double rb = 3.2 / tan(15.0 * M_PI / 180.0), v = 1.2, stop = 12.0;
+  first[0] = first[1] = last[0] = last[1] = 0;
+  for (int f = 0; f < 600; f++) {
+    const double t = 0.1 * f;
+    clear();
+    objs.lowest_beam_deg = -15.0f;
+    int who[2], n = 0;
+    for (int w = 0; w < (wait ? 2 : 1); w++) {
+      const double x0 = w == 0 ? -20.0 : -24.8, at0 = (0.0 - x0) / v; /* when it is under the pole */
+      double x = x0 + v * t;
+      if (w == 0 && wait && t > at0) x = t < at0 + stop ? 0.0 : v * (t - at0 - stop);
+      if (hypot(x, 1.5) <= rb + 0.1) continue; /* its head below the lowest beam */
+      put_walker(t, x, 1.5, 0.0, 4.9);
+      who[n++] = w;
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    note_walkers(who, n, first, last);
+  }
+}
+
+START_TEST(t_blind_walker_cross) {
+  uint32_t first[2], last[2];
+  init_default();
+  long_unseen_walkers(false, first, last);
+  ck_assert_uint_ne(first[0], 0);
+  ck_assert_uint_eq(first[0], last[0]); /* kept: the circle's 2 x (11.9 + 3) m at 1 m/s is 29.9 s */
+  ck_assert_uint_eq(tr.n.blind_linked, 1);
+  init_knob("blind_walker_cross", 0.0); /* blind_walker_s alone: 12 s */
+  long_unseen_walkers(false, first, last);
+  ck_assert_uint_ne(first[0], last[0]);
+  ck_assert_uint_eq(tr.n.blind_linked, 0);
+  /* the wait: by the order, A's track (gone in first) takes B when it comes out; alone, neither does */
+  init_default();
+  long_unseen_walkers(true, first, last);
+  ck_assert(first[0] != 0 && first[1] != 0 && first[0] != first[1]);
+  ck_assert_uint_ne(last[1], first[0]);
+  init_knob("blind_walker_alone", 0);
+  long_unseen_walkers(true, first, last);
+  ck_assert(first[0] != 0 && first[1] != 0 && first[0] != first[1]);
+  ck_assert_uint_eq(last[1], first[0]);
+  rs_track_cfg_t c = defaults();
+  ck_assert_double_eq(c.blind_walker_cross, 1.0);
+  ck_assert_int_eq(c.blind_walker_alone, 1);
+  knob_refused("blind_walker_cross", "-1");
+  knob_refused("blind_walker_cross", "11");
+  knob_refused("blind_walker_alone", "2");
 }
 END_TEST
 
@@ -3063,6 +3120,7 @@ int main(void) {
   tcase_add_test(tc, t_blind_walker);
   tcase_add_test(tc, t_blind_walker_line);
   tcase_add_test(tc, t_blind_walker_fifo);
+  tcase_add_test(tc, t_blind_walker_cross);
   tcase_add_test(tc, t_blind_circle_crossing);
   tcase_add_test(tc, t_blind_circle_turn);
   tcase_add_test(tc, t_queued_merge);

@@ -99,6 +99,8 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->walker_part = 1;
   c->blind_walker = 1;
   c->blind_walker_s = 12.0;
+  c->blind_walker_cross = 1.0;
+  c->blind_walker_alone = 1;
   c->blind_walker_fifo = 1;
   c->blind_walker_line = 1.5;
   c->speed_full_length = 1;
@@ -137,7 +139,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->circle_whole < 0 || cfg->circle_whole > 1 || cfg->uncover_restart < 0 || cfg->uncover_restart > 1 ||
       cfg->merge_parts < 0 || cfg->merge_parts > 1 || !(cfg->merge_front_m >= 0 && cfg->merge_front_m <= 20) || !(cfg->tent_claim_m >= 0 && cfg->tent_claim_m <= 20) || !(cfg->kin_accel >= 0 && cfg->kin_accel <= 10) ||
       cfg->walker_part < 0 || cfg->walker_part > 1 || cfg->speed_full_length < 0 || cfg->speed_full_length > 1 ||
-      cfg->blind_walker < 0 || cfg->blind_walker > 1 || !(cfg->blind_walker_s >= 0 && cfg->blind_walker_s <= 60) ||
+      cfg->blind_walker < 0 || cfg->blind_walker > 1 || !(cfg->blind_walker_s >= 0 && cfg->blind_walker_s <= RS_TRACK_WALKER_KEEP_MAX) ||
+      !(cfg->blind_walker_cross >= 0 && cfg->blind_walker_cross <= 10) || cfg->blind_walker_alone < 0 || cfg->blind_walker_alone > 1 ||
       cfg->blind_walker_fifo < 0 || cfg->blind_walker_fifo > 1 || !(cfg->blind_walker_line >= 0 && cfg->blind_walker_line <= 20) || !(cfg->split_car_m >= 0 && cfg->split_car_m <= 20) ||
       cfg->stitch_kin < 0 || cfg->stitch_kin > 1 || cfg->gap_unseen < 0 || cfg->gap_unseen > 1 ||
       !(cfg->miss_cost >= 0 && cfg->miss_cost <= 1000))
@@ -177,7 +180,7 @@ static const rs_opt_t knobs[] = {
     KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),      KNOB(twin_s, 0.0, 60.0),
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
     KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(merge_front_m, 0.0, 20.0), KNOB(tent_claim_m, 0.0, 20.0), KNOB(kin_accel, 0.0, 10.0),
-    KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1), KNOB(blind_walker_s, 0.0, 60.0),
+    KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1), KNOB(blind_walker_s, 0.0, RS_TRACK_WALKER_KEEP_MAX), KNOB(blind_walker_cross, 0.0, 10.0), KNOB_INT(blind_walker_alone, 0, 1),
     KNOB_INT(blind_walker_fifo, 0, 1), KNOB(blind_walker_line, 0.0, 20.0), KNOB(split_car_m, 0.0, 20.0), KNOB_INT(stitch_kin, 0, 1), KNOB_INT(gap_unseen, 0, 1), KNOB(miss_cost, 0.0, 1000.0),
     KNOB_INT(still_lane, 0, 1), KNOB_INT(brake_coast, 0, 1), KNOB_INT(still_coast, 0, 1),
 };
@@ -412,8 +415,8 @@ static double blind_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_t
  * near it, at least 2 m on, both walking along the straight way between them
  * (within 40 degrees), that way passing near the circle, and the time between
  * within WBLIND_TIME_SHARE (+ WBLIND_TIME_S) of the way's length at o's
- * speed. Returns, the least winning: with blind_walker_fifo, how long before
- * the longest wait (blind_walker_s) o went in (of walkers in a line whose
+ * speed, within walker_keep. Returns, the least winning: with blind_walker_fifo,
+ * how long before the longest wait (RS_TRACK_WALKER_KEEP_MAX) o went in (of walkers in a line whose
  * times fit, the first in is the first out: their paces at the edge, slowed
  * by the walker ahead, tell less than their order); without it, how far the
  * time is from that; or -1. With blind_walker_line, a walker whose line (its
@@ -425,13 +428,23 @@ static double blind_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_t
 #define WBLIND_TIME_SHARE 0.3 /* of the time expected */
 #define WBLIND_TIME_S 1.0     /* s */
 /* blind_walk_link's rank added for a walker off the way's line (blind_walker_line): over every rank on
- * it, which is at most blind_walker_s (60 s at most) or the time's fit (under blind_walker_s) */
+ * it, which is at most RS_TRACK_WALKER_KEEP_MAX or the time's fit (under it) */
 #define WBLIND_OFF_LINE 1000.0
+_Static_assert((int)WBLIND_OFF_LINE > RS_TRACK_WALKER_KEEP_MAX, "a rank off the line comes after every rank on it");
+/* blind_walker: how long walker's track o, gone in, is kept for the link: blind_walker_s, or the time
+ * the circle's width at its top takes at blind_walker_cross when that is longer (at most
+ * RS_TRACK_WALKER_KEEP_MAX) */
+static double walker_keep(const rs_tracker_t *tr, const rs_track_t *o) {
+  const rs_track_cfg_t *cf = &tr->cfg;
+  if (!(cf->blind_walker_cross > 0)) return cf->blind_walker_s;
+  const double cross = 2.0 * (blind_reach(tr, o) + BLIND_BIRTH_M) / cf->blind_walker_cross;
+  return fmin(RS_TRACK_WALKER_KEEP_MAX, fmax(cf->blind_walker_s, cross));
+}
 /* the part of blind_walk_link that asks of o alone: might walker o, gone in, come out at (px, py) at time
  * t? how far the time is from its way's length at its pace, or -1 */
 static double out_fit(const rs_tracker_t *tr, const rs_track_t *o, double px, double py, double t) {
   const double dt = t - o->t_update;
-  if (!(dt > 0) || dt > tr->cfg.blind_walker_s || !at_blind_edge(tr, o)) return -1.0;
+  if (!(dt > 0) || dt > walker_keep(tr, o) || !at_blind_edge(tr, o)) return -1.0;
   const double rb = blind_reach(tr, o);
   if (norm2(px, py) > rb + BLIND_BIRTH_M) return -1.0;
   const double ax = o->last_z[0], ay = o->last_z[1], dx = px - ax, dy = py - ay, d = norm2(dx, dy);
@@ -448,7 +461,7 @@ static double blind_walk_link(const rs_tracker_t *tr, const rs_track_t *o, const
   if (!(vy >= WBLIND_MIN_V) || y->x[2] * dx + y->x[3] * dy < BLIND_COS * vy * d) return -1.0;
   const double off = out_fit(tr, o, y->px0, y->py0, y->t_birth);
   if (off < 0) return -1.0;
-  const double rank = tr->cfg.blind_walker_fifo ? tr->cfg.blind_walker_s - (y->t_birth - o->t_update) : off;
+  const double rank = tr->cfg.blind_walker_fifo ? RS_TRACK_WALKER_KEEP_MAX - (y->t_birth - o->t_update) : off;
   /* blind_walker_line: y born off o's line (its heading through where it was last seen) by more than that:
    * after every walker on whose line it came out (the ranks above stay below WBLIND_OFF_LINE) */
   const double h = o->heading;
@@ -2415,7 +2428,19 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     rs_track_t *y = &L->track[i];
     if (y->object < 0 || y->id == 0 || y->hits < 3 || y->t_update - y->t_birth > 1.5) continue;
     int best = nearest_unseen(tr, i, 0, ncand, blind_link);
-    if (best < 0) best = nearest_unseen(tr, i, ncand, ncand + nwalk, blind_walk_link);
+    if (best < 0) {
+      best = nearest_unseen(tr, i, ncand, ncand + nwalk, blind_walk_link);
+      /* blind_walker_alone: unseen longer than blind_walker_s, o takes y only if no other gone-in walker's
+       * track fits it (bounded: the candidates, at most RS_TRACK_MAX) */
+      if (best >= 0 && cf->blind_walker_alone && y->t_birth - L->track[best].t_update > cf->blind_walker_s) {
+        uint32_t fits = 0;
+        for (uint32_t q = ncand; q < ncand + nwalk && fits < 2; q++) {
+          const uint32_t j = tr->near[q];
+          if (j != i && unseen(&L->track[j]) && blind_walk_link(tr, &L->track[j], y) >= 0) fits++;
+        }
+        if (fits > 1) best = -1;
+      }
+    }
     if (best < 0) continue;
     stitch(tr, objs, nobj, (uint32_t)best, y, true); /* its state is y's: o's is seconds old */
     L->track[best].blind_kept = false;
@@ -2529,7 +2554,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       }
     } else {
       const double lost = t->shape_cls == RS_CLASS_PEDESTRIAN ? fmax(cf->lost_s, cf->lost_walker_s) : cf->lost_s;
-      const double keep = cf->blind_walker && walker_full_sized(t) ? cf->blind_walker_s : cf->blind_s;
+      const double keep = cf->blind_walker && walker_full_sized(t) ? walker_keep(tr, t) : cf->blind_s;
       t->blind_kept = !updated && since > cf->coast_s + lost && since <= keep && at_blind_edge(tr, t);
       if (since > cf->coast_s + lost && !t->blind_kept) ends = true;
       else if (updated || rs_track_held(t)) t->state = RS_TRACK_CONFIRMED;

@@ -118,6 +118,7 @@
 #define RS_TRACK_GRID_BUCKETS 4096 /* object lookup grid (4 m cells, hashed) */
 #define RS_TRACK_HOLD_MAX 4        /* held tracks one shared cluster's returns are divided between */
 #define RS_TRACK_TOP_GAP 2.0f /* m: a row above an object's top this near bounds it (below_beam) */
+#define RS_TRACK_WALKER_KEEP_MAX 60 /* s: the longest a walker's track gone into the blind circle is kept for the link */
 #define RS_TRACK_STILL_WINDOW 4     /* measurements a track keeps for confirm_still_window */
 #define RS_TRACK_STILL_POINTS_MIN 8 /* returns: the fast confirmation's least (a far car of 10 returns in the truth
                                      often clusters to 8 or 9) */
@@ -318,6 +319,16 @@ typedef struct {
   double blind_walker_s;       /* s: with blind_walker, how long a walker's track gone into the blind circle is kept
                                   for the link (blind_s for vehicles; a walker crosses a 10 m circle at 1 m/s in
                                   10 s; default 12) */
+  double blind_walker_cross;   /* m/s: with blind_walker, a gone-in walker's track is kept, and may be linked, also
+                                  until the time the circle's width (twice the reach at its top, plus the young
+                                  track's BLIND_BIRTH_M each side) takes at this pace, when that is longer than
+                                  blind_walker_s (a VLP-16 4.9 m up: a walker is unseen 24 m, 15-22 s; a 3 m
+                                  pole: 10 m, under blind_walker_s); at most RS_TRACK_WALKER_KEEP_MAX s (default
+                                  1; 0 = blind_walker_s alone; docs/tracking.md, The blind circle) */
+  int blind_walker_alone;      /* 1: with blind_walker_cross, a walker's track unseen longer than blind_walker_s
+                                  takes a young one only when no other gone-in walker's track fits it (over such
+                                  times the order they went in is no clock: one waits at the corner to cross
+                                  while those behind walk on; default 1; 0 = by the order, as under it) */
   int blind_walker_fifo;       /* 1: with blind_walker, walkers come out in the order they went in: of the gone-in
                                   walkers' tracks whose time fits a young one, the first gone in takes it, and a
                                   gone-in track takes by the gate nothing an earlier one on its way may be coming
