@@ -298,7 +298,7 @@ int main(int argc, char **argv) {
   print_info(&m, stderr);
   print_ground(&m, &framer.stream.sensor, stderr);
   const double hz = m.rate_hz > 0 ? m.rate_hz : 10.0;
-  if (m.frames < RS_BG_SITE_SECONDS * hz * 0.5)
+  if (rs_bgu_few_frames(m.frames, hz))
     fprintf(stderr,
             "roadscan-learn: warning: learned from %u frames (%.1f s at %.1f Hz): a site with traffic needs %.0f s of "
             "it for vehicles that stop to be told from the scene (a scene without traffic needs about 1 s); the model "

@@ -82,8 +82,7 @@ static void learn_once(rs_bgu_t *u) {
    * whatever stood then for the scene and so "explains" more than any model of more evidence: a
    * candidate of more frames is not held to that comparison, only to the surfaces (a rush capture
    * learned from 1.5 s: every candidate was refused for 5 minutes; docs/background.md) */
-  const double hz = cur->rate_hz > 0 ? cur->rate_hz : 10.0;
-  const bool few = u->updates == 0 && cur->frames < RS_BG_SITE_SECONDS * hz * 0.5 && cand->frames > cur->frames;
+  const bool few = u->updates == 0 && rs_bgu_few_frames(cur->frames, cur->rate_hz) && cand->frames > cur->frames;
   const double e_cur = rs_bgu_explained(cur, &u->cfg.rules, &u->store),
                e_cand = rs_bgu_explained(cand, &u->cfg.rules, &u->store);
   const size_t s_cur = cells_with_surfaces(cur), s_cand = cells_with_surfaces(cand);
@@ -254,6 +253,10 @@ static void start_learning(rs_bgu_t *u, const rs_slot_t *s) {
   u->rate_hz = s->meta.rate_hz;
   u->t_last_learn = s->meta.t_first;
   hand_over(u, RS_BGU_LEARNING);
+}
+
+bool rs_bgu_few_frames(uint32_t frames, double hz) {
+  return frames < RS_BG_SITE_SECONDS * (hz > 0 ? hz : 10.0) * 0.5;
 }
 
 /* Whether the samples are enough for a relearn: they span 90 % of the

@@ -98,7 +98,7 @@ static void check_model(rs_proc_t *p, const rs_bg_model_t *m, const rs_slot_t *s
              want);
   }
   const double hz = m->rate_hz > 0 ? m->rate_hz : (s->meta.rate_hz > 0 ? s->meta.rate_hz : 10.0);
-  if (!p->few_warned && (!p->bgu_on || p->bgu.updates == 0) && m->frames < RS_BG_SITE_SECONDS * hz * 0.5) {
+  if (!p->few_warned && (!p->bgu_on || p->bgu.updates == 0) && rs_bgu_few_frames(m->frames, hz)) {
     p->few_warned = true;
     rs_log(RS_LOG_WARN,
            "the background model was learned from %u frames (%.1f s at %.1f Hz): a site with traffic needs %.0f s "

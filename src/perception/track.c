@@ -2104,23 +2104,26 @@ static bool stitch_feasible(const rs_tracker_t *tr, const rs_track_t *o, const r
 
 /* Of the candidates tr->near[q0..n) (list indices) still unseen (a link made earlier in the same pass
  * takes one up) and other than track i (y), the one whose fit to y is least (fit: a distance, < 0
- * when it does not fit; the first in index order of equals); -1 none. The blind-circle link and the
- * kinematic re-acquisition */
+ * when it does not fit; the first in index order of equals); -1 none. *nfit (unless NULL): how many fit
+ * (blind_walker_alone). The blind-circle link and the kinematic re-acquisition */
 typedef double (*link_fit_t)(const rs_tracker_t *tr, const rs_track_t *o, const rs_track_t *y);
-static int nearest_unseen(const rs_tracker_t *tr, uint32_t i, uint32_t q0, uint32_t n, link_fit_t fit) {
+static int nearest_unseen(const rs_tracker_t *tr, uint32_t i, uint32_t q0, uint32_t n, link_fit_t fit, uint32_t *nfit) {
   const rs_track_t *y = &tr->list.track[i];
   int best = -1;
   double best_fit = INFINITY;
+  uint32_t fits = 0;
   for (uint32_t q = q0; q < n; q++) {
     const uint32_t j = tr->near[q];
     const rs_track_t *o = &tr->list.track[j];
     if (j == i || !unseen(o)) continue;
     const double f = fit(tr, o, y);
+    fits += f >= 0;
     if (f >= 0 && f < best_fit) {
       best_fit = f;
       best = (int)j;
     }
   }
+  if (nfit) *nfit = fits;
   return best;
 }
 
@@ -2427,19 +2430,14 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   for (uint32_t i = 0; i < L->count && ncand + nwalk > 0; i++) {
     rs_track_t *y = &L->track[i];
     if (y->object < 0 || y->id == 0 || y->hits < 3 || y->t_update - y->t_birth > 1.5) continue;
-    int best = nearest_unseen(tr, i, 0, ncand, blind_link);
+    int best = nearest_unseen(tr, i, 0, ncand, blind_link, NULL);
     if (best < 0) {
-      best = nearest_unseen(tr, i, ncand, ncand + nwalk, blind_walk_link);
+      uint32_t fits;
+      best = nearest_unseen(tr, i, ncand, ncand + nwalk, blind_walk_link, &fits);
       /* blind_walker_alone: unseen longer than blind_walker_s, o takes y only if no other gone-in walker's
-       * track fits it (bounded: the candidates, at most RS_TRACK_MAX) */
-      if (best >= 0 && cf->blind_walker_alone && y->t_birth - L->track[best].t_update > cf->blind_walker_s) {
-        uint32_t fits = 0;
-        for (uint32_t q = ncand; q < ncand + nwalk && fits < 2; q++) {
-          const uint32_t j = tr->near[q];
-          if (j != i && unseen(&L->track[j]) && blind_walk_link(tr, &L->track[j], y) >= 0) fits++;
-        }
-        if (fits > 1) best = -1;
-      }
+       * track fits it */
+      if (best >= 0 && cf->blind_walker_alone && fits > 1 && y->t_birth - L->track[best].t_update > cf->blind_walker_s)
+        best = -1;
     }
     if (best < 0) continue;
     stitch(tr, objs, nobj, (uint32_t)best, y, true); /* its state is y's: o's is seconds old */
@@ -2461,7 +2459,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     rs_track_t *y = &L->track[i];
     if (y->object < 0 || y->id == 0 || y->state != RS_TRACK_TENTATIVE || y->hits < KIN_HITS || y->t_birth <= kin_first)
       continue;
-    const int best = nearest_unseen(tr, i, 0, nkin, kin_fit);
+    const int best = nearest_unseen(tr, i, 0, nkin, kin_fit, NULL);
     if (best < 0) continue;
     stitch(tr, objs, nobj, (uint32_t)best, y, y->hits > L->track[best].hits);
     tr->n.stitched++;
@@ -2554,8 +2552,9 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       }
     } else {
       const double lost = t->shape_cls == RS_CLASS_PEDESTRIAN ? fmax(cf->lost_s, cf->lost_walker_s) : cf->lost_s;
-      const double keep = cf->blind_walker && walker_full_sized(t) ? walker_keep(tr, t) : cf->blind_s;
-      t->blind_kept = !updated && since > cf->coast_s + lost && since <= keep && at_blind_edge(tr, t);
+      t->blind_kept = !updated && since > cf->coast_s + lost &&
+                      since <= (cf->blind_walker && walker_full_sized(t) ? walker_keep(tr, t) : cf->blind_s) &&
+                      at_blind_edge(tr, t);
       if (since > cf->coast_s + lost && !t->blind_kept) ends = true;
       else if (updated || rs_track_held(t)) t->state = RS_TRACK_CONFIRMED;
       else t->state = since > cf->coast_s ? RS_TRACK_LOST : RS_TRACK_COASTING;

@@ -30,8 +30,8 @@
  * store spans the last window_s seconds, in bursts of RS_BGU_BURST
  * consecutive frames (the learner reads frame-to-frame changes). A relearn
  * is due every every_s seconds of sensor time (capture time) once the
- * samples span at least min(window_s, 120 s) and fill 90 % of the store, or
- * outnumber the frames the model in use was learned from. The candidate
+ * samples span at least min(window_s, 120 s) and either span 90 % of
+ * window_s or outnumber the frames the model in use was learned from. The candidate
  * replaces the model in use when the samples' returns it calls background
  * are not fewer than the model in use's by more than 0.1 % of them, and it
  * keeps at least 90 % of the cells with a surface. */
@@ -124,5 +124,9 @@ bool rs_bgu_frame(rs_bgu_t *u, const rs_slot_t *s);
 bool rs_bgu_finish(rs_bgu_t *u, double t_last, double timeout_s);
 /* Share of the sampled returns a model calls background (0..1; the check). */
 double rs_bgu_explained(const rs_bg_model_t *m, const rs_bg_rules_t *rules, const rs_bg_learner_t *l);
+/* Whether a model of `frames` frames at hz (<= 0: 10 Hz assumed) was learned from less than half of the
+ * RS_BG_SITE_SECONDS a site with traffic needs (the learner's and the daemon's warning; the updater's
+ * first-model rule) */
+bool rs_bgu_few_frames(uint32_t frames, double hz);
 
 #endif
