@@ -77,8 +77,8 @@ def main():
     subprocess.run([f"{bindir}/roadscan-learn", cap, "-o", model], check=True, capture_output=True)
     lines = sum((["--count-line", l] for l in LINES), [])
     env = dict(os.environ, ROADSCAN_ALLOW_ROOT="1")
-    # paced (4x): the log's times are the frames' pace, so the page's replay shows them as they came
-    d = subprocess.run([f"{bindir}/roadscand", "--pcap", cap, "--speed", "4", "--background", model, *lines,
+    # paced (2x: 20 s of log): the log's times are the frames' pace, so the page's replay shows them as they came
+    d = subprocess.run([f"{bindir}/roadscand", "--pcap", cap, "--speed", "2", "--background", model, *lines,
                         "--count-zone", ZONE, "--count-interval", "2", "--crossings-out", f"{tmp}/crossings.csv",
                         "--lcm-url", f"file://{log}?mode=w"], env=env,
                        capture_output=True, text=True)
@@ -92,8 +92,6 @@ def main():
         if int(r["points"]) >= 10 and math.hypot(float(r["x"]), float(r["y"])) <= 60:
             objects[int(r["frame"])] = objects.get(int(r["frame"]), 0) + 1
     port = free_port()
-    web = subprocess.Popen([f"{bindir}/roadscan-web", "--log", log, "--listen", f"127.0.0.1:{port}", *lines,
-                            "--count-zone", ZONE], stderr=open(f"{tmp}/web.txt", "w"))
     opts = webdriver.ChromeOptions()
     opts.binary_location = chromium
     for a in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--disable-quic",
@@ -101,6 +99,11 @@ def main():
               f"--user-data-dir={tmp}/chrome", "--window-size=1400,900"):
         opts.add_argument(a)
     opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    # the browser first: the log's replay (20 s) starts with roadscan-web, and a browser starting on a
+    # loaded machine must not take the part of it in which the counts are seen to advance
+    drv = webdriver.Chrome(service=Service(driver_bin), options=opts)
+    web = subprocess.Popen([f"{bindir}/roadscan-web", "--log", log, "--listen", f"127.0.0.1:{port}", *lines,
+                            "--count-zone", ZONE], stderr=open(f"{tmp}/web.txt", "w"))
     try:
         for _ in range(100):  # the server listens
             try:
@@ -108,7 +111,6 @@ def main():
                 break
             except OSError:
                 time.sleep(0.1)
-        drv = webdriver.Chrome(service=Service(driver_bin), options=opts)
         try:
             drv.get(f"http://127.0.0.1:{port}/")
             wait = WebDriverWait(drv, 90, poll_frequency=0.2)
