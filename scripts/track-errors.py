@@ -108,6 +108,15 @@
         slower than 1 m/s, and those reported under half the speed of a vehicle moving at 2 m/s or
         more (and in how many pairs of a track and a vehicle; the largest pair: its triple's number
         from 1, track, vehicle, and share of the squared error).
+    scripts/track-errors.py gaps MOTDUMP TRACKS STATES [MOTDUMP TRACKS STATES ...]
+        Over all given, pedestrians and vehicles apart: where a road user's frames as a true instance
+        (>= 10 returns) are away from its own track (the one matching it, IoU > 0.5, in most of its
+        frames): on another track, or on none; for pedestrians by range (0-15, 15-30, 30-45, 45 m or
+        more) and by how near the nearest other pedestrian is (under 1, 1-2, 2-4, 4 m or more). Then
+        each time it comes back matched after over 1 s with no match (hidden, or too few returns), by
+        how long (1-2, 2-4, 4-6, 6-10, 10-20 s, longer): on the track it had before the gap, on one
+        it had earlier, on a new track, or on a track that had another road user; and, when not on the
+        one it had before, whether that one was still listed (TRACKS) then.
     scripts/track-errors.py close STATES...
         Per true-states file: how many pairs of walkers came within 0.45 m of each other (centres;
         bodies are 0.5 m wide), the states within 0.6 m, and the nearest two ever came (m): how
@@ -677,6 +686,120 @@ def visible(*paths):
               + ", ".join(f"{kind} {n[where, kind]}" for kind in VISIBLE_KINDS) + " of its crossing")
 
 
+GAP_BINS = (2.0, 4.0, 6.0, 10.0, 20.0)  # s: the upper ends of gaps' bins, the last open
+RANGE_BINS = (15.0, 30.0, 45.0)  # m
+NEAR_BINS = (1.0, 2.0, 4.0)  # m
+
+
+def bin_labels(ends, unit, lo=None):
+    """the bins' labels in order (bin_of)"""
+    return [bin_of(e - 1e-9, ends, unit, lo) for e in ends] + [bin_of(ends[-1], ends, unit, lo)]
+
+
+def bin_of(v, ends, unit, lo=None):
+    """the label of v's bin: ends' upper bounds, the last one open; lo, when given, the first one's lower"""
+    for e in ends:
+        if v < e:
+            return f"under {e:g} {unit}" if lo is None else f"{lo:g}-{e:g} {unit}"
+        lo = e
+    return f"{lo:g} {unit} or more"
+
+
+def gaps_counts(*paths):
+    """(away, back): Counters over the triples (MOTDUMP, TRACKS, STATES). away: (group, where, 'on another
+    track' | 'on none' | 'frames') -> frames, where 'all', a range bin or a nearest-walker bin (pedestrians); back:
+    (group, gap bin, outcome) -> times a road user came back matched after over 1 s unmatched"""
+    away, back = Counter(), Counter()
+    for k in range(0, len(paths), 3):
+        states, cls = load_states(paths[k + 2])
+        listed = set()  # (frame, track) rows of the track file
+        with open(paths[k + 1], newline="") as f:
+            for r in csv.DictReader(f):
+                listed.add((int(r["frame"]), int(r["track"])))
+        frames, match, had = defaultdict(set), defaultdict(dict), defaultdict(dict)
+        with open(paths[k], newline="") as f:
+            for r in csv.DictReader(f):
+                fr, t, p, iou = int(r["frame"]), int(r["truth"]), int(r["pred"]), float(r["iou"])
+                if t == 0:
+                    continue
+                frames[t].add(fr)
+                if p >= 3 and iou > 0.5:
+                    match[t][fr] = p - 2
+                    had[p - 2][fr] = t
+        t0 = min(rows[0][0] for rows in states.values())
+        state_at = lambda i, fr: at(states[i], t0 + 0.1 * fr) if i in states else None
+        walkers = defaultdict(dict)  # frame -> pedestrian -> (x, y)
+        for t, fs in frames.items():
+            if cls.get(t) == "pedestrian":
+                for fr in fs:
+                    s = state_at(t, fr)
+                    if s is not None:
+                        walkers[fr][t] = s[:2]
+        for t, fs in frames.items():
+            group = "pedestrian" if cls.get(t) == "pedestrian" else "vehicle" if cls.get(t) in VEHICLES else None
+            if group is None:
+                continue
+            m = match[t]
+            own = Counter(m.values()).most_common(1)[0][0] if m else None
+            for fr in fs:
+                where = ["all"]
+                if group == "pedestrian" and fr in walkers and t in walkers[fr]:
+                    x, y = walkers[fr][t]
+                    near = min((math.hypot(x - a, y - b) for o, (a, b) in walkers[fr].items() if o != t), default=1e9)
+                    where += ["range " + bin_of(math.hypot(x, y), RANGE_BINS, "m"),
+                              "nearest pedestrian " + bin_of(near, NEAR_BINS, "m")]
+                kind = None if m.get(fr) == own and own is not None else "on another track" if fr in m else "on none"
+                for w in where:
+                    away[group, w, "frames"] += 1
+                    if kind:
+                        away[group, w, kind] += 1
+            seq = sorted(m)
+            for a, b in zip(seq, seq[1:]):
+                if b - a <= 10:
+                    continue
+                g = bin_of(0.1 * (b - a), GAP_BINS, "s", 1.0)
+                old, new = m[a], m[b]
+                earlier = [had[new][f] for f in sorted(had[new]) if f < b]
+                if new == old:
+                    what = "its track"
+                elif not earlier:
+                    what = "a new track"
+                elif earlier[-1] == t:
+                    what = "a track it had earlier"
+                else:
+                    what = "another road user's track"
+                back[group, g, what] += 1
+                if new != old:
+                    back[group, g, "its track still listed" if (b, old) in listed else "its track ended"] += 1
+    return away, back
+
+
+GAP_OUTCOMES = ("its track", "a track it had earlier", "a new track", "another road user's track")
+
+
+def gaps(*paths):
+    if not paths or len(paths) % 3:
+        sys.exit(__doc__.strip())
+    away, back = gaps_counts(*paths)
+    for group in ("pedestrian", "vehicle"):
+        for w in ["all"] + ["range " + b for b in bin_labels(RANGE_BINS, "m")] + \
+                ["nearest pedestrian " + b for b in bin_labels(NEAR_BINS, "m")]:
+            n = away[group, w, "frames"]
+            if not n:
+                continue
+            other, none = away[group, w, "on another track"], away[group, w, "on none"]
+            print(f"  {group}s, {w}: frames {n}, away from their own track {other + none} "
+                  f"({100.0 * (other + none) / n:.1f} %: on another track {other}, on none {none})")
+        for g in bin_labels(GAP_BINS, "s", 1.0):
+            n = sum(back[group, g, w] for w in GAP_OUTCOMES)
+            if not n:
+                continue
+            print(f"  {group}s back after {g} unmatched: {n}; " +
+                  ", ".join(f"on {w} {back[group, g, w]}" for w in GAP_OUTCOMES) +
+                  f" (the one it had before still listed {back[group, g, 'its track still listed']}, "
+                  f"ended {back[group, g, 'its track ended']})")
+
+
 def crossings(*paths):
     if not paths or len(paths) % 3:
         sys.exit(__doc__.strip())
@@ -940,10 +1063,10 @@ def common(*paths):
 def main(argv):
     modes = {"speed": speed, "ids": ids, "close": close, "traffic": traffic, "unmatched": unmatched, "matched": matched,
              "born": born, "spot": spot, "crossings": crossings, "late": late, "reacquired": reacquired,
-             "budget": budget, "visible": visible, "common": common}
+             "budget": budget, "visible": visible, "common": common, "gaps": gaps}
     if len(argv) < 2 or argv[0] not in modes or \
             (argv[0] not in ("close", "traffic", "matched", "born", "spot", "crossings", "late", "reacquired", "budget",
-                             "visible", "common") and len(argv) != 3):
+                             "visible", "common", "gaps") and len(argv) != 3):
         sys.exit(__doc__.strip())
     modes[argv[0]](*argv[1:])
 

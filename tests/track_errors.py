@@ -19,6 +19,12 @@ frames 30-79 and car 2's 0-49.
 visible: five cars at 10 m/s across the east line (x 41.5) at 1.15 s, one lane each; car 1's
 crossing counted; car 2 a true instance in every frame, car 3 from 3.0 s, car 4 from 5.0 s, car 5
 never; a sixth crossing of the walk line by a walker, never an instance.
+
+gaps: five walkers standing apart (10, 20, 35, 12 and 50 m from the sensor) and a car, 100 frames:
+walker 1 on track 1, unmatched 1.5 s and back on it; walker 2 on track 2 (listed until frame 60), an
+instance unmatched in frames 40-49, then a new track 3 from frame 70; walker 3 on track 4 (listed
+throughout) and, after 5.1 s, on track 5, which had walker 4 in frames 0-19; walker 5 on track 6, then 7,
+2.1 s unmatched, then track 6 again; the car on track 8 throughout.
 Exit 0 when every row and crossing lands in its kind, 1 otherwise.
 """
 import contextlib
@@ -45,7 +51,58 @@ def car_state(car, f):
 
 def main():
     with tempfile.TemporaryDirectory() as tmp:
-        return check(tmp) or check_visible(tmp) or check_common(tmp)
+        return check(tmp) or check_visible(tmp) or check_common(tmp) or check_gaps(tmp)
+
+
+def check_gaps(tmp):
+    states_p, tracks_p, mot_p = (os.path.join(tmp, n) for n in ("gstates.csv", "gtracks.csv", "gmot.csv"))
+    where = {1: (10.0, 0.0), 2: (0.0, 20.0), 3: (-35.0, 0.0), 4: (0.0, -12.0), 5: (0.0, -50.0), 9: (20.0, 20.0)}
+    # (walker, track, first frame, last frame) of the matches; walker 2 an instance unmatched in 40-49
+    spans = [(1, 1, 0, 29), (1, 1, 45, 99), (2, 2, 0, 39), (2, 3, 70, 99), (3, 4, 0, 29), (3, 5, 80, 99),
+             (4, 5, 0, 19), (5, 6, 0, 19), (5, 7, 20, 39), (5, 6, 60, 99), (9, 8, 0, 99)]
+    listed = {1: (0, 99), 2: (0, 60), 3: (70, 99), 4: (0, 99), 5: (0, 99), 6: (0, 99), 7: (20, 99), 8: (0, 99)}
+    with open(states_p, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["t", "id", "class", "x", "y", "vx", "vy", "heading", "length", "width", "height"])
+        for fr in range(FRAMES):
+            for k, (x, y) in where.items():
+                w.writerow([f"{T0 + 0.1 * fr:.3f}", k, "car" if k == 9 else "pedestrian", x, y, 0.0, 0.0, 0.0,
+                            4.5 if k == 9 else 0.5, 1.8 if k == 9 else 0.5, 1.5])
+    with open(tracks_p, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["frame", "t", "track"])
+        for track, (a, b) in listed.items():
+            for fr in range(a, b + 1):
+                w.writerow([fr, f"{T0 + 0.1 * fr:.3f}", track])
+    with open(mot_p, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["frame", "truth", "pred", "iou"])
+        for k, track, a, b in spans:
+            for fr in range(a, b + 1):
+                w.writerow([fr, k, 0, 0])
+                w.writerow([fr, k, track + 2, 1.0])
+        for fr in range(40, 50):
+            w.writerow([fr, 2, 0, 0])
+    away, back = te.gaps_counts(mot_p, tracks_p, states_p)
+    want_away = {("all", "frames"): 315, ("all", "on another track"): 70, ("all", "on none"): 10,
+                 ("range under 15 m", "frames"): 105, ("range 15-30 m", "frames"): 80,
+                 ("range 15-30 m", "on another track"): 30, ("range 15-30 m", "on none"): 10,
+                 ("range 30-45 m", "frames"): 50, ("range 30-45 m", "on another track"): 20,
+                 ("range 45 m or more", "frames"): 80, ("range 45 m or more", "on another track"): 20,
+                 ("nearest pedestrian 4 m or more", "frames"): 315,
+                 ("nearest pedestrian 4 m or more", "on another track"): 70,
+                 ("nearest pedestrian 4 m or more", "on none"): 10}
+    got_away = {(wh, n): v for (g, wh, n), v in away.items() if g == "pedestrian"}
+    want_back = {("1-2 s", "its track"): 1, ("2-4 s", "a new track"): 1, ("2-4 s", "its track ended"): 1,
+                 ("4-6 s", "another road user's track"): 1, ("4-6 s", "its track still listed"): 1,
+                 ("2-4 s", "a track it had earlier"): 1, ("2-4 s", "its track still listed"): 1}
+    got_back = {(g, n): v for (gr, g, n), v in back.items() if gr == "pedestrian"}
+    vehicle = {k: v for k, v in list(away.items()) + list(back.items()) if k[0] == "vehicle"}
+    if got_away != want_away or got_back != want_back or vehicle != {("vehicle", "all", "frames"): 100}:
+        print(f"gaps away {got_away}\nwanted {want_away}\nback {got_back}\nwanted {want_back}\nvehicle {vehicle}")
+        return 1
+    print("walkers' frames away and their returns after gaps in their kinds")
+    return 0
 
 
 def check_visible(tmp):
