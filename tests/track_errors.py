@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""scripts/track-errors.py budget, visible and common on hand-made runs with known answers.
+"""scripts/track-errors.py budget, visible, common and gaps on hand-made runs with known answers.
 
 Four true cars at 5 m/s and five tracks, 10 Hz for 10 s:
   car 1: track 1 from the first frame to the last (the capture's first 3 s, then 2 s or more);
