@@ -633,6 +633,53 @@ START_TEST(t_blind_walker_cross) {
 }
 END_TEST
 
+/* blind_walker_pace_s. A sensor 4.9 m up whose lowest beam points 15 degrees
+ * down sees a 1.7 m walker only beyond 11.9 m. A walker walks along y = 1.5
+ * towards +x at 1.2 m/s; in the 1.5 s before the circle's edge it slows to
+ * 0.6 m/s (the walker ahead), then walks through the circle (23.6 m) at 1.2
+ * m/s again, unseen 19.7 s. At its speed at the edge the way takes 39 s, too
+ * far from 19.7 for the time fit; at its pace over the seconds before (about
+ * 1 m/s), it fits. Returns the first and the last id of a confirmed track on
+ * it. */
+static void slowed_at_edge(double pace_s, uint32_t *first, uint32_t *last) {
+  init_knob("blind_walker_pace_s", pace_s);
+  const double rb = 3.2 / tan(15.0 * M_PI / 180.0), x0 = -24.0, x1 = -12.7, x2 = -11.8;
+  const double t1 = (x1 - x0) / 1.2, t2 = t1 + (x2 - x1) / 0.6; /* the slow stretch: x1 to x2 */
+  *first = *last = 0;
+  for (int f = 0; f < 380; f++) {
+    const double t = 0.1 * f;
+    clear();
+    objs.lowest_beam_deg = -15.0f;
+    const double x = t < t1 ? x0 + 1.2 * t : t < t2 ? x1 + 0.6 * (t - t1) : x2 + 1.2 * (t - t2);
+    int who[1] = {0}, n = 0;
+    if (hypot(x, 1.5) > rb + 0.1) { /* its head above the lowest beam */
+      put_walker(t, x, 1.5, 0.0, 4.9);
+      n = 1;
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    uint32_t a[1] = {0}, b[1] = {0};
+    note_walkers(who, n, a, b);
+    if (a[0] != 0 && *first == 0) *first = a[0];
+    if (b[0] != 0) *last = b[0];
+  }
+}
+
+START_TEST(t_blind_walker_pace) {
+  uint32_t first, last;
+  slowed_at_edge(3.0, &first, &last);
+  ck_assert_uint_ne(first, 0);
+  ck_assert_uint_eq(last, first);
+  ck_assert_uint_eq(tr.n.blind_linked, 1);
+  slowed_at_edge(0.0, &first, &last); /* at its speed at the edge: no link, a new track */
+  ck_assert(first != 0 && last != 0);
+  ck_assert_uint_ne(last, first);
+  ck_assert_uint_eq(tr.n.blind_linked, 0);
+  ck_assert_double_eq(defaults().blind_walker_pace_s, 3.0);
+  knob_refused("blind_walker_pace_s", "-1");
+  knob_refused("blind_walker_pace_s", "61");
+}
+END_TEST
+
 /* blind_walker_fifo. Walkers A and B walk in a line towards +x along a
  * sidewalk y off a pole `up` m high whose lowest beam points 15 degrees down
  * (a 1.7 m head is unseen within (up - 1.7) / tan 15), at ve[w] m/s before
@@ -3121,6 +3168,7 @@ int main(void) {
   tcase_add_test(tc, t_blind_walker_line);
   tcase_add_test(tc, t_blind_walker_fifo);
   tcase_add_test(tc, t_blind_walker_cross);
+  tcase_add_test(tc, t_blind_walker_pace);
   tcase_add_test(tc, t_blind_circle_crossing);
   tcase_add_test(tc, t_blind_circle_turn);
   tcase_add_test(tc, t_queued_merge);

@@ -108,6 +108,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->stitch_kin = 1;
   c->gap_unseen = 1;
   c->miss_cost = 24.0;
+  c->blind_walker_pace_s = 3.0;
 }
 
 int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
@@ -143,7 +144,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->blind_walker_cross >= 0 && cfg->blind_walker_cross <= 10) || cfg->blind_walker_alone < 0 || cfg->blind_walker_alone > 1 ||
       cfg->blind_walker_fifo < 0 || cfg->blind_walker_fifo > 1 || !(cfg->blind_walker_line >= 0 && cfg->blind_walker_line <= 20) || !(cfg->split_car_m >= 0 && cfg->split_car_m <= 20) ||
       cfg->stitch_kin < 0 || cfg->stitch_kin > 1 || cfg->gap_unseen < 0 || cfg->gap_unseen > 1 ||
-      !(cfg->miss_cost >= 0 && cfg->miss_cost <= 1000))
+      !(cfg->miss_cost >= 0 && cfg->miss_cost <= 1000) || !(cfg->blind_walker_pace_s >= 0 && cfg->blind_walker_pace_s <= 60))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
@@ -182,7 +183,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(merge_front_m, 0.0, 20.0), KNOB(tent_claim_m, 0.0, 20.0), KNOB(kin_accel, 0.0, 10.0),
     KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1), KNOB(blind_walker_s, 0.0, RS_TRACK_WALKER_KEEP_MAX), KNOB(blind_walker_cross, 0.0, 10.0), KNOB_INT(blind_walker_alone, 0, 1),
     KNOB_INT(blind_walker_fifo, 0, 1), KNOB(blind_walker_line, 0.0, 20.0), KNOB(split_car_m, 0.0, 20.0), KNOB_INT(stitch_kin, 0, 1), KNOB_INT(gap_unseen, 0, 1), KNOB(miss_cost, 0.0, 1000.0),
-    KNOB_INT(still_lane, 0, 1), KNOB_INT(brake_coast, 0, 1), KNOB_INT(still_coast, 0, 1),
+    KNOB_INT(still_lane, 0, 1), KNOB_INT(brake_coast, 0, 1), KNOB_INT(still_coast, 0, 1), KNOB(blind_walker_pace_s, 0.0, 60.0),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -1757,6 +1758,58 @@ static bool stands(const rs_tracker_t *tr, const rs_track_t *t) {
          t->full_length >= STILL_LANE_LEN_M && t->t_update - t->t_moving >= STILL_COAST_S;
 }
 
+/* ---- a walker's pace into the blind circle (blind_walker_pace_s) ----------------
+ * blind_walk_link fits the time a walker gone into the blind circle takes to
+ * come out to its pace: the way's length over its speed. Its speed at the
+ * edge is one moment's: walkers in file go stop-and-go (the one behind slows
+ * when it comes near the one ahead, then walks on), and the filter's velocity
+ * follows that, so one gone in just after it slowed was expected out seconds
+ * late, later than the time fit allows, and came out as a new track; its
+ * prediction lagged it too. A track keeps two anchors, the filter's position
+ * at an update and its time: the newer moves on to an update once it is
+ * blind_walker_pace_s old, the older taking its place, so the older is
+ * blind_walker_pace_s to twice that back. When a walker's track gone into the
+ * circle (gone_in, confirmed) is first unseen, and its mean velocity from the
+ * older anchor to its last update (spanning PACE_MIN_S or more) is faster than
+ * the filter's (moving at PACE_MIN_V or more) and within PACE_MAX_DEG of it,
+ * its velocity is scaled up to that speed along its own direction: the link
+ * and its prediction go at its pace. Only faster, and not turned: the mean's
+ * direction lags a turn at a corner. Its covariance is left as it was.
+ * (Every walker's track unseen, not only those gone in: no better,
+ * docs/tracking.md.) */
+#define PACE_MIN_V 0.5    /* m/s */
+#define PACE_MIN_S 1.0    /* s */
+#define PACE_MAX_DEG 45.0 /* degrees */
+static void pace_note(const rs_tracker_t *tr, rs_track_t *t, double tk, bool first) {
+  if (!(tr->cfg.blind_walker_pace_s > 0)) return;
+  if (first) {
+    for (int k = 0; k < 2; k++) {
+      t->pace_t[k] = tk;
+      t->pace_p[k][0] = t->x[0];
+      t->pace_p[k][1] = t->x[1];
+    }
+  } else if (tk - t->pace_t[1] >= tr->cfg.blind_walker_pace_s) {
+    t->pace_t[0] = t->pace_t[1];
+    t->pace_p[0][0] = t->pace_p[1][0];
+    t->pace_p[0][1] = t->pace_p[1][1];
+    t->pace_t[1] = tk;
+    t->pace_p[1][0] = t->x[0];
+    t->pace_p[1][1] = t->x[1];
+  }
+}
+/* track t, just unseen (its state still that of its last update): a walker gone into the blind circle
+ * walks on at its pace */
+static void walk_on_at_pace(const rs_tracker_t *tr, rs_track_t *t) {
+  const rs_track_cfg_t *cf = &tr->cfg;
+  if (!(cf->blind_walker_pace_s > 0) || !cf->blind_walker || t->state == RS_TRACK_TENTATIVE || !gone_in(tr, t)) return;
+  const double span = t->t_update - t->pace_t[0], v = norm2(t->x[2], t->x[3]);
+  if (!(span >= PACE_MIN_S) || !(v >= PACE_MIN_V)) return;
+  const double mx = (t->x[0] - t->pace_p[0][0]) / span, my = (t->x[1] - t->pace_p[0][1]) / span, m = norm2(mx, my);
+  if (!(m > v) || mx * t->x[2] + my * t->x[3] < cos(PACE_MAX_DEG * PI / 180.0) * m * v) return;
+  t->x[2] *= m / v;
+  t->x[3] *= m / v;
+}
+
 /* whether track t's state has been predicted braking since its last update (brake_step) */
 static bool braked(const rs_track_t *t) { return t->brake > 0.0f && t->t_state > t->t_update; }
 
@@ -1829,6 +1882,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   t->hits++;
   t->t_update = tk;
   t->points = o->points;
+  pace_note(tr, t, tk, first);
   const double sp = norm2(t->x[2], t->x[3]);
   if (sp > 1.0 && t->hits >= 2) {
     set_heading(t, (float)atan2(t->x[3], t->x[2]));
@@ -2529,6 +2583,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     if (!updated) {
       const double t0 = t->t_state;
       if (stands(tr, t)) t->x[2] = t->x[3] = 0.0; /* still_coast */
+      else if (t->t_state == t->t_update && !rs_track_held(t)) walk_on_at_pace(tr, t); /* first unseen */
       predict(tr, t, t_frame);
       if (cf->brake_coast && !rs_track_held(t)) brake_step(t, t0);
       if (rs_track_held(t)) t->t_update = t_frame; /* seen, inside a shared cluster */

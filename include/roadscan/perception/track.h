@@ -360,6 +360,13 @@ typedef struct {
                                   measured (a lost packet, rs_object_list_t.gap) was not missed: the frame does
                                   not count against its "hit in every frame" (misses), as it could not have
                                   been seen; the time since it was last seen runs on (default 1; docs/tracking.md) */
+  double blind_walker_pace_s;  /* s: with blind_walker, a walker's track gone into the blind circle (confirmed,
+                                  moving at 0.5 m/s or more) is predicted, and its time out fitted, at its pace:
+                                  the speed of its mean velocity over the last blind_walker_pace_s to twice that
+                                  of its updates (at least 1 s of them), when faster than the filter's (which
+                                  follows the stop-and-go of walkers in file) and within 45 degrees of it, along
+                                  the filter's direction (0 = off; default 3; docs/tracking.md, the blind
+                                  circle) */
   double miss_cost;            /* the cost of leaving a gated track without an object in the optimal assignment
                                   (a pairing's: Mahalanobis distance squared + log det + the returns' unlikeness):
                                   the sum of the tracks' pairings, or this for each left out, is the least; so no
@@ -448,6 +455,8 @@ typedef struct {
   double twin_t;             /* since when (capture time) */
   float axis_c2, axis_s2;    /* smoothed cosine and sine of twice the axis of its whole side views (kin_accel) */
   uint16_t axis_n;           /* such views */
+  double pace_t[2];          /* blind_walker_pace_s: capture times of its two pace anchors, the older first */
+  double pace_p[2][2];       /* ... and the filter's position at each */
   double vel[2];             /* reported velocity, m/s: the speed estimator's for a track not of a walker's size
                                 (speed_imm), the Kalman filter's otherwise */
 } rs_track_t;
