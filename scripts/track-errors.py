@@ -241,18 +241,26 @@ def speed(tracks_path, states_path):
                                      for lo, es in bands if es))
 
 
-def ids(mot_path, states_path):
-    states, cls = load_states(states_path)
-    frames, match, pred_truth = defaultdict(set), defaultdict(dict), defaultdict(dict)
+def read_mot(mot_path):
+    """(frames, match, had) of a --mot-dump: frames[truth] the frames a true instance is in, match[truth][frame]
+    the track it is matched to (IoU > 0.5), had[track][frame] the true instance matched to it. A track's label
+    is 2 + its id; the dump's pred is 0 (a truth row) or a label of 3 or more."""
+    frames, match, had = defaultdict(set), defaultdict(dict), defaultdict(dict)
     with open(mot_path, newline="") as f:
         for r in csv.DictReader(f):
             fr, t, p, iou = int(r["frame"]), int(r["truth"]), int(r["pred"]), float(r["iou"])
             if t == 0:
                 continue
             frames[t].add(fr)
-            if p and iou > 0.5:
-                match[t][fr] = p
-                pred_truth[p][fr] = t
+            if p >= 3 and iou > 0.5:
+                match[t][fr] = p - 2
+                had[p - 2][fr] = t
+    return frames, match, had
+
+
+def ids(mot_path, states_path):
+    states, cls = load_states(states_path)
+    frames, match, pred_truth = read_mot(mot_path)
     t0 = min(rows[0][0] for rows in states.values())
     state_at = lambda k, fr: at(states[k], t0 + 0.1 * fr) if k in states else None
     lost, total, switches, objects = Counter(), Counter(), Counter(), Counter()
@@ -716,16 +724,7 @@ def gaps_counts(*paths):
         with open(paths[k + 1], newline="") as f:
             for r in csv.DictReader(f):
                 listed.add((int(r["frame"]), int(r["track"])))
-        frames, match, had = defaultdict(set), defaultdict(dict), defaultdict(dict)
-        with open(paths[k], newline="") as f:
-            for r in csv.DictReader(f):
-                fr, t, p, iou = int(r["frame"]), int(r["truth"]), int(r["pred"]), float(r["iou"])
-                if t == 0:
-                    continue
-                frames[t].add(fr)
-                if p >= 3 and iou > 0.5:
-                    match[t][fr] = p - 2
-                    had[p - 2][fr] = t
+        frames, match, had = read_mot(paths[k])
         t0 = min(rows[0][0] for rows in states.values())
         state_at = lambda i, fr: at(states[i], t0 + 0.1 * fr) if i in states else None
         walkers = defaultdict(dict)  # frame -> pedestrian -> (x, y)
