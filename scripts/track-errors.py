@@ -117,6 +117,15 @@
         how long (1-2, 2-4, 4-6, 6-10, 10-20 s, longer): on the track it had before the gap, on one
         it had earlier, on a new track, or on a track that had another road user; and, when not on the
         one it had before, whether that one was still listed (TRACKS) then.
+    scripts/track-errors.py young MOTDUMP TRACKS STATES OBJECTS [MOTDUMP TRACKS STATES OBJECTS ...]
+        Over all given (OBJECTS: roadscand --objects-out of the same run): the speed error of young
+        tracks as roadscan-eval scores it (the confirmed rows matched to a true vehicle within 80 m),
+        rows of tracks younger than 1 s past the capture's first 3 s with the vehicle moving at 1 m/s or
+        more: by the track's hits (3, 4, ... 10 or more), by whether it reports too little (over 0.5
+        m/s under), too much, or within 0.5 m/s, by the range, and by whether the object it took (the
+        frame's object with the row's return count nearest its position) was marked hidden at an end
+        (something nearer beside it, rs_object_t.occluded): per kind its rows, mean (signed) error,
+        RMSE and share of the squared error.
     scripts/track-errors.py close STATES...
         Per true-states file: how many pairs of walkers came within 0.45 m of each other (centres;
         bodies are 0.5 m wide), the states within 0.6 m, and the nearest two ever came (m): how
@@ -1059,13 +1068,63 @@ def common(*paths):
     return tot
 
 
+YOUNG_RANGE_BINS = (20.0, 40.0, 60.0)  # m
+
+
+def young_errors(*paths):
+    """kind -> the speed errors (m/s) of the young tracks' rows of that kind, over the quadruples (MOTDUMP,
+    TRACKS, STATES, OBJECTS); every row is in one kind of each of the four splits"""
+    errs = defaultdict(list)
+    for k in range(0, len(paths), 4):
+        mot_path, tracks_path, states_path, objects_path = paths[k:k + 4]
+        objs = defaultdict(list)  # frame -> (x, y, points, hidden at an end)
+        with open(objects_path, newline="") as f:
+            for r in csv.DictReader(f):
+                objs[int(r["frame"])].append((float(r["x"]), float(r["y"]), int(r["points"]), int(r["occluded"]) & 3 != 0))
+        for frame, track, r, v, took, first, t0 in matched_rows(mot_path, tracks_path, states_path):
+            if float(r["age"]) >= 1.0 or float(r["t"]) - t0 < 3.0 or v < 1.0:
+                continue
+            x, y, pts, e = float(r["x"]), float(r["y"]), int(r["points"]), float(r["speed"]) - v
+            cand = [o for o in objs[frame] if o[2] == pts] or objs[frame]
+            hidden = min(cand, key=lambda o: math.hypot(o[0] - x, o[1] - y))[3] if cand else False
+            hits = int(r["hits"])
+            errs["hits " + (f"{hits}" if hits < 10 else "10 or more")].append(e)
+            errs["reports " + ("too little" if e < -0.5 else "too much" if e > 0.5 else "within 0.5 m/s")].append(e)
+            errs["range " + bin_of(math.hypot(x, y), YOUNG_RANGE_BINS, "m", 0.0)].append(e)
+            errs["object marked hidden at an end" if hidden else "object not marked hidden"].append(e)
+    return errs
+
+
+def young(*paths):
+    if not paths or len(paths) % 4:
+        sys.exit(__doc__.strip())
+    errs = young_errors(*paths)
+    total = sum(e * e for e in errs["object marked hidden at an end"] + errs["object not marked hidden"])
+    rows = len(errs["object marked hidden at an end"]) + len(errs["object not marked hidden"])
+    if not rows:
+        print("no rows of young tracks")
+        return
+    print(f"young tracks' rows (moving vehicles, past the first 3 s): {rows}, speed RMSE {math.sqrt(total / rows):.2f} m/s")
+    order = [f"hits {h}" for h in range(3, 10)] + ["hits 10 or more"] + \
+        [f"reports {w}" for w in ("too little", "too much", "within 0.5 m/s")] + \
+        ["range " + b for b in bin_labels(YOUNG_RANGE_BINS, "m", 0.0)] + \
+        ["object marked hidden at an end", "object not marked hidden"]
+    for kind in order:
+        es = errs.get(kind)
+        if not es:
+            continue
+        sq = sum(e * e for e in es)
+        print(f"  {kind:34s} rows {len(es):6d}  mean {sum(es) / len(es):+.2f}  RMSE {math.sqrt(sq / len(es)):.2f}  "
+              f"squared error {100.0 * sq / total:5.1f} %")
+
+
 def main(argv):
     modes = {"speed": speed, "ids": ids, "close": close, "traffic": traffic, "unmatched": unmatched, "matched": matched,
              "born": born, "spot": spot, "crossings": crossings, "late": late, "reacquired": reacquired,
-             "budget": budget, "visible": visible, "common": common, "gaps": gaps}
+             "budget": budget, "visible": visible, "common": common, "gaps": gaps, "young": young}
     if len(argv) < 2 or argv[0] not in modes or \
             (argv[0] not in ("close", "traffic", "matched", "born", "spot", "crossings", "late", "reacquired", "budget",
-                             "visible", "common", "gaps") and len(argv) != 3):
+                             "visible", "common", "gaps", "young") and len(argv) != 3):
         sys.exit(__doc__.strip())
     modes[argv[0]](*argv[1:])
 

@@ -1533,6 +1533,16 @@ START_TEST(t_speed_follows) {
 }
 END_TEST
 
+/* a fixed sequence of measurement noise: the sum of four uniforms, about normal, sd 0.05 m */
+static double noise_005(uint32_t *seed) {
+  double u = 0;
+  for (int q = 0; q < 4; q++) {
+    *seed = *seed * 1664525u + 1013904223u;
+    u += (double)(*seed >> 8) / 16777216.0 - 0.5;
+  }
+  return 0.0866 * u;
+}
+
 /* A car waits at the line, speeds up at 1.5 m/s^2 for 6 s, drives at 9 m/s,
  * brakes at 2.5 m/s^2 to a stop, along y = 12; its box centre measured with
  * 0.05 m of noise along and across (a fixed sequence: a whole box). Returns
@@ -1549,15 +1559,7 @@ static double manoeuvre_rmse(int imm, double *steady) {
     const double a = t < 2 ? 0 : t < 8 ? 1.5 : t < 12 ? 0 : -2.5;
     v = fmax(0.0, v + a * 0.1);
     x += v * 0.1;
-    double noise[2];
-    for (int k = 0; k < 2; k++) {
-      double u = 0; /* sum of four uniforms: about normal, sd 0.05 m */
-      for (int q = 0; q < 4; q++) {
-        seed = seed * 1664525u + 1013904223u;
-        u += (double)(seed >> 8) / 16777216.0 - 0.5;
-      }
-      noise[k] = 0.0866 * u;
-    }
+    const double noise[2] = {noise_005(&seed), noise_005(&seed)};
     clear();
     car(t, x + noise[0], 12.0 + noise[1], 0.0);
     rs_track_frame(&tr, &objs, t + 0.05);
@@ -1682,15 +1684,7 @@ static turn_run_t turn_run(double turn_rate) {
     } else {
       x = 28.0, y = 22.0 - v * (t - 3.0 - t_arc), h = -0.5 * M_PI;
     }
-    double noise[2];
-    for (int k = 0; k < 2; k++) {
-      double u = 0;
-      for (int q = 0; q < 4; q++) {
-        seed = seed * 1664525u + 1013904223u;
-        u += (double)(seed >> 8) / 16777216.0 - 0.5;
-      }
-      noise[k] = 0.0866 * u;
-    }
+    const double noise[2] = {noise_005(&seed), noise_005(&seed)};
     clear();
     const bool hidden = t >= 3.8 && t < 4.2;
     if (!hidden) car(t, x + noise[0], y + noise[1], h);

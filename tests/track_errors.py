@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""scripts/track-errors.py budget, visible, common and gaps on hand-made runs with known answers.
+"""scripts/track-errors.py budget, visible, common, gaps and young on hand-made runs with known answers.
 
 Four true cars at 5 m/s and five tracks, 10 Hz for 10 s:
   car 1: track 1 from the first frame to the last (the capture's first 3 s, then 2 s or more);
@@ -25,6 +25,9 @@ walker 1 on track 1, unmatched 1.5 s and back on it; walker 2 on track 2 (listed
 instance unmatched in frames 40-49, then a new track 3 from frame 70; walker 3 on track 4 (listed
 throughout) and, after 5.1 s, on track 5, which had walker 4 in frames 0-19; walker 5 on track 6, then 7,
 2.1 s unmatched, then track 6 again; the car on track 8 throughout.
+young: a car at 10 m/s along y = 30 for 10 s; track 1 born on it at 4.0 s (confirmed from its third
+hit), reporting 6, 8, 9, 12 m/s at hits 3-6 and 10 m/s after; its objects marked hidden at an end at
+hits 3 and 4; track 2 born at 1.0 s on a second car (the capture's first 3 s: not counted).
 Exit 0 when every row and crossing lands in its kind, 1 otherwise.
 """
 import contextlib
@@ -51,7 +54,7 @@ def car_state(car, f):
 
 def main():
     with tempfile.TemporaryDirectory() as tmp:
-        return check(tmp) or check_visible(tmp) or check_common(tmp) or check_gaps(tmp)
+        return check(tmp) or check_visible(tmp) or check_common(tmp) or check_gaps(tmp) or check_young(tmp)
 
 
 def check_gaps(tmp):
@@ -102,6 +105,61 @@ def check_gaps(tmp):
         print(f"gaps away {got_away}\nwanted {want_away}\nback {got_back}\nwanted {want_back}\nvehicle {vehicle}")
         return 1
     print("walkers' frames away and their returns after gaps in their kinds")
+    return 0
+
+
+def check_young(tmp):
+    states_p, tracks_p, mot_p, objects_p = (os.path.join(tmp, n) for n in ("ystates.csv", "ytracks.csv", "ymot.csv",
+                                                                           "yobjects.csv"))
+    cars = {1: (lambda fr: (-40.0 + fr, 30.0)), 2: (lambda fr: (60.0 - fr, 35.0))}  # 10 m/s each, along x
+    born = {1: 40, 2: 10}  # track k is born on car k at this frame
+    reported = {3: 6.0, 4: 8.0, 5: 9.0, 6: 12.0}  # track 1's speed at these hits, 10 m/s at the others
+    with open(states_p, "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["t", "id", "class", "x", "y", "vx", "vy", "heading", "length", "width", "height"])
+        for fr in range(FRAMES):
+            for k, pos in cars.items():
+                x, y = pos(fr)
+                w.writerow([f"{T0 + 0.1 * fr:.3f}", k, "car", x, y, 10.0 if k == 1 else -10.0, 0.0, 0.0, 4.5, 1.8, 1.5])
+    with open(tracks_p, "w", newline="") as tf, open(mot_p, "w", newline="") as mf, \
+            open(objects_p, "w", newline="") as of:
+        tw, mw, ow = csv.writer(tf), csv.writer(mf), csv.writer(of)
+        tw.writerow(["frame", "t", "track", "state", "x", "y", "speed", "hits", "age", "points"])
+        mw.writerow(["frame", "truth", "pred", "iou"])
+        ow.writerow(["frame", "object", "x", "y", "points", "occluded"])
+        for fr in range(FRAMES):
+            for k, pos in cars.items():
+                if fr < born[k]:
+                    continue
+                hits = fr - born[k] + 1
+                x, y = pos(fr)
+                speed = reported.get(hits, 10.0) if k == 1 else 10.0
+                tw.writerow([fr, f"{T0 + 0.1 * fr:.3f}", k, "confirmed" if hits >= 3 else "tentative", x, y, speed, hits,
+                             f"{0.1 * (hits - 1):.3f}", 100])
+                mw.writerow([fr, k, 0, 0])
+                mw.writerow([fr, k, k + 2, 0.9])
+                ow.writerow([fr, k, x, y, 100, 2 if k == 1 and hits in (3, 4) else 0])
+    errs = te.young_errors(mot_p, tracks_p, states_p, objects_p)
+    got = {k: sorted(round(e, 6) for e in v) for k, v in errs.items()}
+    want = {"hits 3": [-4.0], "hits 4": [-2.0], "hits 5": [-1.0], "hits 6": [2.0], "hits 7": [0.0], "hits 8": [0.0],
+            "hits 9": [0.0], "hits 10 or more": [0.0],
+            "reports too little": [-4.0, -2.0, -1.0], "reports too much": [2.0],
+            "reports within 0.5 m/s": [0.0, 0.0, 0.0, 0.0],
+            "object marked hidden at an end": [-4.0, -2.0], "object not marked hidden": [-1.0, 0.0, 0.0, 0.0, 0.0, 2.0]}
+    ranges = {k: v for k, v in got.items() if k.startswith("range")}
+    got = {k: v for k, v in got.items() if not k.startswith("range")}
+    # the car is at x = -40 + frame, y = 30: hits 3-10 are frames 42-49, 30.4-32.3 m from the sensor
+    if got != want or ranges != {"range 20-40 m": [-4.0, -2.0, -1.0, 0.0, 0.0, 0.0, 0.0, 2.0]}:
+        print(f"young {got}\nwanted {want}\nranges {ranges}")
+        return 1
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out):
+        te.young(mot_p, tracks_p, states_p, objects_p)
+    rmse = math.sqrt((16 + 4 + 1 + 4) / 8)
+    if f"(moving vehicles, past the first 3 s): 8, speed RMSE {rmse:.2f} m/s" not in out.getvalue():
+        print("young's summary:\n" + out.getvalue())
+        return 1
+    print("young tracks' rows in their kinds (hits, too little or too much, range, hidden end)")
     return 0
 
 
