@@ -83,6 +83,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->walked_hits = 10;
   c->blind_s = 8.0;
   c->speed_imm = 1;
+  c->imm_birth_wide = 1;
   c->q_jerk = 1.0;
   c->turn_rate = 0.0;
   c->near_ref_m = 25.0;
@@ -132,7 +133,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 ||
       cfg->still_lane < 0 || cfg->still_lane > 1 || cfg->brake_coast < 0 || cfg->brake_coast > 1 || cfg->still_coast < 0 || cfg->still_coast > 1 ||
       !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 ||
-      cfg->speed_imm < 0 || cfg->speed_imm > 1 ||
+      cfg->speed_imm < 0 || cfg->speed_imm > 1 || cfg->imm_birth_wide < 0 || cfg->imm_birth_wide > 1 ||
       !(cfg->q_jerk > 0 && cfg->q_jerk <= 100) || !(cfg->turn_rate >= 0 && cfg->turn_rate <= 2) ||
       !(cfg->near_ref_m >= 0 && cfg->near_ref_m <= 1000) || !(cfg->near_ref_s >= 0 && cfg->near_ref_s <= 60) ||
       !(cfg->twin_s >= 0 && cfg->twin_s <= 60) || !(cfg->walker_reacq_s >= 0 && cfg->walker_reacq_s <= 60) ||
@@ -175,7 +176,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
     KNOB(confirm_cut_walk_m, 0.0, 20.0), KNOB_INT(confirm_still_window, 0, RS_TRACK_STILL_WINDOW), KNOB_INT(confirm_steady, 0, 1),
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
-    KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB(q_jerk, 0.01, 100.0),
+    KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB_INT(imm_birth_wide, 0, 1),  KNOB(q_jerk, 0.01, 100.0),
     KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),       KNOB_INT(blind_turn, 0, 1),
     KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1), KNOB_INT(dup_box, 0, 1),
     KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),      KNOB(twin_s, 0.0, 60.0),
@@ -1837,6 +1838,10 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   ref_meas(tr, t, o, zs, tk, first, zi);
   if (first || whole || grown) {
     imm_start(t);
+    if (first && tr->cfg.imm_birth_wide) /* a vehicle may be born on a short box: its speed as unknown as any */
+      for (int j = 0; j < 2; j++)
+        for (int a = 0; a < 2; a++)
+          t->imm.P[j][a][SYM[1][1]] = fmax(t->imm.P[j][a][SYM[1][1]], tr->cfg.init_speed_sd * tr->cfg.init_speed_sd);
     for (int j = 0; j < 2; j++)
       for (int a = 0; a < 2; a++) {
         t->imm.x[j][a][0] = zi[a];

@@ -244,6 +244,10 @@ typedef struct {
                                   (constant velocity and constant acceleration mixed; rs_track_imm_t), not
                                   the constant-velocity filter's, which lags a vehicle speeding up or
                                   braking (default 1; docs/tracking.md) */
+  int imm_birth_wide;          /* 1: the speed estimator starts with its velocity as uncertain as init_speed_sd
+                                  whatever the size of a track's first box (a vehicle is often born on a short
+                                  one: its front, one row); 0: as the filter's, init_small_speed_sd for a box
+                                  under 2 m (default 1; docs/tracking.md) */
   double q_jerk;               /* m^2/s^5, the constant-acceleration model's jerk density (default 1) */
   double turn_rate;            /* rad/s: a vehicle's track whose velocity turns faster than this (rs_track_turn_rate())
                                   is predicted along a circle at that rate, not a straight line (a coordinated
