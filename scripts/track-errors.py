@@ -407,11 +407,8 @@ def traffic(*paths):
 
 def unmatched(mot_path, tracks_path):
     """confirmed track rows no true instance matches (IoU > 0.5), and how many have fewer than 10 returns"""
-    matched = set()
-    with open(mot_path, newline="") as f:
-        for r in csv.DictReader(f):
-            if int(r["pred"]) and float(r["iou"]) > 0.5:
-                matched.add((int(r["frame"]), int(r["pred"]) - 2))  # a track's label is 2 + its id
+    _, _, had = read_mot(mot_path)
+    matched = {(fr, track) for track, frames in had.items() for fr in frames}
     rows = few = 0
     with open(tracks_path, newline="") as f:
         for r in csv.DictReader(f):
@@ -574,15 +571,7 @@ def late(*paths):
         with open(paths[k + 1], newline="") as f:
             for r in csv.DictReader(f):
                 state[(int(r["frame"]), int(r["track"]))] = r["state"]
-        inst, match = defaultdict(set), defaultdict(dict)
-        with open(paths[k], newline="") as f:
-            for r in csv.DictReader(f):
-                t, fr = int(r["truth"]), int(r["frame"])
-                if t == 0:
-                    continue
-                inst[t].add(fr)
-                if int(r["pred"]) >= 3 and float(r["iou"]) > 0.5:
-                    match[t][fr] = int(r["pred"]) - 2
+        inst, match, _ = read_mot(paths[k])
         for t, frames in inst.items():
             f0 = min(frames)
             fc = next((fr for fr in sorted(frames) if state.get((fr, match[t].get(fr))) == "confirmed"), None)

@@ -1838,13 +1838,11 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   ref_meas(tr, t, o, zs, tk, first, zi);
   if (first || whole || grown) {
     imm_start(t);
-    if (first && tr->cfg.imm_birth_wide) /* a vehicle may be born on a short box: its speed as unknown as any */
-      for (int j = 0; j < 2; j++)
-        for (int a = 0; a < 2; a++)
-          t->imm.P[j][a][SYM[1][1]] = fmax(t->imm.P[j][a][SYM[1][1]], tr->cfg.init_speed_sd * tr->cfg.init_speed_sd);
     for (int j = 0; j < 2; j++)
       for (int a = 0; a < 2; a++) {
         t->imm.x[j][a][0] = zi[a];
+        if (first && tr->cfg.imm_birth_wide) /* a vehicle may be born on a short box: its speed as unknown as any */
+          t->imm.P[j][a][SYM[1][1]] = fmax(t->imm.P[j][a][SYM[1][1]], tr->cfg.init_speed_sd * tr->cfg.init_speed_sd);
         if (grown && !whole) { /* at 0 m/s, as uncertain as at birth, not correlated */
           t->imm.x[j][a][1] = 0.0;
           t->imm.P[j][a][0] = sdu * sdu;
