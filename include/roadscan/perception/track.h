@@ -248,6 +248,10 @@ typedef struct {
                                   whatever the size of a track's first box (a vehicle is often born on a short
                                   one: its front, one row); 0: as the filter's, init_small_speed_sd for a box
                                   under 2 m (default 1; docs/tracking.md) */
+  int misfit_own;              /* 1: when a box's axis is over 8 degrees off its track's heading, the speed
+                                  estimator's update noise takes the lesser of the box's misfit on the track's
+                                  axes and on its own (a whole view on a wrong heading is not a bad
+                                  measurement); 0: on the track's axes only (default 1; docs/tracking.md) */
   double q_jerk;               /* m^2/s^5, the constant-acceleration model's jerk density (default 1) */
   double turn_rate;            /* rad/s: a vehicle's track whose velocity turns faster than this (rs_track_turn_rate())
                                   is predicted along a circle at that rate, not a straight line (a coordinated
