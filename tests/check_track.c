@@ -2155,7 +2155,7 @@ END_TEST
  * (behind the crowd) and its confirmed track coasts on. Returns the frames
  * from then to 9 s in which S's object was given to W's track. */
 static int standing_taken(double claim) {
-  init_knob("tent_claim_m", claim);
+  init_knobs("tent_claim_m", claim, "confirm_pace", 0); /* confirm_pace would confirm S before W could take it */
   uint32_t w = 0;
   int taken = 0;
   for (int f = 0; f < 90; f++) {
@@ -2888,12 +2888,13 @@ END_TEST
  * returns, the walker waits 1.5 s too (confirm_upright_points off here:
  * t_walker_upright_confirms_fast). The returns at 0, 1, 2: the walker's
  * frame, the car part's. The walker at (x, y), `height` tall. */
-static void walker_still_at(int walker_points, int upright_points, double x, double y, double height, uint32_t returns,
-                            double step, double jitter, int at[2]) {
+static void walker_still_at(int walker_points, int upright_points, int pace, double x, double y, double height,
+                            uint32_t returns, double step, double jitter, int at[2]) {
   rs_track_cfg_t c;
   rs_track_cfg_default(&c);
   c.confirm_walker_points = walker_points;
   c.confirm_upright_points = upright_points;
+  c.confirm_pace = pace;
   ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
   at[0] = at[1] = -1;
   for (int f = 0; f < 20; f++) {
@@ -2907,7 +2908,7 @@ static void walker_still_at(int walker_points, int upright_points, double x, dou
   ck_assert_uint_eq(tr.n.born, 2);
 }
 static void walker_still_confirmed(int walker_points, uint32_t returns, int at[2]) {
-  walker_still_at(walker_points, 0, 8.0, 6.0, 1.7, returns, 0.01, 0.03, at);
+  walker_still_at(walker_points, 0, 1, 8.0, 6.0, 1.7, returns, 0.01, 0.03, at);
 }
 
 START_TEST(t_walker_still_confirms_fast) {
@@ -2931,21 +2932,46 @@ END_TEST
 START_TEST(t_walker_upright_confirms_fast) {
   int at[2];
   const double x = 18.0, y = 12.6; /* 22 m away */
-  walker_still_at(20, 8, x, y, 0.75, 12, 0.0, 0.02, at);
+  walker_still_at(20, 8, 1, x, y, 0.75, 12, 0.0, 0.02, at);
   ck_assert_int_eq(at[0], 3);
   ck_assert_int_ge(at[1], 14);
-  walker_still_at(20, 0, x, y, 0.75, 12, 0.0, 0.02, at);
+  walker_still_at(20, 0, 1, x, y, 0.75, 12, 0.0, 0.02, at);
   ck_assert_int_ge(at[0], 14);
-  walker_still_at(20, 8, x, y, 0.02, 12, 0.0, 0.02, at);
+  walker_still_at(20, 8, 1, x, y, 0.02, 12, 0.0, 0.02, at);
   ck_assert_int_ge(at[0], 14);
-  walker_still_at(20, 8, x, y, 0.75, 7, 0.0, 0.02, at);
+  walker_still_at(20, 8, 1, x, y, 0.75, 7, 0.0, 0.02, at);
   ck_assert_int_ge(at[0], 14);
-  walker_still_at(20, 8, x, y, 1.2, 12, 0.0, 0.06, at);
+  walker_still_at(20, 8, 1, x, y, 1.2, 12, 0.0, 0.06, at);
   ck_assert_int_ge(at[0], 14);
   rs_track_cfg_t c; /* on by default, and out of range refused */
   rs_track_cfg_default(&c);
   ck_assert_int_eq(c.confirm_upright_points, 8);
   knob_refused("confirm_upright_points", "-1");
+}
+END_TEST
+
+/* confirm_pace. A person slowing into the crowd waiting at a kerb 22 m from
+ * a VLP-16 (two rows tall, 12 returns), still walking at 0.3 m/s: it moves
+ * 0.09 m in its first four frames and 0.12 m with its sway of 2 cm, more
+ * than the 0.1 m the upright rule allows a standing person, and too slowly
+ * for the walking rules. Its first four measurements lie along one line at
+ * one pace: with confirm_pace it confirms at its fourth hit, without it once
+ * it has walked 0.3 m (confirm_walk_m: its tenth frame or later). Waiting as
+ * long either way: the same walker with 7 returns, and one whose four
+ * measurements zigzag by 0.12 m (a bush swaying). */
+START_TEST(t_walker_pace_confirms_fast) {
+  int at[2];
+  const double x = 18.0, y = 12.6; /* 22 m away */
+  walker_still_at(20, 8, 1, x, y, 0.75, 12, 0.03, 0.02, at);
+  ck_assert_int_eq(at[0], 3);
+  walker_still_at(20, 8, 0, x, y, 0.75, 12, 0.03, 0.02, at);
+  ck_assert_int_ge(at[0], 9);
+  walker_still_at(20, 8, 1, x, y, 0.75, 7, 0.03, 0.02, at);
+  ck_assert_int_ge(at[0], 9);
+  walker_still_at(20, 8, 1, x, y, 1.2, 12, 0.03, 0.06, at);
+  ck_assert_int_ge(at[0], 9);
+  ck_assert_int_eq(defaults().confirm_pace, 1);
+  knob_refused("confirm_pace", "2");
 }
 END_TEST
 
@@ -3309,6 +3335,7 @@ int main(void) {
   tcase_add_test(tc, t_steady);
   tcase_add_test(tc, t_walker_still_confirms_fast);
   tcase_add_test(tc, t_walker_upright_confirms_fast);
+  tcase_add_test(tc, t_walker_pace_confirms_fast);
   tcase_add_test(tc, t_dup_box);
   tcase_add_test(tc, t_seen_across);
   tcase_add_test(tc, t_kin_reacq);

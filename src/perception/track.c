@@ -85,6 +85,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->speed_imm = 1;
   c->imm_birth_wide = 1;
   c->misfit_own = 1;
+  c->confirm_pace = 1;
   c->q_jerk = 1.0;
   c->turn_rate = 0.0;
   c->near_ref_m = 25.0;
@@ -135,7 +136,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->still_lane < 0 || cfg->still_lane > 1 || cfg->brake_coast < 0 || cfg->brake_coast > 1 || cfg->still_coast < 0 || cfg->still_coast > 1 ||
       !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 ||
       cfg->speed_imm < 0 || cfg->speed_imm > 1 || cfg->imm_birth_wide < 0 || cfg->imm_birth_wide > 1 ||
-      cfg->misfit_own < 0 || cfg->misfit_own > 1 ||
+      cfg->misfit_own < 0 || cfg->misfit_own > 1 || cfg->confirm_pace < 0 || cfg->confirm_pace > 1 ||
       !(cfg->q_jerk > 0 && cfg->q_jerk <= 100) || !(cfg->turn_rate >= 0 && cfg->turn_rate <= 2) ||
       !(cfg->near_ref_m >= 0 && cfg->near_ref_m <= 1000) || !(cfg->near_ref_s >= 0 && cfg->near_ref_s <= 60) ||
       !(cfg->twin_s >= 0 && cfg->twin_s <= 60) || !(cfg->walker_reacq_s >= 0 && cfg->walker_reacq_s <= 60) ||
@@ -178,7 +179,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
     KNOB(confirm_cut_walk_m, 0.0, 20.0), KNOB_INT(confirm_still_window, 0, RS_TRACK_STILL_WINDOW), KNOB_INT(confirm_steady, 0, 1),
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
-    KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB_INT(imm_birth_wide, 0, 1),  KNOB_INT(misfit_own, 0, 1),
+    KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB_INT(imm_birth_wide, 0, 1),  KNOB_INT(misfit_own, 0, 1), KNOB_INT(confirm_pace, 0, 1),
     KNOB(q_jerk, 0.01, 100.0),
     KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),       KNOB_INT(blind_turn, 0, 1),
     KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1), KNOB_INT(dup_box, 0, 1),
@@ -1480,6 +1481,20 @@ static uint32_t range_bar(const rs_track_cfg_t *cf, int need, double r) {
   if (!(r0 > 0) || !(r > r0)) return (uint32_t)need;
   return (uint32_t)fmin(fmax(RS_TRACK_STILL_POINTS_MIN, ceil(need * (r0 / r) * (r0 / r))), need);
 }
+/* track t's n measurements from the still window's slot first on: each within tol of the point at its
+ * share of the way from the first of them to the last (evenly in time: one a frame), and each of bar
+ * returns or more (bar 0: any) */
+static bool at_one_pace(const rs_track_t *t, uint32_t first, uint32_t n, double tol, uint32_t bar) {
+  const double *a = t->win_z[first], *b = t->win_z[(first + n - 1) % RS_TRACK_STILL_WINDOW];
+  for (uint32_t k = 0; k < n; k++) {
+    const uint32_t j = (first + k) % RS_TRACK_STILL_WINDOW;
+    const double f = (double)k / (double)(n - 1);
+    if (t->win_points[j] < bar ||
+        norm2(t->win_z[j][0] - (a[0] + f * (b[0] - a[0])), t->win_z[j][1] - (a[1] + f * (b[1] - a[1]))) > tol)
+      return false;
+  }
+  return true;
+}
 /* The steady rule (confirm_steady): the fast confirmation of a still
  * object's returns, for one that moves at one pace along one way. A truck
  * setting off from the line at 1.5 m/s, 1000 returns in every frame, moves
@@ -1501,14 +1516,22 @@ static bool window_steady(const rs_track_cfg_t *cf, const rs_track_t *t, uint32_
   const uint32_t first = (t->hits - n) % RS_TRACK_STILL_WINDOW, last = (t->hits - 1) % RS_TRACK_STILL_WINDOW;
   const double *a = t->win_z[first], *b = t->win_z[last];
   if (!(norm2(b[0] - a[0], b[1] - a[1]) > spread)) return false;
-  for (uint32_t k = 0; k < n; k++) {
-    const uint32_t j = (first + k) % RS_TRACK_STILL_WINDOW;
-    const double f = (double)k / (double)(n - 1);
-    if (t->win_points[j] < bar ||
-        norm2(t->win_z[j][0] - (a[0] + f * (b[0] - a[0])), t->win_z[j][1] - (a[1] + f * (b[1] - a[1]))) > spread)
-      return false;
-  }
-  return true;
+  return at_one_pace(t, first, n, spread, bar);
+}
+/* confirm_pace: a person still walking slowly into the crowd at a kerb
+ * (0.2-0.9 m/s) moves more than UPRIGHT_SPREAD_M in its first frames, so the
+ * upright rule does not hold it for standing, and too little for the walking
+ * rules (confirm_walk_m: 0.3 m); 20-23 m from a VLP-16, with 10-16 returns,
+ * it waited confirm_still_s. Its first RS_TRACK_STILL_WINDOW measurements lie
+ * along one line at one pace: an upright walker-sized track hit in every
+ * frame whose measurements so far (it has no more than that) each lie within
+ * UPRIGHT_SPREAD_M of the point at its share of the way from the first to the
+ * last, within the still spread of where it was born, needs only
+ * confirm_upright_points. Once per track, at that hit: a bush swaying steadily
+ * for 0.4 s may pass, but one seen in every frame is confirmed after
+ * confirm_still_s anyway; flicker (a miss) never passes (t_walker_pace_confirms_fast). */
+static bool first_at_pace(const rs_track_t *t) {
+  return t->hits == RS_TRACK_STILL_WINDOW && at_one_pace(t, 0, RS_TRACK_STILL_WINDOW, UPRIGHT_SPREAD_M, 0);
 }
 static bool still_fast(const rs_tracker_t *tr, const rs_track_t *t, uint32_t w, uint32_t i) {
   const rs_track_cfg_t *cf = &tr->cfg;
@@ -1519,7 +1542,7 @@ static bool still_fast(const rs_tracker_t *tr, const rs_track_t *t, uint32_t w, 
   if (walker && cf->confirm_walker_points > 0 && cf->confirm_walker_points < need) need = cf->confirm_walker_points;
   const int moving_need = need;
   if (walker && cf->confirm_upright_points > 0 && cf->confirm_upright_points < need && t->height >= UPRIGHT_M &&
-      t->spread <= fmin(spread, UPRIGHT_SPREAD_M))
+      (t->spread <= fmin(spread, UPRIGHT_SPREAD_M) || (cf->confirm_pace && t->spread <= spread && first_at_pace(t))))
     need = cf->confirm_upright_points;
   const double r = norm2(t->x[0], t->x[1]);
   const uint32_t bar = range_bar(cf, need, r);

@@ -188,6 +188,11 @@ typedef struct {
   int confirm_upright_points;  /* ... and this many when it stands at least 0.5 m tall (two rows or more: a
                                   person at the kerb, not the one-row sliver the beams cut off a car;
                                   scaled the same way; default 8; 0 = confirm_walker_points) */
+  int confirm_pace;            /* 1: an upright walker-sized track hit in each of its first 4 frames, its
+                                  measurements along one line at one pace (within 0.1 m) and within the
+                                  still spread of its birth, needs only confirm_upright_points at its 4th
+                                  hit (a person slowing into the crowd at a kerb); 0: off (default 1;
+                                  docs/tracking.md) */
   int hidden_anchor;           /* 1: a box end beside something nearer is where the rest of the object may be
                                   (rs_object_t.occluded): its centre is placed from the other end (default 1) */
   double reacq_across_m;       /* a moving vehicle's track unseen for more than 0.5 s takes no object farther
