@@ -677,9 +677,13 @@ static bool off_lane(const rs_track_cfg_t *cf, const rs_track_t *t, double dx, d
  * brake_coast or the class rule read the estimator (t_misfit_own). */
 #define OWN_OFF_SIN 0.14 /* sin(8 degrees) */
 #define OWN_ASPECT 1.5f  /* a box this many times longer than wide has a known axis */
-static bool off_axis(const rs_track_t *t, const rs_object_t *o) {
-  const double h = o->sensor.obb_heading;
-  return o->sensor.obb_length >= OWN_ASPECT * o->sensor.obb_width && fabs(t->hcos * sin(h) - t->hsin * cos(h)) > OWN_OFF_SIN;
+static bool off_axis(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o) {
+  if (!(o->sensor.obb_length >= OWN_ASPECT * o->sensor.obb_width)) return false;
+  const uintptr_t at = (uintptr_t)o, base = (uintptr_t)tr->obj_base; /* the box's cosine and sine: obj_cs */
+  const bool cached = tr->obj_base != NULL && at >= base && at < base + tr->obj_n * sizeof *o;
+  const double h = o->sensor.obb_heading, oc = cached ? tr->obj_cs[(at - base) / sizeof *o][0] : cos(h),
+               os = cached ? tr->obj_cs[(at - base) / sizeof *o][1] : sin(h);
+  return fabs(t->hcos * os - t->hsin * oc) > OWN_OFF_SIN;
 }
 static double own_misfit(const rs_track_t *t, const rs_object_t *o) {
   return fabs((double)t->length - o->sensor.obb_length) + fabs((double)t->width - o->sensor.obb_width);
@@ -1885,7 +1889,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   const double sdu = update_sd(tr, sd, misfit);
   update(t, z, sdu);
   const double sdi = /* the speed estimator's (misfit_own) */
-      tr->cfg.misfit_own && misfit > 0 && off_axis(t, o) ? update_sd(tr, sd, fmin(misfit, own_misfit(t, o))) : sdu;
+      tr->cfg.misfit_own && misfit > 0 && off_axis(tr, t, o) ? update_sd(tr, sd, fmin(misfit, own_misfit(t, o))) : sdu;
   const bool first = t->hits == 0;
   double zi[2];
   ref_meas(tr, t, o, zs, tk, first, zi);
