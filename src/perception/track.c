@@ -286,15 +286,21 @@ static void box_on(const rs_object_t *o, double h, double c, double s, double e[
   const double dh = (double)o->sensor.obb_heading - h;
   box_on_cs(o, fabs(cos(dh)), fabs(sin(dh)), c, s, e);
 }
+/* the cosine and sine of object o's box heading computed once a frame (obj_cs); NULL when o is not
+ * one of the frame's objects */
+static const double *obj_cs_of(const rs_tracker_t *tr, const rs_object_t *o) {
+  const uintptr_t at = (uintptr_t)o, base = (uintptr_t)tr->obj_base;
+  if (tr->obj_base == NULL || at < base || at >= base + tr->obj_n * sizeof *o) return NULL;
+  return tr->obj_cs[(at - base) / sizeof *o];
+}
 /* box_on on track t's axes: the cosine and sine of the angle between the two
  * headings from the track's (hcd, hsd) and the object's (obj_cs, once a frame) */
 static void box_on_axes(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o, double e[4]) {
-  const uintptr_t at = (uintptr_t)o, base = (uintptr_t)tr->obj_base;
-  if (tr->obj_base == NULL || at < base || at >= base + tr->obj_n * sizeof *o) {
+  const double *cs = obj_cs_of(tr, o);
+  if (cs == NULL) {
     box_on(o, t->heading, t->hcos, t->hsin, e);
     return;
   }
-  const double *cs = tr->obj_cs[(at - base) / sizeof *o];
   box_on_cs(o, fabs(cs[0] * t->hcd + cs[1] * t->hsd), fabs(cs[1] * t->hcd - cs[0] * t->hsd), t->hcos, t->hsin, e);
 }
 
@@ -679,10 +685,8 @@ static bool off_lane(const rs_track_cfg_t *cf, const rs_track_t *t, double dx, d
 #define OWN_ASPECT 1.5f  /* a box this many times longer than wide has a known axis */
 static bool off_axis(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o) {
   if (!(o->sensor.obb_length >= OWN_ASPECT * o->sensor.obb_width)) return false;
-  const uintptr_t at = (uintptr_t)o, base = (uintptr_t)tr->obj_base; /* the box's cosine and sine: obj_cs */
-  const bool cached = tr->obj_base != NULL && at >= base && at < base + tr->obj_n * sizeof *o;
-  const double h = o->sensor.obb_heading, oc = cached ? tr->obj_cs[(at - base) / sizeof *o][0] : cos(h),
-               os = cached ? tr->obj_cs[(at - base) / sizeof *o][1] : sin(h);
+  const double *cs = obj_cs_of(tr, o);
+  const double h = o->sensor.obb_heading, oc = cs ? cs[0] : cos(h), os = cs ? cs[1] : sin(h);
   return fabs(t->hcos * os - t->hsin * oc) > OWN_OFF_SIN;
 }
 static double own_misfit(const rs_track_t *t, const rs_object_t *o) {
