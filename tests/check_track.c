@@ -2923,6 +2923,29 @@ START_TEST(t_walker_still_confirms_fast) {
 }
 END_TEST
 
+/* a person at the kerb 22 m from a VLP-16 (the walkers' bar 20, scaled there to 17), as walker_still_at
+ * runs it with the upright bar, confirm_pace, its height, returns, step a frame and jitter: confirmed at its
+ * fourth hit (frame 3) when fast, else not before frame wait; the car part beside it waits 1.5 s */
+typedef struct {
+  int upright, pace;
+  double height;
+  uint32_t returns;
+  double step, jitter;
+  bool fast;
+  int wait;
+} kerb_case_t;
+static void kerb_cases(const kerb_case_t *cs, size_t n) {
+  for (size_t i = 0; i < n; i++) {
+    int at[2];
+    walker_still_at(20, cs[i].upright, cs[i].pace, 18.0, 12.6, cs[i].height, cs[i].returns, cs[i].step, cs[i].jitter, at);
+    if (cs[i].fast)
+      ck_assert_msg(at[0] == 3, "case %zu: confirmed at frame %d, not at its fourth hit", i, at[0]);
+    else
+      ck_assert_msg(at[0] >= cs[i].wait, "case %zu: confirmed at frame %d, before frame %d", i, at[0], cs[i].wait);
+    ck_assert_int_ge(at[1], 14);
+  }
+}
+
 /* A person waiting at the kerb 22 m from a VLP-16, two rows tall (0.75 m of
  * returns), swaying by 2 cm, hit by 12 returns: confirms at its fourth hit
  * with confirm_upright_points (8), after 1.5 s with it off (the walkers' bar,
@@ -2930,19 +2953,14 @@ END_TEST
  * size and returns one row thin (0.02 m: what the beams cut off a car), the
  * person with 7 returns, and a bush of its size swaying by 0.12 m. */
 START_TEST(t_walker_upright_confirms_fast) {
-  int at[2];
-  const double x = 18.0, y = 12.6; /* 22 m away */
-  walker_still_at(20, 8, 1, x, y, 0.75, 12, 0.0, 0.02, at);
-  ck_assert_int_eq(at[0], 3);
-  ck_assert_int_ge(at[1], 14);
-  walker_still_at(20, 0, 1, x, y, 0.75, 12, 0.0, 0.02, at);
-  ck_assert_int_ge(at[0], 14);
-  walker_still_at(20, 8, 1, x, y, 0.02, 12, 0.0, 0.02, at);
-  ck_assert_int_ge(at[0], 14);
-  walker_still_at(20, 8, 1, x, y, 0.75, 7, 0.0, 0.02, at);
-  ck_assert_int_ge(at[0], 14);
-  walker_still_at(20, 8, 1, x, y, 1.2, 12, 0.0, 0.06, at);
-  ck_assert_int_ge(at[0], 14);
+  static const kerb_case_t cs[] = {
+      {8, 1, 0.75, 12, 0.0, 0.02, true, 0},   /* the person */
+      {0, 1, 0.75, 12, 0.0, 0.02, false, 14}, /* the rule off */
+      {8, 1, 0.02, 12, 0.0, 0.02, false, 14}, /* a one-row sliver */
+      {8, 1, 0.75, 7, 0.0, 0.02, false, 14},  /* 7 returns */
+      {8, 1, 1.2, 12, 0.0, 0.06, false, 14},  /* a bush swaying 0.12 m */
+  };
+  kerb_cases(cs, sizeof cs / sizeof cs[0]);
   rs_track_cfg_t c; /* on by default, and out of range refused */
   rs_track_cfg_default(&c);
   ck_assert_int_eq(c.confirm_upright_points, 8);
@@ -2960,16 +2978,13 @@ END_TEST
  * long either way: the same walker with 7 returns, and one whose four
  * measurements zigzag by 0.12 m (a bush swaying). */
 START_TEST(t_walker_pace_confirms_fast) {
-  int at[2];
-  const double x = 18.0, y = 12.6; /* 22 m away */
-  walker_still_at(20, 8, 1, x, y, 0.75, 12, 0.03, 0.02, at);
-  ck_assert_int_eq(at[0], 3);
-  walker_still_at(20, 8, 0, x, y, 0.75, 12, 0.03, 0.02, at);
-  ck_assert_int_ge(at[0], 9);
-  walker_still_at(20, 8, 1, x, y, 0.75, 7, 0.03, 0.02, at);
-  ck_assert_int_ge(at[0], 9);
-  walker_still_at(20, 8, 1, x, y, 1.2, 12, 0.03, 0.06, at);
-  ck_assert_int_ge(at[0], 9);
+  static const kerb_case_t cs[] = {
+      {8, 1, 0.75, 12, 0.03, 0.02, true, 0}, /* the person walking at 0.3 m/s */
+      {8, 0, 0.75, 12, 0.03, 0.02, false, 9}, /* the rule off: once it has walked 0.3 m */
+      {8, 1, 0.75, 7, 0.03, 0.02, false, 9},  /* 7 returns */
+      {8, 1, 1.2, 12, 0.03, 0.06, false, 9},  /* zigzagging by 0.12 m */
+  };
+  kerb_cases(cs, sizeof cs / sizeof cs[0]);
   ck_assert_int_eq(defaults().confirm_pace, 1);
   knob_refused("confirm_pace", "2");
 }
