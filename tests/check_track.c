@@ -2990,6 +2990,69 @@ START_TEST(t_walker_pace_confirms_fast) {
 }
 END_TEST
 
+/* birth_far_points. A person on the sidewalk beyond a lane of cars, 30-40 m
+ * from a VLP-16, shows its head and shoulders over the cars: one row, 4
+ * returns. It walks at 1.3 m/s along the sidewalk (+x from x0, at y). With
+ * with_car 1 a car drives beside it at the same pace 1.1 m nearer (its box 0.2 m
+ * from the person's centre: a piece the beams split off the car), seen in
+ * every frame; with 2 the car is seen in frames 0-4 only (then hidden,
+ * its track coasting beside the piece) and the piece from frame 5 on (the
+ * car's track takes it, or the clearance from its box keeps it from starting
+ * one). The walker's track: born (and confirmed by walking, as any walker)
+ * only from 4 returns in the window of 25 to 50 m and clear of the car. Returns the frame it was confirmed at, -1 never; *born: tracks
+ * started. */
+static int far_walker(int far_points, double x0, double y, uint32_t returns, int with_car, uint32_t *born) {
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  c.birth_far_points = far_points;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  int at = -1;
+  for (int f = 0; f < 20; f++) {
+    const double t = 40.0 + 0.1 * f, x = x0 + 0.13 * f, j = 0.02 * ((f % 3) - 1);
+    clear();
+    if (with_car != 2 || f >= 5) {
+      put(t, x + j, y - j, 0.35, 0.2, 0.0, 0.05, returns);
+      objs.obj[objs.count - 1].range_min = (float)(sqrt(x * x + y * y) - 0.2);
+    }
+    if (with_car == 1 || (with_car == 2 && f < 5)) {
+      car(t, x, y - 1.1, 0.0);
+      objs.obj[objs.count - 1].range_min = (float)(sqrt(x * x + (y - 1.1) * (y - 1.1)) - 2.0);
+    }
+    rs_track_frame(&tr, &objs, t + 0.05);
+    for (uint32_t i = 0; i < tr.list.count; i++) {
+      const rs_track_t *k = &tr.list.track[i];
+      if (k->state != RS_TRACK_TENTATIVE && k->full_length < 1.0f && at < 0) at = f;
+    }
+  }
+  *born = (uint32_t)tr.n.born;
+  return at;
+}
+
+START_TEST(t_far_walker_born) {
+  uint32_t born;
+  ck_assert_int_le(far_walker(4, 28.0, 21.0, 4, 0, &born), 4); /* 35-37 m: born, confirmed walking */
+  ck_assert_uint_eq(born, 1);
+  const rs_track_t *w = &tr.list.track[0];
+  ck_assert_double_eq_tol(hypot(w->x[2], w->x[3]), 1.3, 0.3);
+  ck_assert_int_eq(far_walker(0, 28.0, 21.0, 4, 0, &born), -1); /* the rule off: 5 returns needed */
+  ck_assert_uint_eq(born, 0);
+  ck_assert_int_le(far_walker(0, 28.0, 21.0, 5, 0, &born), 4); /* (with 5, as always) */
+  ck_assert_int_eq(far_walker(4, 28.0, 21.0, 3, 0, &born), -1); /* 3 returns */
+  ck_assert_uint_eq(born, 0);
+  ck_assert_int_eq(far_walker(4, 28.0, 45.0, 4, 0, &born), -1); /* 53-55 m: the ends of far vehicles */
+  ck_assert_uint_eq(born, 0);
+  ck_assert_int_eq(far_walker(4, 12.0, 15.0, 4, 0, &born), -1); /* 19-21 m: a near walker has more */
+  ck_assert_uint_eq(born, 0);
+  ck_assert_int_eq(far_walker(4, 28.0, 21.0, 4, 1, &born), -1); /* beside the car: a piece of it */
+  ck_assert_uint_eq(born, 1);
+  ck_assert_int_eq(far_walker(4, 28.0, 21.0, 4, 2, &born), -1); /* beside the hidden car's coasting track */
+  ck_assert_uint_eq(born, 1);
+  ck_assert_int_eq(defaults().birth_far_points, 4);
+  knob_refused("birth_far_points", "-1");
+  knob_refused("birth_far_to_m", "nan");
+}
+END_TEST
+
 /* foliage: a cluster at one place, there in half the frames, its centre
  * jittering by 0.3 m, for 20 s: never confirmed */
 START_TEST(t_foliage_never_confirms) {
@@ -3351,6 +3414,7 @@ int main(void) {
   tcase_add_test(tc, t_walker_still_confirms_fast);
   tcase_add_test(tc, t_walker_upright_confirms_fast);
   tcase_add_test(tc, t_walker_pace_confirms_fast);
+  tcase_add_test(tc, t_far_walker_born);
   tcase_add_test(tc, t_dup_box);
   tcase_add_test(tc, t_seen_across);
   tcase_add_test(tc, t_kin_reacq);

@@ -51,6 +51,9 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->init_speed_sd = 25.0;
   c->init_small_speed_sd = 5.0;
   c->birth_points = 5;
+  c->birth_far_points = 4;
+  c->birth_far_from_m = 25.0;
+  c->birth_far_to_m = 50.0;
   c->confirm_hits = 3;
   c->confirm_move_m = 0.8;
   c->confirm_still_s = 1.5;
@@ -119,6 +122,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->meas_sd_per_m >= 0 && cfg->meas_sd_per_m < 10) || !(cfg->meas_sd_fit >= 0 && cfg->meas_sd_fit <= 5) ||
       !(cfg->meas_sd_misfit >= 0 && cfg->meas_sd_misfit <= 10) || !(cfg->gate_chi2 > 0) || !(cfg->gate_m > 0 && cfg->gate_m <= 20) ||
       !(cfg->max_speed > 0 && cfg->max_speed <= 100) || !(cfg->init_speed_sd > 0) || !(cfg->init_small_speed_sd > 0) || cfg->birth_points < 1 ||
+      cfg->birth_far_points < 0 || cfg->birth_far_points > 10000 || !(cfg->birth_far_from_m >= 0 && cfg->birth_far_from_m <= 1000) ||
+      !(cfg->birth_far_to_m >= 0 && cfg->birth_far_to_m <= 1000) ||
       cfg->confirm_hits < 1 || !(cfg->confirm_move_m >= 0) || !(cfg->confirm_still_s >= 0) ||
       !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100) ||
       !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1 ||
@@ -170,7 +175,8 @@ static const rs_opt_t knobs[] = {
     KNOB(meas_sd_fit, 0.0, 5.0),      KNOB(meas_sd_misfit, 0.0, 10.0),
     KNOB(gate_chi2, 1.0, 100.0),      KNOB(gate_m, 0.5, 20.0),          KNOB(max_speed, 1.0, 100.0),
     KNOB(init_speed_sd, 0.1, 100.0),  KNOB(init_small_speed_sd, 0.1, 100.0),
-    KNOB_INT(birth_points, 1, 10000), KNOB_INT(confirm_hits, 1, 100),
+    KNOB_INT(birth_points, 1, 10000), KNOB_INT(birth_far_points, 0, 10000),
+    KNOB(birth_far_from_m, 0.0, 1000.0), KNOB(birth_far_to_m, 0.0, 1000.0), KNOB_INT(confirm_hits, 1, 100),
     KNOB(confirm_move_m, 0.0, 20.0),  KNOB(confirm_still_s, 0.0, 60.0), KNOB(tentative_miss_s, 0.01, 10.0),
     KNOB(coast_s, 0.01, 60.0),        KNOB(lost_s, 0.0, 60.0),          KNOB(still_speed, 0.0, 5.0),
     KNOB(size_weight, 0.0, 100.0),    KNOB(confirm_still_spread, 0.0, 5.0), KNOB_INT(confirm_still_points, 1, 100000),
@@ -2332,6 +2338,45 @@ static bool merge_parts(rs_tracker_t *tr, uint32_t i, const rs_object_list_t *ob
   return any;
 }
 
+/* birth_far_points: an object under birth_points starts a track when it is a walker's size, between
+ * birth_far_from_m and birth_far_to_m away, has birth_far_points returns or more, and lies clear of the
+ * box of every vehicle-sized track and object (grown by BIRTH_CLEAR_M on each side). Far from a VLP-16 a
+ * person on a sidewalk behind a lane of traffic shows only its head and shoulders over the cars: one row,
+ * 3-4 returns at 30-40 m. Nearer, a walker has more returns; farther, 4 returns are mostly the ends of
+ * vehicles. A piece split off a vehicle would start a second track beside it, hence the clearance. A
+ * track so born confirms by the rules of any track (a vehicle coming into view far off may be first seen
+ * by 4 returns). The tracks are this frame's (after the updates); objs' first nobj objects, their box
+ * cosines and sines cached in tr->obj_cs, this frame's. */
+#define BIRTH_CLEAR_M 1.5
+#define BIRTH_VEHICLE_M 2.5f /* a track this long (its largest box) is a vehicle's */
+/* (x, y) lies within BIRTH_CLEAR_M of the box centred at (cx, cy), len by wid along (c, s) */
+static bool near_box(double x, double y, double cx, double cy, double c, double s, double len, double wid) {
+  const double dx = x - cx, dy = y - cy;
+  return fabs(dx * c + dy * s) < 0.5 * len + BIRTH_CLEAR_M && fabs(-dx * s + dy * c) < 0.5 * wid + BIRTH_CLEAR_M;
+}
+static bool far_walker_birth(const rs_tracker_t *tr, const rs_object_list_t *objs, uint32_t nobj, const rs_object_t *o) {
+  const rs_track_cfg_t *cf = &tr->cfg;
+  const rs_track_list_t *L = &tr->list;
+  if (cf->birth_far_points <= 0 || o->points < (uint32_t)cf->birth_far_points || o->range_min < cf->birth_far_from_m ||
+      o->range_min > cf->birth_far_to_m || o->sensor.obb_length >= WALKER_M)
+    return false;
+  const double ox = o->sensor.obb_center[0], oy = o->sensor.obb_center[1];
+  /* few objects get here (far, walker-sized, 4 returns): the loops over every track and object are rare */
+  for (uint32_t i = 0; i < L->count; i++) {
+    const rs_track_t *t = &L->track[i];
+    if (t->full_length >= BIRTH_VEHICLE_M &&
+        near_box(ox, oy, t->x[0], t->x[1], t->hcos, t->hsin, t->full_length, t->full_width))
+      return false;
+  }
+  for (uint32_t k = 0; k < nobj; k++) { /* a vehicle first seen in this frame, its track born after */
+    const rs_obj_geom_t *g = &objs->obj[k].sensor;
+    if (g->obb_length >= BIRTH_VEHICLE_M && near_box(ox, oy, g->obb_center[0], g->obb_center[1], tr->obj_cs[k][0],
+                                                     tr->obj_cs[k][1], g->obb_length, g->obb_width))
+      return false;
+  }
+  return true;
+}
+
 void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_frame) {
   rs_track_list_t *L = &tr->list;
   const rs_track_cfg_t *cf = &tr->cfg;
@@ -2703,7 +2748,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   /* births, in object order */
   for (uint32_t k = 0; k < nobj; k++) {
     const rs_object_t *o = &objs->obj[k];
-    if (tr->taken_by[k] >= 0 || tr->shared[k] || o->points < (uint32_t)cf->birth_points) continue;
+    if (tr->taken_by[k] >= 0 || tr->shared[k] || (o->points < (uint32_t)cf->birth_points && !far_walker_birth(tr, objs, nobj, o)))
+      continue;
     if (L->count >= RS_TRACK_MAX) {
       tr->n.overflow++;
       continue;

@@ -66,7 +66,8 @@
  *   passing where it walked), nor is a young track that large stitched to
  *   it.
  * Lifecycle (seconds of sensor time): a track is born tentative from an
- * object of at least birth_points returns; it is confirmed after
+ * object of at least birth_points returns (birth_far_points for a far
+ * walker-sized one clear of every vehicle); it is confirmed after
  * confirm_hits hits when it has moved confirm_move_m from where it was born
  * (a vehicle), a walker-sized one after confirm_hits + 1 hits once it has
  * moved confirm_walk_m on a straight path (confirm_cut_walk_m when it was
@@ -155,6 +156,12 @@ typedef struct {
   double init_speed_sd;    /* m/s, velocity uncertainty of a new track (default 25: unknown) */
   double init_small_speed_sd; /* the same for an object shorter than 2 m (default 5) */
   int birth_points;        /* returns an object needs to start a track (default 5) */
+  int birth_far_points;    /* ... or, a walker's size, from birth_far_from_m to birth_far_to_m away (its nearest
+                              return) and clear of every vehicle-sized track's box by BIRTH_CLEAR_M, this many:
+                              a person on a far sidewalk seen over the cars by one row of 4 returns (default 4;
+                              0 = birth_points everywhere; docs/tracking.md, lifecycle) */
+  double birth_far_from_m; /* default 25 */
+  double birth_far_to_m;   /* default 50 */
   int confirm_hits;        /* default 3 */
   double confirm_move_m;   /* default 0.8 */
   double confirm_still_s;  /* default 1.5 */
