@@ -3047,6 +3047,17 @@ START_TEST(t_far_walker_born) {
   ck_assert_uint_eq(born, 1);
   ck_assert_int_eq(far_walker(4, 28.0, 21.0, 4, 2, &born), -1); /* beside the hidden car's coasting track */
   ck_assert_uint_eq(born, 1);
+  /* a frame of 40 such objects (far rain, leaves): RS_TRACK_FAR_BIRTHS_MAX looked at, the rest counted */
+  init_default();
+  clear();
+  for (int k = 0; k < 40; k++) {
+    put(50.0, 30.0 + 1.5 * (k % 8), 20.0 + 1.5 * (k / 8), 0.3, 0.2, 0.0, 0.05, 4);
+    objs.obj[objs.count - 1].range_min = 40.0f;
+  }
+  rs_track_frame(&tr, &objs, 50.05);
+  ck_assert_uint_eq(tr.n.born, RS_TRACK_FAR_BIRTHS_MAX);
+  ck_assert_uint_eq(tr.n.far_born, RS_TRACK_FAR_BIRTHS_MAX);
+  ck_assert_uint_eq(tr.n.far_dropped, 40 - RS_TRACK_FAR_BIRTHS_MAX);
   ck_assert_int_eq(defaults().birth_far_points, 4);
   knob_refused("birth_far_points", "-1");
   knob_refused("birth_far_to_m", "nan");

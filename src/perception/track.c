@@ -2348,20 +2348,27 @@ static bool merge_parts(rs_tracker_t *tr, uint32_t i, const rs_object_list_t *ob
  * by 4 returns). The tracks are this frame's (after the updates); objs' first nobj objects, their box
  * cosines and sines cached in tr->obj_cs, this frame's. */
 #define BIRTH_CLEAR_M 1.5
+_Static_assert(RS_TRACK_FAR_BIRTHS_MAX >= 1 && RS_TRACK_FAR_BIRTHS_MAX <= RS_OBJ_MAX, "far births looked at: 1 to the objects");
 #define BIRTH_VEHICLE_M 2.5f /* a track this long (its largest box) is a vehicle's */
 /* (x, y) lies within BIRTH_CLEAR_M of the box centred at (cx, cy), len by wid along (c, s) */
 static bool near_box(double x, double y, double cx, double cy, double c, double s, double len, double wid) {
   const double dx = x - cx, dy = y - cy;
   return fabs(dx * c + dy * s) < 0.5 * len + BIRTH_CLEAR_M && fabs(-dx * s + dy * c) < 0.5 * wid + BIRTH_CLEAR_M;
 }
-static bool far_walker_birth(const rs_tracker_t *tr, const rs_object_list_t *objs, uint32_t nobj, const rs_object_t *o) {
+static bool far_walker_birth(rs_tracker_t *tr, const rs_object_list_t *objs, uint32_t nobj, const rs_object_t *o,
+                             uint32_t *looked) {
   const rs_track_cfg_t *cf = &tr->cfg;
   const rs_track_list_t *L = &tr->list;
   if (cf->birth_far_points <= 0 || o->points < (uint32_t)cf->birth_far_points || o->range_min < cf->birth_far_from_m ||
       o->range_min > cf->birth_far_to_m || o->sensor.obb_length >= WALKER_M)
     return false;
+  if (*looked >= RS_TRACK_FAR_BIRTHS_MAX) {
+    tr->n.far_dropped++;
+    return false;
+  }
+  (*looked)++;
   const double ox = o->sensor.obb_center[0], oy = o->sensor.obb_center[1];
-  /* few objects get here (far, walker-sized, 4 returns): the loops over every track and object are rare */
+  /* few objects get here (far, walker-sized, 4 returns), at most RS_TRACK_FAR_BIRTHS_MAX a frame */
   for (uint32_t i = 0; i < L->count; i++) {
     const rs_track_t *t = &L->track[i];
     if (t->full_length >= BIRTH_VEHICLE_M &&
@@ -2746,9 +2753,10 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   }
   L->count = w;
   /* births, in object order */
+  uint32_t far_looked = 0;
   for (uint32_t k = 0; k < nobj; k++) {
     const rs_object_t *o = &objs->obj[k];
-    if (tr->taken_by[k] >= 0 || tr->shared[k] || (o->points < (uint32_t)cf->birth_points && !far_walker_birth(tr, objs, nobj, o)))
+    if (tr->taken_by[k] >= 0 || tr->shared[k] || (o->points < (uint32_t)cf->birth_points && !far_walker_birth(tr, objs, nobj, o, &far_looked)))
       continue;
     if (L->count >= RS_TRACK_MAX) {
       tr->n.overflow++;
@@ -2777,6 +2785,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     report_speed(tr, t);
     L->object_track[k] = t->id;
     tr->n.born++;
+    if (o->points < (uint32_t)cf->birth_points) tr->n.far_born++;
   }
   /* the held tracks each shared object's returns are divided between (indices are final now) */
   memset(tr->hold_n, 0, nobj);

@@ -119,6 +119,8 @@
 #define RS_TRACK_GRID_BUCKETS 4096 /* object lookup grid (4 m cells, hashed) */
 #define RS_TRACK_HOLD_MAX 4        /* held tracks one shared cluster's returns are divided between */
 #define RS_TRACK_TOP_GAP 2.0f /* m: a row above an object's top this near bounds it (below_beam) */
+#define RS_TRACK_FAR_BIRTHS_MAX 32 /* objects looked at for birth_far_points per frame (each against every track
+                                      and object: the bound keeps a frame of far rain or leaves linear) */
 #define RS_TRACK_WALKER_KEEP_MAX 60 /* s: the longest a walker's track gone into the blind circle is kept for the link */
 #define RS_TRACK_STILL_WINDOW 4     /* measurements a track keeps for confirm_still_window */
 #define RS_TRACK_STILL_POINTS_MIN 8 /* returns: the fast confirmation's least (a far car of 10 returns in the truth
@@ -516,6 +518,9 @@ typedef struct {
   uint64_t miss_left;     /* tracks of exactly solved groups left without an object: each object in their gate went
                              to another track, or (miss_cost) every pairing left cost more than going without */
   uint64_t gap_runs_dropped; /* runs of unmeasured columns beyond RS_OBJ_GAPS_MAX in a frame, not known to gap_unseen */
+  uint64_t far_born;      /* tracks born from fewer than birth_points returns (birth_far_points) */
+  uint64_t far_dropped;   /* objects that might have been so born, beyond RS_TRACK_FAR_BIRTHS_MAX in a frame: not
+                             looked at, no track */
 } rs_track_counters_t;
 
 typedef struct {
