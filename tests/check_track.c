@@ -3064,6 +3064,41 @@ START_TEST(t_far_walker_born) {
 }
 END_TEST
 
+/* walker_across_m. A walker goes east along a sidewalk at 1.3 m/s (12
+ * returns, 22 m off) for 2 s, is hidden for 1.5 s, then an object of a
+ * walker's size shows (across, along) from where its track predicts it:
+ * returns whether the walker's track took it. */
+static bool walker_takes(double across_m, double across, double along) {
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  c.walker_across_m = across_m;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  uint32_t id = 0;
+  for (int f = 0; f < 36; f++) {
+    const double t = 60.0 + 0.1 * f, x = 12.0 + 0.13 * f, j = 0.02 * ((f % 3) - 1);
+    clear();
+    if (f < 20) put(t, x + j, 20.0 - j, 0.5, 0.4, 0.0, 1.6, 12);
+    else if (f == 35) put(t, x + along, 20.0 + across, 0.5, 0.4, 0.0, 1.6, 12);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 19) {
+      ck_assert_uint_eq(tr.list.count, 1);
+      ck_assert_int_eq(tr.list.track[0].state, RS_TRACK_CONFIRMED);
+      id = tr.list.track[0].id;
+    }
+  }
+  return tr.list.object_track[0] == id;
+}
+
+START_TEST(t_walker_across) {
+  ck_assert(!walker_takes(1.5, -3.0, 0.0)); /* 3 m across its way, after 1.5 s: something else */
+  ck_assert(walker_takes(0.0, -3.0, 0.0));  /* the rule off: taken */
+  ck_assert(walker_takes(1.5, -0.5, 0.4));  /* on its way: taken */
+  ck_assert(walker_takes(1.5, 0.0, -1.5));  /* slower than it was, on its way: taken */
+  ck_assert_double_eq(defaults().walker_across_m, 1.5);
+  knob_refused("walker_across_m", "-1");
+}
+END_TEST
+
 /* foliage: a cluster at one place, there in half the frames, its centre
  * jittering by 0.3 m, for 20 s: never confirmed */
 START_TEST(t_foliage_never_confirms) {
@@ -3426,6 +3461,7 @@ int main(void) {
   tcase_add_test(tc, t_walker_upright_confirms_fast);
   tcase_add_test(tc, t_walker_pace_confirms_fast);
   tcase_add_test(tc, t_far_walker_born);
+  tcase_add_test(tc, t_walker_across);
   tcase_add_test(tc, t_dup_box);
   tcase_add_test(tc, t_seen_across);
   tcase_add_test(tc, t_kin_reacq);

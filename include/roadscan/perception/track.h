@@ -204,6 +204,9 @@ typedef struct {
                                   docs/tracking.md) */
   int hidden_anchor;           /* 1: a box end beside something nearer is where the rest of the object may be
                                   (rs_object_t.occluded): its centre is placed from the other end (default 1) */
+  double walker_across_m;      /* a walker-sized confirmed track moving at 0.5 m/s or more, unseen for more than
+                                  0.5 s, takes no object farther across its heading than this plus half its
+                                  width, plus 0.5 m a second unseen beyond 0.5 s (default 1.5; 0 = off) */
   double reacq_across_m;       /* a moving vehicle's track unseen for more than 0.5 s takes no object farther
                                   across its heading than this plus half its width, plus 0.5 m a second
                                   unseen (default 1.0; 0 = off) */
