@@ -159,7 +159,7 @@ typedef struct {
   double init_small_speed_sd; /* the same for an object shorter than 2 m (default 5) */
   int birth_points;        /* returns an object needs to start a track (default 5) */
   int birth_far_points;    /* ... or, a walker's size, from birth_far_from_m to birth_far_to_m away (its nearest
-                              return) and clear of every vehicle-sized track's box by BIRTH_CLEAR_M, this many:
+                              return) and clear of every vehicle-sized track's and object's box by 1.5 m, this many:
                               a person on a far sidewalk seen over the cars by one row of 4 returns (default 4;
                               0 = birth_points everywhere; docs/tracking.md, lifecycle) */
   double birth_far_from_m; /* default 25 */
