@@ -1401,6 +1401,14 @@ START_TEST(t_still_lane) {
 }
 END_TEST
 
+/* the track of object k this frame, checked confirmed and reporting no speed */
+static uint32_t confirmed_standing(uint32_t k) {
+  const uint32_t id = tr.list.object_track[k];
+  ck_assert_int_eq(find_id(id)->state, RS_TRACK_CONFIRMED);
+  ck_assert_float_eq(find_id(id)->speed, 0.0f);
+  return id;
+}
+
 /* still_coast. A van waits at x = 6.2 m, 28 m out, in a lane along y, seen whole for 3 s (its side
  * views give the lane's axis); then a bus passing in front eats its box from the sensor's side over
  * 0.3 s (the box narrows to 1.64 m, its centre sliding 0.18 m across the lane: its filter's velocity
@@ -1424,11 +1432,7 @@ static bool stood_hidden(int still_coast, int first, double *drift) {
     if (f >= 55) put(t, 9.7, 28.0, 4.9, 2.0, h, 1.9, 280);
     if (f >= 58) put(t, 6.2, 28.0, 4.9, 2.0, h, 1.9, 280);
     rs_track_frame(&tr, &objs, t + 0.05);
-    if (f == 29) {
-      a = tr.list.object_track[0];
-      ck_assert_int_eq(find_id(a)->state, RS_TRACK_CONFIRMED);
-      ck_assert_float_eq(find_id(a)->speed, 0.0f);
-    }
+    if (f == 29) a = confirmed_standing(0);
     if (f == 54) *drift = find_id(a) ? find_id(a)->x[0] - 6.2 : 99.0;
   }
   return tr.list.object_track[1] == a;
@@ -1446,6 +1450,63 @@ START_TEST(t_still_coast) {
   ck_assert_double_gt(young, 1.0);
   ck_assert_int_eq(defaults().still_coast, 1);
   knob_refused("still_coast", "2");
+}
+END_TEST
+
+/* still_reverse. A car drives in along its lane towards the sensor (heading -90 degrees, x = 6.2) at
+ * 5 m/s and stops at y = 28, seen standing 2 s; then traffic passing in front cuts its box at its
+ * near end over six frames (4.5 -> 2.1 m long, the centre 1.2 m back along its lane): its filter's
+ * velocity turns back against the way it came, and it reports a speed again (so still_coast does not
+ * hold it). Hidden 1 s; a second car standing in the next lane (x = 9.7) is seen first, in part (its
+ * half nearer the first car's lane, traffic still in front of the rest), 0.3 s before the first comes
+ * back where it stood. Returns whether the first car kept its id; *back: how far back along its lane
+ * (+y) its prediction went from where it was last seen; *next_took: the second car took its id. */
+static bool backed_hidden(int still_reverse, double *back, bool *next_took) {
+  init_knob("still_reverse", still_reverse);
+  const double h = -M_PI / 2;
+  uint32_t a = 0;
+  double last = 0.0;
+  for (int f = 0; f < 70; f++) {
+    const double t = 0.1 * f;
+    clear();
+    if (f < 24)
+      put(t, 6.2, 40.0 - 5.0 * t, 4.5, 1.8, h, 1.5, 200);
+    else if (f < 44)
+      put(t, 6.2, 28.0, 4.5, 1.8, h, 1.5, 200);
+    else if (f < 50) /* cut at its near end */
+      put(t, 6.2, 28.0 + 0.2 * (f - 43), 4.5 - 0.4 * (f - 43), 1.8, h, 1.5, 30);
+    if (f >= 60 && f < 63) put(t, 9.2, 28.0, 4.5, 0.8, h, 1.5, 80); /* the next car's near half */
+    if (f >= 63) put(t, 9.7, 28.0, 4.5, 1.8, h, 1.5, 200);
+    if (f >= 63) put(t, 6.2, 28.0, 4.5, 1.8, h, 1.5, 200);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 43) a = confirmed_standing(0);
+    if (f == 49) { /* its velocity back against the way it came, a speed reported */
+      const rs_track_t *k = find_id(a);
+      ck_assert_double_gt(k->x[3], 0.5);
+      ck_assert_float_gt(k->speed, 0.5f);
+      last = k->x[1];
+    }
+    if (f == 59) {
+      const rs_track_t *k = find_id(a);
+      *back = k ? k->x[1] - last : 99.0;
+      if (still_reverse) ck_assert_float_eq(k->speed, 0.0f); /* it reports standing */
+    }
+  }
+  *next_took = tr.list.object_track[0] == a;
+  return tr.list.object_track[1] == a;
+}
+
+START_TEST(t_still_reverse) {
+  double on = 0, off = 0;
+  bool took = true;
+  ck_assert(backed_hidden(1, &on, &took));
+  ck_assert(!took);
+  ck_assert_double_lt(fabs(on), 0.1);
+  ck_assert(!backed_hidden(0, &off, &took));
+  ck_assert(took); /* predicted on backwards, 1.4 m, its track took the car in the next lane */
+  ck_assert_double_gt(off, 1.0);
+  ck_assert_int_eq(defaults().still_reverse, 1);
+  knob_refused("still_reverse", "2");
 }
 END_TEST
 
@@ -3471,6 +3532,7 @@ int main(void) {
   tcase_add_test(tc, t_capacity);
   tcase_add_test(tc, t_still_lane);
   tcase_add_test(tc, t_still_coast);
+  tcase_add_test(tc, t_still_reverse);
   tcase_add_test(tc, t_brake_coast);
   tcase_add_test(tc, t_brake_not_at_circle);
   tcase_add_test(tc, t_crowd_and_config);

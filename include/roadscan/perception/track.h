@@ -232,6 +232,10 @@ typedef struct {
                                   at any update for 1 s is predicted where it stands while unseen (its velocity
                                   set to 0 when first unseen), not on at the velocity its filter kept from views
                                   that came and went (default 1; docs/tracking.md) */
+  int still_reverse;           /* 1: a vehicle's track (size known, 2.5 m long or more) that has moved faster than
+                                  2 m/s, first unseen with a velocity pointing back against the way it moved so, is
+                                  predicted where it stands (its velocity set to 0): vehicles in traffic do not
+                                  back up; that velocity is a box cut at one end (default 1; docs/tracking.md) */
   int brake_coast;             /* 1: a vehicle's track braking when last seen (its speed estimator's
                                   acceleration along its velocity, 0.5 m/s^2 or more; not at the blind
                                   circle's edge) is predicted braking at that rate while unseen, to a stop,
@@ -473,6 +477,8 @@ typedef struct {
   bool last_hidden;          /* its last object was marked hidden at an end (uncover_restart) */
   float last_len;            /* its last object's length (uncover_restart) */
   bool made_whole;           /* circle_whole has acted on it */
+  bool way_known;            /* it has moved faster than 2 m/s (still_reverse) */
+  float way_c, way_s;        /* ... the direction it last moved so in */
   bool ref_near;             /* the speed estimator follows the box's side nearest the sensor (near_ref_m) */
   double ref_dir[2];         /* towards the sensor from where it was born: the side's direction; (0, 0) once
                                 the track is no longer young (or near_ref_m is 0) */
