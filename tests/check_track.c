@@ -1461,7 +1461,7 @@ END_TEST
  * half nearer the first car's lane, traffic still in front of the rest), 0.3 s before the first comes
  * back where it stood. Returns whether the first car kept its id; *back: how far back along its lane
  * (+y) its prediction went from where it was last seen; *next_took: the second car took its id. */
-static bool backed_hidden(int still_reverse, double *back, bool *next_took) {
+static bool backed_hidden(int still_reverse, bool sharp, double *back, bool *next_took) {
   init_knob("still_reverse", still_reverse);
   const double h = -M_PI / 2;
   uint32_t a = 0;
@@ -1473,8 +1473,10 @@ static bool backed_hidden(int still_reverse, double *back, bool *next_took) {
       put(t, 6.2, 40.0 - 5.0 * t, 4.5, 1.8, h, 1.5, 200);
     else if (f < 44)
       put(t, 6.2, 28.0, 4.5, 1.8, h, 1.5, 200);
-    else if (f < 50) /* cut at its near end */
-      put(t, 6.2, 28.0 + 0.2 * (f - 43), 4.5 - 0.4 * (f - 43), 1.8, h, 1.5, 30);
+    else if (f < 50) { /* cut at its near end (sharp: faster at the last two frames) */
+      const double yc = 28.0 + (sharp ? 0.45 : 0.2) * (f - 43);
+      put(t, 6.2, yc, 4.5 - 0.4 * (f - 43), 1.8, h, 1.5, 30);
+    }
     if (f >= 60 && f < 63) put(t, 9.2, 28.0, 4.5, 0.8, h, 1.5, 80); /* the next car's near half */
     if (f >= 63) put(t, 9.7, 28.0, 4.5, 1.8, h, 1.5, 200);
     if (f >= 63) put(t, 6.2, 28.0, 4.5, 1.8, h, 1.5, 200);
@@ -1499,12 +1501,18 @@ static bool backed_hidden(int still_reverse, double *back, bool *next_took) {
 START_TEST(t_still_reverse) {
   double on = 0, off = 0;
   bool took = true;
-  ck_assert(backed_hidden(1, &on, &took));
+  ck_assert(backed_hidden(1, false, &on, &took));
   ck_assert(!took);
   ck_assert_double_lt(fabs(on), 0.1);
-  ck_assert(!backed_hidden(0, &off, &took));
+  ck_assert(!backed_hidden(0, false, &off, &took));
   ck_assert(took); /* predicted on backwards, 1.4 m, its track took the car in the next lane */
   ck_assert_double_gt(off, 1.0);
+  /* cut faster: 2.2 m/s backwards at its last update, over the 2 m/s at which the way it moves is
+   * learned, for one update only: the way it came holds */
+  ck_assert(backed_hidden(1, true, &on, &took));
+  ck_assert_double_lt(fabs(on), 0.1);
+  backed_hidden(0, true, &off, &took);
+  ck_assert_double_gt(off, 2.0);
   ck_assert_int_eq(defaults().still_reverse, 1);
   knob_refused("still_reverse", "2");
 }

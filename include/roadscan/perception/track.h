@@ -479,6 +479,7 @@ typedef struct {
   bool made_whole;           /* circle_whole has acted on it */
   bool way_known;            /* it has moved faster than 2 m/s (still_reverse) */
   float way_c, way_s;        /* ... the direction it last moved so in */
+  uint8_t way_flips;         /* updates in a row moving so against it (the way turns back after 3) */
   bool ref_near;             /* the speed estimator follows the box's side nearest the sensor (near_ref_m) */
   double ref_dir[2];         /* towards the sensor from where it was born: the side's direction; (0, 0) once
                                 the track is no longer young (or near_ref_m is 0) */
