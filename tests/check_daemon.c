@@ -983,6 +983,9 @@ START_TEST(t_tracks_outputs) {
   ck_assert_ptr_nonnull(strstr(out, "--tracks-out needs tracking"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --track-set coast_s=100", &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "tracking parameter coast_s: 100 is out of range (0.01 to 60)"));
+  snprintf(cmd, sizeof cmd, "./roadscand --pcap %s --background %s --track-set birth_far_from_m=60", cap, model);
+  ck_assert_int_eq(tu_exec(cmd, &out), 2);
+  ck_assert_ptr_nonnull(strstr(out, "birth_far_from_m (60 m) is not below birth_far_to_m (50 m)"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --track-set nonsense", &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "is not NAME=VALUE"));
   /* an unknown name: the message lists every parameter, to the last one */

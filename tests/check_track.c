@@ -3130,6 +3130,12 @@ START_TEST(t_far_walker_born) {
   ck_assert_int_eq(defaults().birth_far_points, 4);
   knob_refused("birth_far_points", "-1");
   knob_refused("birth_far_to_m", "nan");
+  /* a range that holds nothing is refused while far births are on, not taken as off */
+  rs_track_cfg_t c = defaults();
+  c.birth_far_from_m = 50.0;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_E_INVAL);
+  c.birth_far_points = 0;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
 }
 END_TEST
 

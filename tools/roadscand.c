@@ -526,6 +526,11 @@ int main(int argc, char **argv) {
     cfg->objects = &objects;
     cfg->object_list = &object_list;
     if (!st.no_tracking) {
+      if (st.tcfg.birth_far_points > 0 && !(st.tcfg.birth_far_from_m < st.tcfg.birth_far_to_m)) {
+        rs_log(RS_LOG_ERR, "tracking parameters: birth_far_from_m (%g m) is not below birth_far_to_m (%g m): no far walker "
+               "could start a track (birth_far_points=0 turns that off)", st.tcfg.birth_far_from_m, st.tcfg.birth_far_to_m);
+        return 2;
+      }
       if (rs_track_init(&tracker, &st.tcfg) != RS_OK) return bad("bad tracking parameters");
       rs_track_set_pose(&tracker, have_pose ? &st.pose : NULL);
       cfg->tracker = &tracker;

@@ -125,7 +125,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->meas_sd_misfit >= 0 && cfg->meas_sd_misfit <= 10) || !(cfg->gate_chi2 > 0) || !(cfg->gate_m > 0 && cfg->gate_m <= 20) ||
       !(cfg->max_speed > 0 && cfg->max_speed <= 100) || !(cfg->init_speed_sd > 0) || !(cfg->init_small_speed_sd > 0) || cfg->birth_points < 1 ||
       cfg->birth_far_points < 0 || cfg->birth_far_points > 10000 || !(cfg->birth_far_from_m >= 0 && cfg->birth_far_from_m <= 1000) ||
-      !(cfg->birth_far_to_m >= 0 && cfg->birth_far_to_m <= 1000) || !(cfg->walker_across_m >= 0 && cfg->walker_across_m <= 20) ||
+      !(cfg->birth_far_to_m >= 0 && cfg->birth_far_to_m <= 1000) || (cfg->birth_far_points > 0 && !(cfg->birth_far_from_m < cfg->birth_far_to_m)) || !(cfg->walker_across_m >= 0 && cfg->walker_across_m <= 20) ||
       cfg->confirm_hits < 1 || !(cfg->confirm_move_m >= 0) || !(cfg->confirm_still_s >= 0) ||
       !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100) ||
       !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1 ||
@@ -1000,11 +1000,15 @@ static void set_heading(rs_track_t *t, float h) {
   t->hsin = (float)t->hsd;
 }
 
+/* is (px, py) within half-extents hl along and hw across the axis (c, s) of the rectangle centred at (cx, cy)? */
+static bool in_rect(double px, double py, double cx, double cy, double c, double s, double hl, double hw) {
+  const double dx = px - cx, dy = py - cy;
+  return fabs(dx * c + dy * s) <= hl && fabs(-dx * s + dy * c) <= hw;
+}
 /* is (px, py) inside object o's oriented box (heading cosine c, sine s) grown by m? */
 static bool in_box(const rs_object_t *o, double c, double s, double px, double py, double m) {
-  const double dx = px - o->sensor.obb_center[0], dy = py - o->sensor.obb_center[1];
-  const double u = dx * c + dy * s, v = -dx * s + dy * c;
-  return fabs(u) <= 0.5 * o->sensor.obb_length + m && fabs(v) <= 0.5 * o->sensor.obb_width + m;
+  return in_rect(px, py, o->sensor.obb_center[0], o->sensor.obb_center[1], c, s, 0.5 * o->sensor.obb_length + m,
+                 0.5 * o->sensor.obb_width + m);
 }
 
 /* the size split parts are measured by: a track of known size's full size
@@ -1020,13 +1024,10 @@ static void split_size(const rs_tracker_t *tr, const rs_track_t *t, double *len,
  * RS_TRACK_SPLIT_MARGIN (at most half its length) along its length and half
  * that across */
 static bool in_track_box(const rs_tracker_t *tr, const rs_track_t *t, double px, double py) {
-  const double c = t->hcos, s = t->hsin;
-  const double dx = px - t->x[0], dy = py - t->x[1];
-  const double u = dx * c + dy * s, v = -dx * s + dy * c;
   double len, wid;
   split_size(tr, t, &len, &wid);
   const double m = fmin(RS_TRACK_SPLIT_MARGIN, 0.5 * len); /* a walker's box is not grown by a stride */
-  return fabs(u) <= 0.5 * len + m && fabs(v) <= 0.5 * wid + 0.5 * m;
+  return in_rect(px, py, t->x[0], t->x[1], t->hcos, t->hsin, 0.5 * len + m, 0.5 * wid + 0.5 * m);
 }
 
 /* tracks a and b move alike, as two tracks of one object do: their
@@ -1861,8 +1862,8 @@ static bool stands(const rs_tracker_t *tr, const rs_track_t *t) {
  * track goes unseen (misses 0; at every unseen spell: vehicle speed 0.5676 -> 0.5746 m/s). */
 #define WAY_FLIP_UPDATES 3 /* updates in a row moving against the way before it turns back */
 static bool backs_up(const rs_tracker_t *tr, const rs_track_t *t) {
-  return tr->cfg.still_reverse && t->misses == 0 && !rs_track_held(t) && t->way_known && size_known(t) &&
-         t->full_length >= STILL_LANE_LEN_M && t->x[2] * t->way_c + t->x[3] * t->way_s < 0.0;
+  return tr->cfg.still_reverse && t->misses == 0 && !rs_track_held(t) && size_known(t) &&
+         t->full_length >= STILL_LANE_LEN_M && t->x[2] * t->way_c + t->x[3] * t->way_s < 0.0; /* (0, 0): not moved so */
 }
 static void stand_still(rs_track_t *t) {
   t->x[2] = t->x[3] = 0.0;
@@ -2008,10 +2009,9 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
     set_heading(t, o->sensor.obb_heading);
   }
   if (sp > 2.0 && t->hits >= 3) { /* the heading is the motion's: how wide it is across it */
-    const bool flip = t->way_known && t->hcos * t->way_c + t->hsin * t->way_s < 0.0f;
+    const bool flip = t->hcos * t->way_c + t->hsin * t->way_s < 0.0f; /* (0, 0) before: no flip */
     t->way_flips = flip ? (uint8_t)(t->way_flips + 1) : 0;
     if (!flip || t->way_flips >= WAY_FLIP_UPDATES) { /* still_reverse: a way turned back holds when it lasts */
-      t->way_known = true;
       t->way_c = t->hcos;
       t->way_s = t->hsin;
       t->way_flips = 0;
@@ -2406,11 +2406,6 @@ static bool merge_parts(rs_tracker_t *tr, uint32_t i, const rs_object_list_t *ob
 #define BIRTH_CLEAR_M 1.5
 _Static_assert(RS_TRACK_FAR_BIRTHS_MAX >= 1 && RS_TRACK_FAR_BIRTHS_MAX <= RS_OBJ_MAX, "far births looked at: 1 to the objects");
 #define BIRTH_VEHICLE_M 2.5f /* a track this long (its largest box) is a vehicle's */
-/* (x, y) lies within BIRTH_CLEAR_M of the box centred at (cx, cy), len by wid along (c, s) */
-static bool near_box(double x, double y, double cx, double cy, double c, double s, double len, double wid) {
-  const double dx = x - cx, dy = y - cy;
-  return fabs(dx * c + dy * s) < 0.5 * len + BIRTH_CLEAR_M && fabs(-dx * s + dy * c) < 0.5 * wid + BIRTH_CLEAR_M;
-}
 static bool far_walker_birth(rs_tracker_t *tr, const rs_object_list_t *objs, uint32_t nobj, const rs_object_t *o,
                              uint32_t *looked) {
   const rs_track_cfg_t *cf = &tr->cfg;
@@ -2427,16 +2422,13 @@ static bool far_walker_birth(rs_tracker_t *tr, const rs_object_list_t *objs, uin
   /* few objects get here (far, walker-sized, 4 returns), at most RS_TRACK_FAR_BIRTHS_MAX a frame */
   for (uint32_t i = 0; i < L->count; i++) {
     const rs_track_t *t = &L->track[i];
-    if (t->full_length >= BIRTH_VEHICLE_M &&
-        near_box(ox, oy, t->x[0], t->x[1], t->hcos, t->hsin, t->full_length, t->full_width))
+    if (t->full_length >= BIRTH_VEHICLE_M && in_rect(ox, oy, t->x[0], t->x[1], t->hcos, t->hsin,
+                                                      0.5 * t->full_length + BIRTH_CLEAR_M, 0.5 * t->full_width + BIRTH_CLEAR_M))
       return false;
   }
-  for (uint32_t k = 0; k < nobj; k++) { /* a vehicle first seen in this frame, its track born after */
-    const rs_obj_geom_t *g = &objs->obj[k].sensor;
-    if (g->obb_length >= BIRTH_VEHICLE_M && near_box(ox, oy, g->obb_center[0], g->obb_center[1], tr->obj_cs[k][0],
-                                                     tr->obj_cs[k][1], g->obb_length, g->obb_width))
+  for (uint32_t k = 0; k < nobj; k++) /* a vehicle first seen in this frame, its track born after */
+    if (objs->obj[k].sensor.obb_length >= BIRTH_VEHICLE_M && in_box(&objs->obj[k], tr->obj_cs[k][0], tr->obj_cs[k][1], ox, oy, BIRTH_CLEAR_M))
       return false;
-  }
   return true;
 }
 

@@ -163,7 +163,7 @@ typedef struct {
                               a person on a far sidewalk seen over the cars by one row of 4 returns (default 4;
                               0 = birth_points everywhere; docs/tracking.md, lifecycle) */
   double birth_far_from_m; /* default 25 */
-  double birth_far_to_m;   /* default 50 */
+  double birth_far_to_m;   /* default 50; above birth_far_from_m while birth_far_points is on (rs_track_init) */
   int confirm_hits;        /* default 3 */
   double confirm_move_m;   /* default 0.8 */
   double confirm_still_s;  /* default 1.5 */
@@ -477,8 +477,7 @@ typedef struct {
   bool last_hidden;          /* its last object was marked hidden at an end (uncover_restart) */
   float last_len;            /* its last object's length (uncover_restart) */
   bool made_whole;           /* circle_whole has acted on it */
-  bool way_known;            /* it has moved faster than 2 m/s (still_reverse) */
-  float way_c, way_s;        /* ... the direction it last moved so in */
+  float way_c, way_s;        /* the direction it last moved faster than 2 m/s in; (0, 0) before (still_reverse) */
   uint8_t way_flips;         /* updates in a row moving so against it (the way turns back after 3) */
   bool ref_near;             /* the speed estimator follows the box's side nearest the sensor (near_ref_m) */
   double ref_dir[2];         /* towards the sensor from where it was born: the side's direction; (0, 0) once
