@@ -1518,13 +1518,81 @@ START_TEST(t_still_reverse) {
 }
 END_TEST
 
+/* queue_coast. A car (the leader) stands in the lane y = 8 at x = 27, seen throughout. A second car
+ * drives up behind it along the lane at 8 m/s and is hidden from t = 2 s (at x = 16, a bus in the near
+ * lane), while it brakes to a stop 1.5 m behind the leader (x = 21, at t = 3.25 s); seen again standing
+ * there from t = 4.5 s. Predicted on at 8 m/s, its track would be 15 m past where it stands, through
+ * the leader (ended there as the leader's duplicate). `other`: the car seen ahead is instead 0 an oncoming car (driving -x
+ * at 8 m/s, 0.5 m across the lane's line, passing the hidden one), 1 a car standing in the next lane
+ * (y = 11.5), 2 the leader as above, 3 the leader standing, hidden with the second car (a bus passing
+ * in front of both; its track held where it stands, still_coast, and coasting while the second
+ * reaches it) and seen again with it, 4 a car ahead in the lane driving on at 4 m/s, hidden with it,
+ * 5 the front part of the same long vehicle (a bus seen in two: 0.5 m between the parts' boxes, at
+ * 8 m/s), seen on while the rear part is hidden and stops (a stand-in: its stop is not what is looked
+ * at). Returns whether the second car kept its id
+ * (and, for 3, the leader its own); *front: the farthest its prediction's front went while hidden,
+ * past the leader's rear as it stands (m, negative: behind it). */
+static bool queued_hidden(int queue_coast, int other, double *front) {
+  init_knob("queue_coast", queue_coast);
+  uint32_t id = 0, lead = 0;
+  *front = -HUGE_VAL;
+  for (int f = 0; f < 47; f++) {
+    const double t = 0.1 * f;
+    clear();
+    const bool hidden = f >= 20 && f < 45;
+    if (other == 0) car(t, 60.0 - 8.0 * t, 8.5, M_PI);
+    else if (other == 4 && !hidden) car(t, 27.0 + 4.0 * t, 8.0, 0.0);
+    else if (other == 5) car(t, 5.0 + 8.0 * t, 8.0, 0.0);
+    else if (other < 3 || (other == 3 && !hidden)) car(t, 27.0, other == 1 ? 11.5 : 8.0, 0.0);
+    if (f < 20) car(t, 8.0 * t, 8.0, 0.0);
+    else if (f >= 45) car(t, 21.0, 8.0, 0.0);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 19) {
+      lead = tr.list.object_track[0];
+      id = tr.list.object_track[1];
+      ck_assert_int_eq(find_id(id)->state, RS_TRACK_CONFIRMED);
+    }
+    if (f >= 20 && f < 45) {
+      const rs_track_t *k = find_id(id);
+      if (k) *front = fmax(*front, k->x[0] + 0.5 * k->full_length - 24.75);
+    }
+  }
+  return tr.list.object_track[1] == id && (other != 3 || tr.list.object_track[0] == lead);
+}
+
+START_TEST(t_queue_coast) {
+  double front = 0;
+  ck_assert(queued_hidden(1, 2, &front));
+  ck_assert_uint_gt(tr.n.queued, 0);
+  ck_assert_double_le(front, -1.0 + 1e-9); /* its front kept 1 m behind the leader's rear */
+  ck_assert(!queued_hidden(0, 2, &front)); /* driven on into the leader (and ended there as its duplicate) */
+  ck_assert_double_gt(front, 0.5);
+  ck_assert_uint_eq(tr.n.queued, 0);
+  /* hidden with it, the leader's track is held where it stands: the second car stops behind that */
+  ck_assert(queued_hidden(1, 3, &front));
+  ck_assert_uint_gt(tr.n.queued, 0);
+  ck_assert_double_le(front, -1.0 + 1e-9);
+  ck_assert(!queued_hidden(0, 3, &front));
+  /* an oncoming car in the lane's line, a car standing in the next lane, a car ahead hidden while it
+   * drives on (its prediction is no vehicle seen, nor one standing), a part of the same vehicle 0.5 m
+   * ahead (nearer than the 1 m a follower keeps): none is its leader */
+  for (int other = 0; other < 6; other += other == 1 ? 3 : 1) {
+    queued_hidden(1, other, &front);
+    ck_assert_uint_eq(tr.n.queued, 0);
+    ck_assert_double_gt(front, 0.5);
+  }
+  ck_assert_int_eq(defaults().queue_coast, 1);
+  knob_refused("queue_coast", "2");
+}
+END_TEST
+
 /* brake_coast. A car at 8 m/s along y = 8 brakes at 2.5 m/s^2 from t = 1 s; from t = 2 s (at 5.5
  * m/s) it is hidden (a bus in the near lane) and stops 6.05 m on, at t = 4.2 s; seen again standing
  * from t = 4.6 s. Predicted on at 5.5 m/s it would be 14 m on, 8 m past it, out of the gate; a car
  * waiting ahead in the lane (`ahead`: 7 m past where it stops, seen from the start, hidden with it)
- * is where that prediction lands. Returns whether the braking car kept its id. */
-static bool braked_hidden(int brake_coast, bool ahead) {
-  init_knob("brake_coast", brake_coast);
+ * is where that prediction lands (queue_coast: 0 off, 1 on). Returns whether the braking car kept its id. */
+static bool braked_hidden(int brake_coast, bool ahead, int queue_coast) {
+  init_knobs("brake_coast", brake_coast, "queue_coast", queue_coast);
   const double stop = 8.0 + 6.05 + 0.5 * (8.0 + 5.5); /* where it stops: 1 s at 8, 1 s braking, then to a stop */
   uint32_t id = 0, ahead_id = 0;
   for (int f = 0; f < 56; f++) {
@@ -1547,10 +1615,13 @@ static bool braked_hidden(int brake_coast, bool ahead) {
 }
 
 START_TEST(t_brake_coast) {
-  ck_assert(braked_hidden(1, false));
-  ck_assert(!braked_hidden(0, false));
-  ck_assert(braked_hidden(1, true));
-  ck_assert(!braked_hidden(0, true));
+  ck_assert(braked_hidden(1, false, 1));
+  ck_assert(!braked_hidden(0, false, 1));
+  ck_assert(braked_hidden(1, true, 1));
+  ck_assert(!braked_hidden(0, true, 0));
+  /* without it, the car waiting ahead (its track held where it stands) stops the prediction behind it
+   * (queue_coast): the id is kept that way too */
+  ck_assert(braked_hidden(0, true, 1));
   ck_assert_int_eq(defaults().brake_coast, 1);
   knob_refused("brake_coast", "-1");
 }
@@ -3547,6 +3618,7 @@ int main(void) {
   tcase_add_test(tc, t_still_lane);
   tcase_add_test(tc, t_still_coast);
   tcase_add_test(tc, t_still_reverse);
+  tcase_add_test(tc, t_queue_coast);
   tcase_add_test(tc, t_brake_coast);
   tcase_add_test(tc, t_brake_not_at_circle);
   tcase_add_test(tc, t_crowd_and_config);

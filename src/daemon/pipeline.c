@@ -722,7 +722,7 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
                  "the %d-track capacity, "
                  "%llu groups assigned greedily, %llu tracks of exactly solved groups left without an object; %llu returns of shared clusters divided between their tracks (%llu beyond "
                  "%d per frame, %llu tracks beyond %d in one cluster, left with the others); %llu born from few returns far off (%llu "
-                 "objects beyond %d in a frame not looked at)\n",
+                 "objects beyond %d in a frame not looked at); %llu predictions of hidden vehicles held behind the vehicle ahead\n",
             (unsigned long long)tr->n.born, (unsigned long long)tr->n.confirmed, (unsigned long long)tr->n.ended,
             tr->list.count, (unsigned long long)tr->n.held, (unsigned long long)tr->n.absorbed, (unsigned long long)tr->n.merged,
             (unsigned long long)(tr->n.stitched + tr->n.duplicates + tr->n.blind_linked),
@@ -731,7 +731,7 @@ void rs_pipeline_summary(const rs_pipeline_t *p, FILE *out) {
             (unsigned long long)tr->n.overflow, RS_TRACK_MAX, (unsigned long long)tr->n.greedy_groups,
             (unsigned long long)tr->n.miss_left, (unsigned long long)pr->n.divided, (unsigned long long)pr->n.divided_overflow, RS_PROC_DIVIDED_MAX,
             (unsigned long long)tr->n.hold_overflow, RS_TRACK_HOLD_MAX, (unsigned long long)tr->n.far_born,
-            (unsigned long long)tr->n.far_dropped, RS_TRACK_FAR_BIRTHS_MAX);
+            (unsigned long long)tr->n.far_dropped, RS_TRACK_FAR_BIRTHS_MAX, (unsigned long long)tr->n.queued);
   }
   if (p->cfg.counter) {
     const rs_counter_t *c = p->cfg.counter;

@@ -85,6 +85,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->brake_coast = 1;
   c->still_coast = 1;
   c->still_reverse = 1;
+  c->queue_coast = 1;
   c->walked_hits = 10;
   c->blind_s = 8.0;
   c->speed_imm = 1;
@@ -141,7 +142,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->split_near_circle < 0 || cfg->split_near_circle > 1 || cfg->dup_box < 0 || cfg->dup_box > 1 ||
       !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 ||
       cfg->still_lane < 0 || cfg->still_lane > 1 || cfg->brake_coast < 0 || cfg->brake_coast > 1 || cfg->still_coast < 0 || cfg->still_coast > 1 ||
-      cfg->still_reverse < 0 || cfg->still_reverse > 1 ||
+      cfg->still_reverse < 0 || cfg->still_reverse > 1 || cfg->queue_coast < 0 || cfg->queue_coast > 1 ||
       !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 ||
       cfg->speed_imm < 0 || cfg->speed_imm > 1 || cfg->imm_birth_wide < 0 || cfg->imm_birth_wide > 1 ||
       cfg->misfit_own < 0 || cfg->misfit_own > 1 || cfg->confirm_pace < 0 || cfg->confirm_pace > 1 ||
@@ -160,6 +161,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
+  for (int b = 0; b < GRID_BUCKETS; b++) tr->lead_head[b] = -1;
+  tr->nlead = 0;
   tr->hold_objects = 0;
   tr->obj_base = NULL;
   tr->obj_n = 0;
@@ -198,7 +201,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1), KNOB(blind_walker_s, 0.0, RS_TRACK_WALKER_KEEP_MAX), KNOB(blind_walker_cross, 0.0, 10.0), KNOB_INT(blind_walker_alone, 0, 1),
     KNOB_INT(blind_walker_fifo, 0, 1), KNOB(blind_walker_line, 0.0, 20.0), KNOB(split_car_m, 0.0, 20.0), KNOB_INT(stitch_kin, 0, 1), KNOB_INT(gap_unseen, 0, 1), KNOB(miss_cost, 0.0, 1000.0),
     KNOB_INT(still_lane, 0, 1), KNOB_INT(brake_coast, 0, 1), KNOB_INT(still_coast, 0, 1), KNOB(blind_walker_pace_s, 0.0, 60.0),
-    KNOB_INT(still_reverse, 0, 1),
+    KNOB_INT(still_reverse, 0, 1), KNOB_INT(queue_coast, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -1873,6 +1876,105 @@ static void stand_still(rs_track_t *t) {
   t->speed = 0.0f;
 }
 
+/* queue_coast: a hidden vehicle does not drive through the vehicle ahead of it. A van hidden behind the
+ * near lane's traffic while it stopped behind a standing car was predicted on at its last speed, 6.2
+ * m/s, past where it stood: it came back as a new track and its old one coasted into the standing car
+ * (VLP-16 rush at the held-out site 5; a car slowing into a queue at site 33 the same). While a
+ * vehicle's track (size known, STILL_LANE_LEN_M long or more, QUEUE_AGE_S old at its last update; not
+ * held) is unseen and predicted faster than QUEUE_V, its prediction's front stays QUEUE_GAP_M behind
+ * the rear of the nearest vehicle ahead of it in its lane (queue_leaders' list: within QUEUE_ACROSS_M
+ * across its way from where it was last seen, its heading within 25 degrees of that way, not driving
+ * towards it, QUEUE_GAP_M ahead or more when the hidden one was last seen: nearer is a piece of the
+ * same vehicle, a bus seen in two), and its velocity is no faster than that vehicle's along its way.
+ * The covariance grows as before. docs/tracking.md */
+#define QUEUE_V 1.0      /* m/s: a track slower than this is not moved */
+#define QUEUE_AGE_S 1.0  /* s: a younger track's velocity may be its first boxes growing (a part of a standing car) */
+#define QUEUE_GAP_M 1.0  /* m kept between its front and the rear of the vehicle ahead */
+#define QUEUE_COS 0.9    /* the two headings within 25 degrees: one lane's */
+#define QUEUE_ACROSS_M 1.2 /* m between their centres across t's way at most: one lane's */
+/* this frame's vehicles a hidden one may stop behind, in tr->lead: the tracks of vehicles (size known,
+ * STILL_LANE_LEN_M long or more; not tentative) seen this frame, or standing (QUEUE_V or slower) and
+ * unseen for coast_s at most; taken before any track's state moves on, so that no track's place in
+ * the list changes what another sees. Hashed by position (QUEUE_CELL_M cells) for follow_leader. */
+#define QUEUE_CELL_M 8.0
+#define QUEUE_CELLS_MAX 64 /* cells follow_leader looks in; a longer way: every leader */
+static void queue_leaders(rs_tracker_t *tr, double t_frame) {
+  for (uint32_t j = 0; j < tr->nlead; j++) tr->lead_head[bucket(tr->lead_cell[j][0], tr->lead_cell[j][1])] = -1;
+  tr->nlead = 0;
+  tr->lead_maxlen = 0.0;
+  const rs_track_list_t *L = &tr->list;
+  for (uint32_t j = 0; j < L->count && tr->nlead < RS_TRACK_MAX; j++) {
+    const rs_track_t *l = &L->track[j];
+    if (l->id == 0 || l->state == RS_TRACK_TENTATIVE || !size_known(l) || l->full_length < STILL_LANE_LEN_M) continue;
+    const bool seen = l->object >= 0 || rs_track_held(l), standing = norm2(l->x[2], l->x[3]) <= QUEUE_V;
+    if (!seen && !(standing && t_frame - l->t_update <= tr->cfg.coast_s)) continue;
+    const double dt = fmax(0.0, t_frame - l->t_state);
+    const uint32_t n = tr->nlead++;
+    tr->lead[n].x = l->x[0] + l->x[2] * dt;
+    tr->lead[n].y = l->x[1] + l->x[3] * dt;
+    tr->lead[n].vx = l->x[2];
+    tr->lead[n].vy = l->x[3];
+    tr->lead[n].hc = l->hcd;
+    tr->lead[n].hs = l->hsd;
+    tr->lead[n].len = l->full_length;
+    tr->lead[n].id = l->id;
+    tr->lead_maxlen = fmax(tr->lead_maxlen, l->full_length);
+    tr->lead_cell[n][0] = (long)floor(tr->lead[n].x / QUEUE_CELL_M);
+    tr->lead_cell[n][1] = (long)floor(tr->lead[n].y / QUEUE_CELL_M);
+    const uint32_t bk = bucket(tr->lead_cell[n][0], tr->lead_cell[n][1]);
+    tr->lead_next[n] = tr->lead_head[bk];
+    tr->lead_head[bk] = (int32_t)n;
+  }
+}
+/* leader j for hidden track t (on its way ux, uy from where it was last seen): how far on
+ * t may go, into *best (and the leader's speed along the way into *vl) when less than *best */
+static void leader_room(const rs_tracker_t *tr, const rs_track_t *t, uint32_t j, double t_frame, double ux, double uy,
+                        double *best, double *vl) {
+  const double lx = tr->lead[j].x - t->x_seen[0], ly = tr->lead[j].y - t->x_seen[1];
+  const double along = lx * ux + ly * uy, across = fabs(-lx * uy + ly * ux);
+  if (across >= QUEUE_ACROSS_M || along <= 0.0 || tr->lead[j].id == t->id) return; /* another lane; behind */
+  const double lv = tr->lead[j].vx * ux + tr->lead[j].vy * uy; /* its speed along t's way */
+  if (fabs(tr->lead[j].hc * ux + tr->lead[j].hs * uy) < QUEUE_COS || (norm2(tr->lead[j].vx, tr->lead[j].vy) > QUEUE_V && lv < 0.0))
+    return; /* across t's way; oncoming */
+  const double room = along - 0.5 * (t->full_length + tr->lead[j].len) - QUEUE_GAP_M; /* how far on t may go */
+  const double gap_seen = room + QUEUE_GAP_M - lv * fmax(0.0, t_frame - t->t_update); /* between them when t was last seen */
+  if (gap_seen < QUEUE_GAP_M || room >= *best) return; /* nearer then: parts of one vehicle (a bus seen in two) */
+  *best = fmax(0.0, room);
+  *vl = fmax(0.0, lv);
+}
+static void follow_leader(rs_tracker_t *tr, rs_track_t *t, double t_frame) {
+  if (tr->nlead == 0 || !size_known(t) || t->full_length < STILL_LANE_LEN_M || t->state == RS_TRACK_TENTATIVE ||
+      t->t_update - t->t_birth < QUEUE_AGE_S)
+    return;
+  const double v = norm2(t->x[2], t->x[3]);
+  if (!(v > QUEUE_V)) return;
+  const double ux = t->x[2] / v, uy = t->x[3] / v;
+  const double at = (t->x[0] - t->x_seen[0]) * ux + (t->x[1] - t->x_seen[1]) * uy; /* how far on since last seen */
+  if (!(at > 0.0)) return;
+  double best = at, vl = 0.0;
+  /* the cells around its way from where it was seen as far as a leader's centre may lie */
+  const double reach = at + 0.5 * (t->full_length + tr->lead_maxlen) + QUEUE_GAP_M;
+  const double x0 = t->x_seen[0], y0 = t->x_seen[1], x1 = x0 + ux * reach, y1 = y0 + uy * reach;
+  const long g0x = (long)floor((fmin(x0, x1) - QUEUE_ACROSS_M) / QUEUE_CELL_M), g1x = (long)floor((fmax(x0, x1) + QUEUE_ACROSS_M) / QUEUE_CELL_M);
+  const long g0y = (long)floor((fmin(y0, y1) - QUEUE_ACROSS_M) / QUEUE_CELL_M), g1y = (long)floor((fmax(y0, y1) + QUEUE_ACROSS_M) / QUEUE_CELL_M);
+  if ((g1x - g0x + 1) * (g1y - g0y + 1) > QUEUE_CELLS_MAX) {
+    for (uint32_t j = 0; j < tr->nlead; j++) leader_room(tr, t, j, t_frame, ux, uy, &best, &vl);
+  } else {
+    for (long gx = g0x; gx <= g1x; gx++)
+      for (long gy = g0y; gy <= g1y; gy++)
+        for (int32_t j = tr->lead_head[bucket(gx, gy)], guard = 0; j >= 0 && guard < RS_TRACK_MAX; j = tr->lead_next[j], guard++)
+          if (tr->lead_cell[j][0] == gx && tr->lead_cell[j][1] == gy) leader_room(tr, t, (uint32_t)j, t_frame, ux, uy, &best, &vl);
+  }
+  if (!(best < at)) return;
+  t->x[0] -= (at - best) * ux;
+  t->x[1] -= (at - best) * uy;
+  const double vn = fmin(v, vl);
+  t->x[2] = vn * ux;
+  t->x[3] = vn * uy;
+  t->brake = 0.0f;
+  tr->n.queued++;
+}
+
 /* ---- a walker's pace into the blind circle (blind_walker_pace_s) ----------------
  * blind_walk_link fits the time a walker gone into the blind circle takes to
  * come out to its pace: the way's length over its speed. Its speed at the
@@ -2738,6 +2840,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     t->id = 0;
     tr->n.duplicates++;
   }
+  if (cf->queue_coast) queue_leaders(tr, t_frame);
   /* states, confirmation, ends (compacting the list, id order kept) */
   uint32_t w = 0;
   for (uint32_t i = 0; i < L->count; i++) {
@@ -2751,6 +2854,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       else if (t->t_state == t->t_update && !rs_track_held(t)) walk_on_at_pace(tr, t); /* first unseen */
       predict(tr, t, t_frame);
       if (cf->brake_coast && !rs_track_held(t)) brake_step(t, t0);
+      if (cf->queue_coast && !rs_track_held(t)) follow_leader(tr, t, t_frame);
       if (rs_track_held(t)) t->t_update = t_frame; /* seen, inside a shared cluster */
       else if (cf->gap_unseen && rs_objects_unmeasured_at(objs, t->x[0], t->x[1])) tr->n.gap_unseen++;
       else t->misses++;

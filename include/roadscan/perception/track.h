@@ -236,6 +236,11 @@ typedef struct {
                                   2 m/s, first unseen with a velocity pointing back against the way it moved so, is
                                   predicted where it stands (its velocity set to 0): vehicles in traffic do not
                                   back up; that velocity is a box cut at one end (default 1; docs/tracking.md) */
+  int queue_coast;             /* 1: a hidden vehicle's track (2.5 m long or more, 1 s old) predicted faster than 1 m/s
+                                  keeps its front 1 m behind the rear of the vehicle ahead in its lane (seen this
+                                  frame, or standing and unseen for coast_s at most; 1 m ahead or more when it was
+                                  last seen), at no more than that one's speed: it does not drive through it
+                                  (default 1; docs/tracking.md) */
   int brake_coast;             /* 1: a vehicle's track braking when last seen (its speed estimator's
                                   acceleration along its velocity, 0.5 m/s^2 or more; not at the blind
                                   circle's edge) is predicted braking at that rate while unseen, to a stop,
@@ -528,6 +533,7 @@ typedef struct {
                              to another track, or (miss_cost) every pairing left cost more than going without */
   uint64_t gap_runs_dropped; /* runs of unmeasured columns beyond RS_OBJ_GAPS_MAX in a frame, not known to gap_unseen */
   uint64_t far_born;      /* tracks born from fewer than birth_points returns (birth_far_points) */
+  uint64_t queued;        /* predictions of hidden vehicles' tracks held behind the vehicle ahead (queue_coast) */
   uint64_t far_dropped;   /* objects that might have been so born, beyond RS_TRACK_FAR_BIRTHS_MAX in a frame: not
                              looked at, no track */
 } rs_track_counters_t;
@@ -558,6 +564,16 @@ typedef struct {
   uint16_t gt[RS_TRACK_GROUP_MAX], go[RS_TRACK_GROUP_MAX];
   double cost[RS_TRACK_ASSIGN_MAX][RS_TRACK_ASSIGN_MAX];
   uint32_t edges;                      /* gated pairs this round */
+  struct {                             /* queue_coast: this frame's vehicles a hidden one may stop behind */
+    double x, y, vx, vy;                 /* at the frame's time */
+    double hc, hs, len;                  /* heading's cosine and sine, full length */
+    uint32_t id;
+  } lead[RS_TRACK_MAX];
+  uint32_t nlead;
+  double lead_maxlen;                  /* the longest of them */
+  int32_t lead_head[RS_TRACK_GRID_BUCKETS]; /* them by position (8 m cells, hashed), chained by lead_next */
+  int32_t lead_next[RS_TRACK_MAX];
+  long lead_cell[RS_TRACK_MAX][2];
   rs_track_edge_t edge[RS_TRACK_MAX * RS_TRACK_EDGES_PER_TRACK];
   rs_track_edge_t gedge[RS_TRACK_MAX * RS_TRACK_EDGES_PER_TRACK]; /* the same, grouped */
   uint16_t eroot[RS_TRACK_MAX * RS_TRACK_EDGES_PER_TRACK];
