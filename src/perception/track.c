@@ -96,11 +96,13 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->turn_rate = 0.0;
   c->near_ref_m = 25.0;
   c->near_ref_s = 2.0;
+  c->end_ref = 1;
+  c->near_across = 1;
   c->twin_s = 0.3;
   c->seen_across_m = 2.0;
   c->walker_reacq_s = 0.3;
   c->circle_whole = 1;
-  c->uncover_restart = 1;
+  c->uncover_restart = 2;
   c->merge_parts = 1;
   c->merge_front_m = 1.0;
   c->tent_claim_m = 0.5;
@@ -147,10 +149,10 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->speed_imm < 0 || cfg->speed_imm > 1 || cfg->imm_birth_wide < 0 || cfg->imm_birth_wide > 1 ||
       cfg->misfit_own < 0 || cfg->misfit_own > 1 || cfg->confirm_pace < 0 || cfg->confirm_pace > 1 ||
       !(cfg->q_jerk > 0 && cfg->q_jerk <= 100) || !(cfg->turn_rate >= 0 && cfg->turn_rate <= 2) ||
-      !(cfg->near_ref_m >= 0 && cfg->near_ref_m <= 1000) || !(cfg->near_ref_s >= 0 && cfg->near_ref_s <= 60) ||
+      !(cfg->near_ref_m >= 0 && cfg->near_ref_m <= 1000) || !(cfg->near_ref_s >= 0 && cfg->near_ref_s <= 60) || cfg->end_ref < 0 || cfg->end_ref > 1 || cfg->near_across < 0 || cfg->near_across > 1 ||
       !(cfg->twin_s >= 0 && cfg->twin_s <= 60) || !(cfg->walker_reacq_s >= 0 && cfg->walker_reacq_s <= 60) ||
       !(cfg->seen_across_m >= 0 && cfg->seen_across_m <= 20) ||
-      cfg->circle_whole < 0 || cfg->circle_whole > 1 || cfg->uncover_restart < 0 || cfg->uncover_restart > 1 ||
+      cfg->circle_whole < 0 || cfg->circle_whole > 1 || cfg->uncover_restart < 0 || cfg->uncover_restart > 2 ||
       cfg->merge_parts < 0 || cfg->merge_parts > 1 || !(cfg->merge_front_m >= 0 && cfg->merge_front_m <= 20) || !(cfg->tent_claim_m >= 0 && cfg->tent_claim_m <= 20) || !(cfg->kin_accel >= 0 && cfg->kin_accel <= 10) ||
       cfg->walker_part < 0 || cfg->walker_part > 1 || cfg->speed_full_length < 0 || cfg->speed_full_length > 1 ||
       cfg->blind_walker < 0 || cfg->blind_walker > 1 || !(cfg->blind_walker_s >= 0 && cfg->blind_walker_s <= RS_TRACK_WALKER_KEEP_MAX) ||
@@ -195,9 +197,9 @@ static const rs_opt_t knobs[] = {
     KNOB(q_jerk, 0.01, 100.0),
     KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),       KNOB_INT(blind_turn, 0, 1),
     KNOB_INT(split_object_axis, 0, 1), KNOB_INT(split_near_circle, 0, 1), KNOB_INT(dup_box, 0, 1),
-    KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),      KNOB(twin_s, 0.0, 60.0),
+    KNOB(near_ref_m, 0.0, 1000.0),    KNOB(near_ref_s, 0.0, 60.0),      KNOB_INT(end_ref, 0, 1), KNOB_INT(near_across, 0, 1),      KNOB(twin_s, 0.0, 60.0),
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
-    KNOB_INT(uncover_restart, 0, 1), KNOB_INT(merge_parts, 0, 1), KNOB(merge_front_m, 0.0, 20.0), KNOB(tent_claim_m, 0.0, 20.0), KNOB(kin_accel, 0.0, 10.0),
+    KNOB_INT(uncover_restart, 0, 2), KNOB_INT(merge_parts, 0, 1), KNOB(merge_front_m, 0.0, 20.0), KNOB(tent_claim_m, 0.0, 20.0), KNOB(kin_accel, 0.0, 10.0),
     KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1), KNOB(blind_walker_s, 0.0, RS_TRACK_WALKER_KEEP_MAX), KNOB(blind_walker_cross, 0.0, 10.0), KNOB_INT(blind_walker_alone, 0, 1),
     KNOB_INT(blind_walker_fifo, 0, 1), KNOB(blind_walker_line, 0.0, 20.0), KNOB(split_car_m, 0.0, 20.0), KNOB_INT(stitch_kin, 0, 1), KNOB_INT(gap_unseen, 0, 1), KNOB(miss_cost, 0.0, 1000.0),
     KNOB_INT(still_lane, 0, 1), KNOB_INT(brake_coast, 0, 1), KNOB_INT(still_coast, 0, 1), KNOB(blind_walker_pace_s, 0.0, 60.0),
@@ -1637,7 +1639,14 @@ static float smooth(float cur, float obs, bool first) {
  * lowest beam cuts the vehicle: only beyond near_ref_m. Nor where that side
  * may be a hidden end (a box growing there as something nearer moves off
  * it): such a box is measured by its centre, and the next clean one by its
- * near side again. */
+ * near side again. A box lying across the line of sight (its axis over 45
+ * degrees off the direction to the sensor: a vehicle coming straight in,
+ * first seen as its front face, or a box cut across by a row) has its ends
+ * beside the near side, not at it: a hidden end there does not move the near
+ * side, which is followed (near_across; before, such boxes were measured by
+ * their centres, which moved at half the speed as the rows reached the rest
+ * of the vehicle). */
+#define NEAR_ACROSS_COS 0.70710678 /* cos 45 degrees */
 static void near_side(const rs_track_t *t, const rs_object_t *o, double p[2]) {
   const double c = t->ref_dir[0], s = t->ref_dir[1];
   double e[4];
@@ -1648,44 +1657,106 @@ static void near_side(const rs_track_t *t, const rs_object_t *o, double p[2]) {
  * hidden (hidden_end_on): the box may grow there as something nearer moves off it. Marked at both
  * ends, or at one of two ends on one line of sight, it may be either. Nearly end-on boxes are told
  * apart however small the angle (with hidden_end's degree of tolerance, those counted as either:
- * measured worse on the held-out sites, docs/tracking.md). */
-static bool near_hidden(const rs_object_t *o, const double dir[2]) {
+ * measured worse on the held-out sites, docs/tracking.md). With across (near_across), a box lying
+ * across dir is never so. */
+static bool near_hidden(const rs_object_t *o, const double dir[2], bool across) {
   if ((o->occluded & (RS_OBJ_HIDDEN_START | RS_OBJ_HIDDEN_END)) == 0) return false;
   const double h = o->sensor.obb_heading, c = cos(h), s = sin(h);
+  if (across && fabs(c * dir[0] + s * dir[1]) < NEAR_ACROSS_COS) return false; /* its ends are beside the near side */
   double e[4];
   box_on(o, h, c, s, e);
   const int hid = hidden_end_on(c, s, o, e, 0.0);
   return hid == 0 || hid * (c * dir[0] + s * dir[1]) > 0;
 }
-/* the speed estimator's measurement zi of object o, given the filter's z (at tk): the near side
- * while the track is young and that side is clean, the centre otherwise; switching either way moves
- * the estimator's positions by the offset between the two points of o's box */
-static void ref_meas(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, const double z[2], double tk,
+/* The seen end (end_ref): a vehicle coming out from behind something nearer
+ * (a car in the near lane, a queue's gap opening) shows the part beside it
+ * first; its box grows at the end marked hidden (rs_object_t.occluded) while
+ * the other end moves with the vehicle, and the centre at half its speed or
+ * less. While a young track's box has one end marked hidden (on the track's
+ * axes, hidden_end) and near_ref_m does not apply, the speed estimator is fed
+ * the other end (on the box's centre line); a box hidden at both ends, or at
+ * neither, by its centre. Switching moves the estimator's positions by the
+ * offset between the two points of the same box, as for the near side. */
+enum { REF_CENTRE, REF_NEAR, REF_END }; /* rs_track_t.ref_mode */
+#define END_SAME_COS 0.5 /* a seen end within 60 degrees of the one followed is it */
+/* the direction from the centre of object o's box to its end not marked hidden when the other is (along
+ * the box's own axis: a young track's heading is not yet known), in d; false when there is none such */
+static bool seen_end(const rs_object_t *o, double d[2]) {
+  const unsigned f = o->occluded & (RS_OBJ_HIDDEN_START | RS_OBJ_HIDDEN_END);
+  if (f == 0 || f == (RS_OBJ_HIDDEN_START | RS_OBJ_HIDDEN_END) || !isfinite(o->sensor.obb_heading)) return false;
+  const double h = o->sensor.obb_heading, c = cos(h), s = sin(h);
+  double e[4];
+  box_on(o, h, c, s, e);
+  const int hid = hidden_end_on(c, s, o, e, 0.02); /* (hidden_end's tolerance) */
+  d[0] = -hid * c;
+  d[1] = -hid * s;
+  return hid != 0;
+}
+/* the point of object o mode names (z: the filter's measurement, the centre's; d: the end's direction:
+ * the point of its box farthest along d, on its centre line) */
+static void ref_point(const rs_track_t *t, const rs_object_t *o, const double z[2], int mode, const double d[2], double p[2]) {
+  if (mode == REF_NEAR) {
+    near_side(t, o, p);
+  } else if (mode == REF_END) {
+    double e[4];
+    box_on(o, atan2(d[1], d[0]), d[0], d[1], e);
+    end_point(d[0], d[1], e, e[1], p);
+  } else {
+    p[0] = z[0];
+    p[1] = z[1];
+  }
+}
+/* the speed estimator's measurement zi of object o, given the filter's z (at tk): while the track is
+ * young, the near side when that is clean, else the seen end when one end is marked hidden, the centre
+ * otherwise; switching moves the estimator's positions by the offset between the two points of o's
+ * box. Returns whether zi is the same end of the box as at the last update (a box grown at its
+ * hidden end is then no jump: uncover_restart) */
+static bool ref_meas(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, const double z[2], double tk,
                      bool first, double zi[2]) {
   zi[0] = z[0];
   zi[1] = z[1];
   if (first) {
     const double r = norm2(o->sensor.obb_center[0], o->sensor.obb_center[1]);
-    t->ref_near = false;
+    t->ref_mode = REF_CENTRE;
+    t->ref_old = false;
     t->ref_dir[0] = t->ref_dir[1] = 0.0;
-    if (!(tr->cfg.near_ref_m > 0) || !(r > 0)) return;
-    t->ref_dir[0] = -o->sensor.obb_center[0] / r;
-    t->ref_dir[1] = -o->sensor.obb_center[1] / r;
+    if (tr->cfg.near_ref_m > 0 && r > 0) {
+      t->ref_dir[0] = -o->sensor.obb_center[0] / r;
+      t->ref_dir[1] = -o->sensor.obb_center[1] / r;
+    }
   }
-  if (t->ref_dir[0] == 0.0 && t->ref_dir[1] == 0.0) return; /* off, or no longer young */
+  const bool has_dir = t->ref_dir[0] != 0.0 || t->ref_dir[1] != 0.0;
+  if (t->ref_old || (!has_dir && !tr->cfg.end_ref)) return false; /* off, or no longer young */
   const bool young = tk - t->t_birth < tr->cfg.near_ref_s && (first || tk - t->imm.t <= IMM_RESTART_S);
-  double p[2];
-  near_side(t, o, p);
-  const bool near = young && norm2(p[0], p[1]) > tr->cfg.near_ref_m && !near_hidden(o, t->ref_dir);
-  if (!first && near != t->ref_near) /* the estimator's positions are the other point's: moved by the offset */
+  int mode = REF_CENTRE;
+  double p[2] = {z[0], z[1]}, d[2] = {0.0, 0.0};
+  if (young && has_dir) {
+    near_side(t, o, p);
+    if (norm2(p[0], p[1]) > tr->cfg.near_ref_m && !near_hidden(o, t->ref_dir, tr->cfg.near_across)) mode = REF_NEAR;
+  }
+  if (young && mode == REF_CENTRE && tr->cfg.end_ref && seen_end(o, d)) mode = REF_END;
+  const int was = t->ref_mode;
+  const bool same = mode == was && (mode != REF_END || d[0] * t->ref_end[0] + d[1] * t->ref_end[1] > END_SAME_COS);
+  if (same && mode == REF_END) { /* the same end: its direction as first taken (a box's axis wobbles) */
+    d[0] = t->ref_end[0];
+    d[1] = t->ref_end[1];
+  }
+  if (mode != REF_CENTRE) ref_point(t, o, z, mode, d, p);
+  if (!first && !same) { /* the estimator's positions are the other point's: moved by the offset */
+    double q[2];
+    ref_point(t, o, z, was, t->ref_end, q);
     for (int j = 0; j < 2; j++)
-      for (int a = 0; a < 2; a++) t->imm.x[j][a][0] += near ? p[a] - z[a] : z[a] - p[a];
-  t->ref_near = near;
-  if (!young) t->ref_dir[0] = t->ref_dir[1] = 0.0;
-  if (near) {
+      for (int a = 0; a < 2; a++) t->imm.x[j][a][0] += mode == REF_CENTRE ? z[a] - q[a] : p[a] - q[a];
+  }
+  t->ref_mode = (uint8_t)mode;
+  t->ref_end[0] = d[0];
+  t->ref_end[1] = d[1];
+  if (!young) t->ref_old = true;
+  if (mode != REF_CENTRE) {
     zi[0] = p[0];
     zi[1] = p[1];
   }
+  return !first && mode == REF_END && same;
 }
 
 /* ---- out of the circle (circle_whole) -----------------------------------------
@@ -1756,9 +1827,13 @@ static void whole_again(const rs_tracker_t *tr, rs_track_t *t) {
  * frame, reported 9.9 m/s and took a second to come down). When a track's
  * second or third object (UNCOVER_HITS) is over UNCOVER_GROW_M longer than
  * its last one and that one was marked hidden, its speed estimator starts
- * again at this object, at 0 m/s with the velocity's uncertainty at birth:
- * its next updates learn the speed. Only the reported velocity: the filter,
- * the gates and the ids are untouched (the filter too: measured worse, in
+ * again at this object, with the velocity's uncertainty at birth: its next
+ * updates learn the speed. It starts at the velocity it had before this
+ * object (uncover_restart 2; 1: at 0 m/s, which a track confirmed at that
+ * update reported for a car at 10 m/s). Not when the estimator follows the
+ * same seen end of the box as at the last update (end_ref): the growth at the
+ * hidden end is then no jump. Only the reported velocity: the filter, the
+ * gates and the ids are untouched (the filter too: measured worse, in
  * docs/tracking.md). */
 #define UNCOVER_HITS 2u
 #define UNCOVER_GROW_M 1.0f
@@ -2034,7 +2109,7 @@ static bool braked(const rs_track_t *t) { return t->brake > 0.0f && t->t_state >
 static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double tk) {
   double z[2], sd, misfit;
   const bool whole = made_whole(tr, t, o); /* on the box's axes: meas_for's misfit is against them */
-  const bool grown = uncovered(tr, t, o);
+  bool grown = uncovered(tr, t, o);
   double zs[2]; /* the speed estimator's */
   meas_for(tr, t, o, z, &sd, &misfit, zs);
   t->last_z[0] = z[0];
@@ -2053,7 +2128,9 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
       tr->cfg.misfit_own && misfit > 0 && off_axis(tr, t, o) ? update_sd(tr, sd, fmin(misfit, own_misfit(t, o))) : sdu;
   const bool first = t->hits == 0;
   double zi[2];
-  ref_meas(tr, t, o, zs, tk, first, zi);
+  if (ref_meas(tr, t, o, zs, tk, first, zi)) grown = false; /* grown at the hidden end, the seen one followed */
+  double vprev[2]; /* the estimator's velocity before this object (uncover_restart 2 keeps it) */
+  for (int a = 0; a < 2; a++) vprev[a] = t->imm.mu[0] * t->imm.x[0][a][1] + t->imm.mu[1] * t->imm.x[1][a][1];
   if (first || whole || grown) {
     imm_start(t);
     for (int j = 0; j < 2; j++)
@@ -2062,7 +2139,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
         if (first && tr->cfg.imm_birth_wide) /* a vehicle may be born on a short box: its speed as unknown as any */
           t->imm.P[j][a][SYM[1][1]] = fmax(t->imm.P[j][a][SYM[1][1]], tr->cfg.init_speed_sd * tr->cfg.init_speed_sd);
         if (grown && !whole) { /* at 0 m/s, as uncertain as at birth, not correlated */
-          t->imm.x[j][a][1] = 0.0;
+          t->imm.x[j][a][1] = tr->cfg.uncover_restart == 2 ? vprev[a] : 0.0;
           t->imm.P[j][a][0] = sdu * sdu;
           t->imm.P[j][a][1] = 0.0;
           t->imm.P[j][a][3] = tr->cfg.init_speed_sd * tr->cfg.init_speed_sd;

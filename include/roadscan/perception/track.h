@@ -29,7 +29,11 @@
  * waiting beside the pole) is turned onto its first whole box's axis when it
  * moves out, its velocity uncertain again (circle_whole). A young track
  * whose box grows by metres as it is uncovered starts its speed estimator
- * again (uncover_restart). Time
+ * again at the velocity it had (uncover_restart). A young track's speed
+ * estimator follows its boxes' side nearest the sensor (near_ref_m; a box
+ * lying across the line of sight even when an end of it is marked hidden,
+ * near_across), or else the end not marked hidden when the other is
+ * (end_ref). Time
  * steps come from those capture timestamps only, never the wall clock: a
  * replay at any speed gives the same tracks.
  *
@@ -290,7 +294,17 @@ typedef struct {
                                   the side of its boxes nearest the sensor, not their centre, as long as
                                   that side is farther than this (a vehicle coming into view grows away
                                   from the sensor); 0 = off (default 25; docs/tracking.md) */
-  double near_ref_s;           /* s: the age up to which near_ref_m applies (default 2; 0 = off) */
+  double near_ref_s;           /* s: the age up to which near_ref_m and end_ref apply (default 2; 0 = off) */
+  int near_across;             /* 1: a box lying across the line of sight (its axis over 45 degrees off the
+                                  direction to the sensor) is measured by its near side (near_ref_m) even when
+                                  an end of it is marked hidden: its ends are beside the near side, not at it;
+                                  0: by its centre then (default 1) */
+  int end_ref;                 /* 1: while a track is younger than near_ref_s and near_ref_m does not apply,
+                                  the speed estimator follows the end of its box along the track's axis that
+                                  is not marked hidden when the other is (the seen end moves with the
+                                  vehicle; the box grows at the hidden one), the centre otherwise; a box
+                                  grown at its hidden end while followed so does not restart the estimator
+                                  (uncover_restart); 0: the centre (default 1) */
   double twin_s;               /* s: two tracks, confirmed or coasting, within 50 m, both seen in the last 0.25 s,
                                   moving at 2 m/s or more with velocities within 15 degrees and 2 m/s, whose
                                   boxes overlap by more than 0.5 m along the older one's heading with their
@@ -314,7 +328,8 @@ typedef struct {
                                   which was marked hidden at an end (something nearer beside it: a vehicle
                                   uncovered as that moves off), starts its speed estimator again there at 0
                                   m/s, as uncertain as at birth (init_speed_sd): the jump of the box's centre
-                                  is not speed; the filter and the ids untouched (default 1; docs/tracking.md) */
+                                  is not speed; the filter and the ids untouched; 2: the same, at the velocity
+                                  the estimator had before that object, not 0 (default 2; docs/tracking.md) */
   int merge_parts;             /* 1: a long vehicle's track (full length RS_TRACK_MERGE_LEN_M or more) is updated by
                                   its object together with the free thin parts (RS_TRACK_MERGE_PART_WID_M wide or
                                   less) that fit with it in its size on its axes and lie in no other track's
@@ -484,9 +499,12 @@ typedef struct {
   bool made_whole;           /* circle_whole has acted on it */
   float way_c, way_s;        /* the direction it last moved faster than 2 m/s in; (0, 0) before (still_reverse) */
   uint8_t way_flips;         /* updates in a row moving so against it (the way turns back after 3) */
-  bool ref_near;             /* the speed estimator follows the box's side nearest the sensor (near_ref_m) */
-  double ref_dir[2];         /* towards the sensor from where it was born: the side's direction; (0, 0) once
-                                the track is no longer young (or near_ref_m is 0) */
+  uint8_t ref_mode;          /* the point the speed estimator follows: the box's centre, its side nearest the
+                                sensor (near_ref_m) or one end along the track's axis (end_ref) */
+  bool ref_old;              /* no longer young: the estimator follows the centre from now on */
+  double ref_end[2];         /* the followed end's direction from the box's centre (end_ref) */
+  double ref_dir[2];         /* towards the sensor from where it was born: the side's direction; (0, 0) when
+                                near_ref_m is 0 */
   uint32_t twin;             /* the older track whose box its own overlaps (twin_s), 0 none */
   double twin_t;             /* since when (capture time) */
   float axis_c2, axis_s2;    /* smoothed cosine and sine of twice the axis of its whole side views (kin_accel) */
