@@ -985,20 +985,35 @@ static double coming_into_view_error(const char *knob, double value, int hidden_
  * while its front moves at 5 m/s and its centre at half that. Returns the
  * largest speed error of its track from its fourth update to its fifteenth:
  * 0.02 m/s following the seen end, 2.5 following the centre. */
-static double coming_out_error(int end_ref) {
-  init_knob("end_ref", end_ref);
-  const double v = 5.0, edge = -10.0;
+static void coming_out(double t) {
+  const double edge = -10.0, front = edge + 2.0 + 5.0 * t, rear = fmax(edge, front - 4.5), len = front - rear;
+  put(t, 0.5 * (rear + front), 8.0, len, 1.8, 0.0, 1.5, (uint32_t)(25 * len));
+  if (rear <= edge) objs.obj[0].occluded = RS_OBJ_HIDDEN_START;
+}
+/* the same car's boxes growing the same way, marked with plain_marks (at neither end, or at both) */
+static unsigned plain_marks;
+static void coming_out_plain(double t) {
+  const double len = fmin(4.5, 2.0 + 5.0 * t);
+  put(t, -8.0 + 5.0 * t - 0.5 * len, 8.0, len, 1.8, 0.0, 1.5, (uint32_t)(25 * len));
+  objs.obj[0].occluded = plain_marks;
+}
+/* the largest speed error of the lone track of one vehicle at v m/s, whose object at time t scene
+ * puts, from its update `from` (0: the first) over `frames` frames; the track confirmed at the end */
+static double lone_error_over(void (*scene)(double t), int frames, int from, double v) {
   double worst = 0;
-  for (int f = 0; f < 15; f++) {
-    const double t = 0.1 * f, front = edge + 2.0 + v * t, rear = fmax(edge, front - 4.5), len = front - rear;
+  for (int f = 0; f < frames; f++) {
+    const double t = 0.1 * f;
     clear();
-    put(t, 0.5 * (rear + front), 8.0, len, 1.8, 0.0, 1.5, (uint32_t)(25 * len));
-    if (rear <= edge) objs.obj[0].occluded = RS_OBJ_HIDDEN_START;
+    scene(t);
     const double e = lone_speed_error(t, v);
-    if (f >= 3) worst = fmax(worst, e);
+    if (f >= from) worst = fmax(worst, e);
   }
   lone_track_ended(true);
   return worst;
+}
+static double coming_out_error(int end_ref) {
+  init_knob("end_ref", end_ref);
+  return lone_error_over(coming_out, 15, 3, 5.0);
 }
 
 START_TEST(t_seen_end) {
@@ -1007,16 +1022,11 @@ START_TEST(t_seen_end) {
   ck_assert_msg(centred >= 2.0 && centred >= 4.0 * seen, "coming out: %.2f m/s off following the centre, %.2f the seen end", centred, seen);
   /* a box marked hidden at neither end, or at both, is followed by its centre: the rule does nothing */
   for (int both = 0; both <= 1; both++) {
-    double worst[2] = {0, 0};
+    plain_marks = both ? RS_OBJ_HIDDEN_START | RS_OBJ_HIDDEN_END : 0u;
+    double worst[2];
     for (int on = 0; on <= 1; on++) {
       init_knob("end_ref", on);
-      for (int f = 0; f < 15; f++) {
-        const double t = 0.1 * f, len = fmin(4.5, 2.0 + 5.0 * t);
-        clear();
-        put(t, -8.0 + 5.0 * t - 0.5 * len, 8.0, len, 1.8, 0.0, 1.5, (uint32_t)(25 * len));
-        if (both) objs.obj[0].occluded = RS_OBJ_HIDDEN_START | RS_OBJ_HIDDEN_END;
-        worst[on] = fmax(worst[on], lone_speed_error(t, 5.0));
-      }
+      worst[on] = lone_error_over(coming_out_plain, 15, 0, 5.0);
     }
     ck_assert_double_eq_tol(worst[0], worst[1], 1e-12);
   }
@@ -1032,20 +1042,14 @@ END_TEST
  * the front, not at it. Returns the largest speed error of the track from
  * its fourth update to its tenth: 0.03 m/s following the near side, 3.0
  * following the centre. */
+static void face_on(double t) {
+  const double front = 60.0 - 10.0 * t, seen = fmin(4.5, 0.3 + 6.0 * t);
+  put(t, front + 0.5 * seen, 3.0, fmax(seen, 1.8), fmin(seen, 1.8), seen >= 1.8 ? 0.0 : 1.5707963, 1.5, (uint32_t)(10 + 8 * seen));
+  if (seen < 1.8) objs.obj[0].occluded = RS_OBJ_HIDDEN_END;
+}
 static double face_on_error(int across) {
   init_knob("near_across", across);
-  const double v = 10.0;
-  double worst = 0;
-  for (int f = 0; f < 10; f++) {
-    const double t = 0.1 * f, front = 60.0 - v * t, seen = fmin(4.5, 0.3 + 6.0 * t);
-    clear();
-    put(t, front + 0.5 * seen, 3.0, fmax(seen, 1.8), fmin(seen, 1.8), seen >= 1.8 ? 0.0 : 1.5707963, 1.5, (uint32_t)(10 + 8 * seen));
-    if (seen < 1.8) objs.obj[0].occluded = RS_OBJ_HIDDEN_END;
-    const double e = lone_speed_error(t, v);
-    if (f >= 3) worst = fmax(worst, e);
-  }
-  lone_track_ended(true);
-  return worst;
+  return lone_error_over(face_on, 10, 3, 10.0);
 }
 
 START_TEST(t_near_across) {

@@ -895,6 +895,9 @@ static void update(rs_track_t *t, const double z[2], double sd) {
 #define IMM_RESTART_S 0.5 /* s unseen after which it starts again from the filter's state */
 static const int SYM[3][3] = {{0, 1, 2}, {1, 3, 4}, {2, 4, 5}};
 
+/* the speed estimator's velocity along axis a: the models' velocities, weighed */
+static double imm_velocity(const rs_track_t *t, int a) { return t->imm.mu[0] * t->imm.x[0][a][1] + t->imm.mu[1] * t->imm.x[1][a][1]; }
+
 /* both models from the Kalman filter's state (acceleration 0, of sd IMM_ACCEL_SD in CA) */
 static void imm_start(rs_track_t *t) {
   rs_track_imm_t *m = &t->imm;
@@ -1672,10 +1675,11 @@ static bool near_hidden(const rs_object_t *o, const double dir[2], bool across) 
  * (a car in the near lane, a queue's gap opening) shows the part beside it
  * first; its box grows at the end marked hidden (rs_object_t.occluded) while
  * the other end moves with the vehicle, and the centre at half its speed or
- * less. While a young track's box has one end marked hidden (on the track's
- * axes, hidden_end) and near_ref_m does not apply, the speed estimator is fed
- * the other end (on the box's centre line); a box hidden at both ends, or at
- * neither, by its centre. Switching moves the estimator's positions by the
+ * less. While a young track's box has one end marked hidden (along the box's
+ * own axis, hidden_end_on) and near_ref_m does not apply, the speed estimator
+ * is fed the other end (on the box's centre line), kept as a direction while
+ * the next boxes' seen end lies within 60 degrees of it; a box hidden at both
+ * ends, or at neither, by its centre. Switching moves the estimator's positions by the
  * offset between the two points of the same box, as for the near side. */
 enum { REF_CENTRE, REF_NEAR, REF_END }; /* rs_track_t.ref_mode */
 #define END_SAME_COS 0.5 /* a seen end within 60 degrees of the one followed is it */
@@ -2129,8 +2133,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   const bool first = t->hits == 0;
   double zi[2];
   if (ref_meas(tr, t, o, zs, tk, first, zi)) grown = false; /* grown at the hidden end, the seen one followed */
-  double vprev[2]; /* the estimator's velocity before this object (uncover_restart 2 keeps it) */
-  for (int a = 0; a < 2; a++) vprev[a] = t->imm.mu[0] * t->imm.x[0][a][1] + t->imm.mu[1] * t->imm.x[1][a][1];
+  const double vprev[2] = {imm_velocity(t, 0), imm_velocity(t, 1)}; /* before this object (uncover_restart 2 keeps it) */
   if (first || whole || grown) {
     imm_start(t);
     for (int j = 0; j < 2; j++)
@@ -2138,7 +2141,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
         t->imm.x[j][a][0] = zi[a];
         if (first && tr->cfg.imm_birth_wide) /* a vehicle may be born on a short box: its speed as unknown as any */
           t->imm.P[j][a][SYM[1][1]] = fmax(t->imm.P[j][a][SYM[1][1]], tr->cfg.init_speed_sd * tr->cfg.init_speed_sd);
-        if (grown && !whole) { /* at 0 m/s, as uncertain as at birth, not correlated */
+        if (grown && !whole) { /* at its velocity before (or 0 m/s), as uncertain as at birth, not correlated */
           t->imm.x[j][a][1] = tr->cfg.uncover_restart == 2 ? vprev[a] : 0.0;
           t->imm.P[j][a][0] = sdu * sdu;
           t->imm.P[j][a][1] = 0.0;
@@ -2205,8 +2208,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
  * not of a walker's size (speed_imm), the filter's otherwise; 0 when still */
 static void report_speed(const rs_tracker_t *tr, rs_track_t *t) {
   const bool imm = tr->cfg.speed_imm && !walker_sized(t);
-  for (int a = 0; a < 2; a++) /* the models' velocities, weighed */
-    t->vel[a] = imm ? t->imm.mu[0] * t->imm.x[0][a][1] + t->imm.mu[1] * t->imm.x[1][a][1] : t->x[2 + a];
+  for (int a = 0; a < 2; a++) t->vel[a] = imm ? imm_velocity(t, a) : t->x[2 + a];
   const double sp = norm2(t->vel[0], t->vel[1]), sdv = sqrt(0.5 * (t->P[2][2] + t->P[3][3]));
   const double floor_v = fmax(tr->cfg.still_speed, fmin(sdv, 1.0)); /* within one sd of 0 (at most 1 m/s) */
   t->speed = (float)(sp < floor_v ? 0.0 : sp);
