@@ -3106,6 +3106,53 @@ static int steady_confirmed(int on, bool jumps) {
   return at;
 }
 
+/* Who keeps the fast rules from a track (window_clear; clear_beside,
+ * clear_part_share): the truck of t_steady setting off, with
+ * - NEXT: a car waiting in the next lane, 3.5 m across (the centres 3.5 m
+ *   apart, nearer than half their lengths and 1 m: 8 m). Its box, on the
+ *   car's axes, is 1.35 m from the car's: no part of it. It confirms at its
+ *   fourth hit with clear_beside, at its seventh (0.8 m moved) without;
+ * - AHEAD: the same car standing 0.5 m ahead of the truck's front in its own
+ *   lane (a piece of the same vehicle could lie there): it waits either way;
+ * - PIECE: a piece of 6 returns 2 m beside its side (the truck's 300: under
+ *   clear_part_share of them): no claim on it with the share, a claim without.
+ * Returns the frame of the truck's confirmation, -1 none. */
+enum { NEXT, AHEAD, PIECE };
+static int beside_confirmed(int kind, int beside, double share) {
+  init_knobs("clear_beside", beside, "clear_part_share", share);
+  int at = -1;
+  for (int f = 0; f < 20 && at < 0; f++) {
+    const double t = 95.0 + 0.1 * f, x = -15.0 + 0.15 * f;
+    clear();
+    put(t, x, 2.0, 9.6, 2.5, 0.0, 3.2, 300);
+    if (kind == NEXT) put(t, -15.0, 5.5, 4.5, 1.8, 0.0, 1.5, 150);
+    if (kind == AHEAD) put(t, x + 4.8 + 0.5 + 2.25, 2.0, 4.5, 1.8, 0.0, 1.5, 150);
+    if (kind == PIECE) put(t, -15.0, 4.3, 0.4, 0.3, 0.0, 0.5, 6);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    ck_assert_uint_eq(tr.n.born, 2);
+    const rs_track_t *k = find_id(1);
+    ck_assert_ptr_nonnull(k);
+    ck_assert_float_eq_tol(k->length, 9.6f, 0.01f); /* the truck's track throughout */
+    if (k->state != RS_TRACK_TENTATIVE) at = f;
+  }
+  return at;
+}
+
+START_TEST(t_window_clear) {
+  ck_assert_int_eq(defaults().clear_beside, 1);
+  ck_assert_double_eq(defaults().clear_part_share, 0.25);
+  ck_assert_int_eq(beside_confirmed(NEXT, 1, 0.25), 3);
+  ck_assert_int_eq(beside_confirmed(NEXT, 0, 0.25), 6);
+  ck_assert_int_eq(beside_confirmed(AHEAD, 1, 0.25), 6);
+  ck_assert_int_eq(beside_confirmed(AHEAD, 0, 0.25), 6);
+  ck_assert_int_eq(beside_confirmed(PIECE, 1, 0.25), 3);
+  ck_assert_int_eq(beside_confirmed(PIECE, 1, 0.0), 6);
+  knob_refused("clear_beside", "2");
+  knob_refused("clear_part_share", "1.5");
+  knob_refused("clear_part_share", "-0.1");
+}
+END_TEST
+
 START_TEST(t_steady) {
   ck_assert_int_eq(defaults().confirm_steady, 1);
   ck_assert_int_eq(steady_confirmed(1, false), 3);
@@ -3713,6 +3760,7 @@ int main(void) {
   tcase_add_test(tc, t_far_still_confirms_fast);
   tcase_add_test(tc, t_still_window);
   tcase_add_test(tc, t_steady);
+  tcase_add_test(tc, t_window_clear);
   tcase_add_test(tc, t_walker_still_confirms_fast);
   tcase_add_test(tc, t_walker_upright_confirms_fast);
   tcase_add_test(tc, t_walker_pace_confirms_fast);

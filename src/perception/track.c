@@ -66,6 +66,8 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->confirm_still_spread = 0.15;
   c->confirm_still_window = 3;
   c->confirm_steady = 1;
+  c->clear_part_share = 0.25;
+  c->clear_beside = 1;
   c->confirm_still_points = 30;
   c->confirm_still_range = 20.0;
   c->confirm_walker_points = 20;
@@ -133,7 +135,8 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->tentative_miss_s > 0) || !(cfg->coast_s > 0 && cfg->coast_s <= 60) || !(cfg->lost_s >= 0 && cfg->lost_s <= 60) || !(cfg->still_speed >= 0) || !(cfg->size_weight >= 0 && cfg->size_weight <= 100) ||
       !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1 ||
       cfg->confirm_still_window < 0 || cfg->confirm_still_window > RS_TRACK_STILL_WINDOW ||
-      cfg->confirm_steady < 0 || cfg->confirm_steady > 1 ||
+      cfg->confirm_steady < 0 || cfg->confirm_steady > 1 || !(cfg->clear_part_share >= 0 && cfg->clear_part_share <= 1) ||
+      cfg->clear_beside < 0 || cfg->clear_beside > 1 ||
       cfg->confirm_walker_points < 0 || cfg->confirm_walker_points > 100000 ||
       cfg->confirm_upright_points < 0 || cfg->confirm_upright_points > 100000 ||
       !(cfg->confirm_still_range >= 0 && cfg->confirm_still_range <= 1000) ||
@@ -192,6 +195,7 @@ static const rs_opt_t knobs[] = {
     KNOB(confirm_still_range, 0.0, 1000.0),
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
     KNOB(confirm_cut_walk_m, 0.0, 20.0), KNOB_INT(confirm_still_window, 0, RS_TRACK_STILL_WINDOW), KNOB_INT(confirm_steady, 0, 1),
+    KNOB(clear_part_share, 0.0, 1.0), KNOB_INT(clear_beside, 0, 1),
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
     KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB_INT(imm_birth_wide, 0, 1),  KNOB_INT(misfit_own, 0, 1), KNOB_INT(confirm_pace, 0, 1),
     KNOB(q_jerk, 0.01, 100.0),
@@ -1504,6 +1508,14 @@ static bool window_still(const rs_track_cfg_t *cf, const rs_track_t *t, uint32_t
  * side; queued cars stand farther apart). A bounded scan of the list, made
  * only for a track that passed the window. */
 #define WINDOW_GAP_M 1.0
+/* track t's box within WINDOW_GAP_M of track u's (u's axes, length ul, width uw): t's extents along and
+ * across u's axis from both headings (clear_beside) */
+static bool beside_box(const rs_track_t *t, const rs_track_t *u, double ul, double uw) {
+  const double c = u->hcos, s = u->hsin, dx = t->x[0] - u->x[0], dy = t->x[1] - u->x[1];
+  const double ca = fabs((double)t->hcos * c + (double)t->hsin * s), sa = fabs((double)t->hsin * c - (double)t->hcos * s);
+  const double tl = t->length * ca + t->width * sa, tw = t->length * sa + t->width * ca;
+  return fabs(dx * c + dy * s) < 0.5 * (ul + tl) + WINDOW_GAP_M && fabs(dy * c - dx * s) < 0.5 * (uw + tw) + WINDOW_GAP_M;
+}
 static bool window_clear(const rs_tracker_t *tr, const rs_track_t *t, uint32_t w, uint32_t i) {
   const rs_track_list_t *L = &tr->list;
   for (uint32_t j = 0; j < L->count; j++) {
@@ -1513,7 +1525,18 @@ static bool window_clear(const rs_tracker_t *tr, const rs_track_t *t, uint32_t w
     const double d = norm2(u->x[0] - t->x[0], u->x[1] - t->x[1]);
     /* unseen this frame (not unseen(): the tracks after i still have last frame's state) */
     const bool gone = u->state != RS_TRACK_TENTATIVE && u->object < 0 && !rs_track_held(u);
-    if (gone ? d < tr->cfg.gate_m : d < 0.5 * (fmax(u->full_length, u->length) + t->length) + WINDOW_GAP_M) return false;
+    if (!gone && u->state == RS_TRACK_TENTATIVE && (double)u->points <= tr->cfg.clear_part_share * (double)t->points)
+      continue; /* a part of t's object (clear_part_share), not t of its */
+    if (gone) {
+      if (d < tr->cfg.gate_m) return false;
+      continue;
+    }
+    const double ul = fmax(u->full_length, u->length);
+    if (!tr->cfg.clear_beside) {
+      if (d < 0.5 * (ul + t->length) + WINDOW_GAP_M) return false;
+      continue;
+    }
+    if (beside_box(t, u, ul, fmax(u->full_width, u->width))) return false;
   }
   return true;
 }

@@ -190,6 +190,13 @@ typedef struct {
                                   longer than the spread), each object with the returns the still rule asks
                                   (not the standing walker's bar), confirms as a still one would, when no
                                   other track may claim it: a truck setting off at 1.5 m/s (default 1) */
+  double clear_part_share;     /* a tentative track whose last object had at most this share of a track's
+                                  returns is a part of that track's object, and does not keep it from the
+                                  still window's and the steady rule's fast confirmation (default 0.25;
+                                  0 = any track beside it does) */
+  int clear_beside;            /* 1: ... and another track keeps it from them only when their boxes, on the
+                                  other's axes, come within 1 m (a car in the next lane does not); 0: when
+                                  their centres are within half their lengths and 1 m (default 1) */
   int confirm_still_points;    /* ... when its last object has this many returns or more (default 30):
                                   a vehicle waiting at the line, not leaves */
   double confirm_still_range;  /* m: beyond this range the returns needed fall with the square of the range,
