@@ -73,6 +73,7 @@ START_TEST(t_config_errors) {
       /* an unknown tracking parameter: every name is listed, to the last one, after the file and line */
       {"[track]\ntrack-set = no_such=1\n", ":2: no tracking parameter 'no_such'; there are: q_accel"},
       {"[track]\ntrack-set = no_such=1\n", " kin_accel walker_part speed_full_length blind_walker blind_walker_s"},
+      {"[track]\ntrack-set = no_such=1\n", " still_reverse queue_coast clear_part_share clear_beside clear_longer"},
       {"[cluster]\neps = 1.0\neps = 2.0\n", "[cluster] eps: given twice in the file"},
       {"[source]\nsource = 10.0.0.300\n", "[source] source: '10.0.0.300' is not an IPv4 or IPv6 address"},
       {"[lcm]\nsensor-id = north-gate-with-a-name-that-goes-on-and-on-and-on-and-on-and-on-and-on-and-on-and-on-"
@@ -992,6 +993,7 @@ START_TEST(t_tracks_outputs) {
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --track-set no_such=1", &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "no tracking parameter 'no_such'; there are: q_accel"));
   ck_assert_ptr_nonnull(strstr(out, " kin_accel walker_part speed_full_length blind_walker blind_walker_s"));
+  ck_assert_ptr_nonnull(strstr(out, " still_reverse queue_coast clear_part_share clear_beside clear_longer"));
   ck_assert_int_eq(tu_exec("./roadscand --pcap x --labels-tracks some", &out), 2);
   ck_assert_ptr_nonnull(strstr(out, "--labels-tracks: 'some' is not one of all, confirmed"));
 }

@@ -1,5 +1,5 @@
 /* check_log - messages on stderr: "ident: message", formatted, one line
- * each, long ones cut at 1023 characters; the ident set by rs_log_open. */
+ * each, long ones cut at RS_LOG_MSG_SIZE - 1 characters; the ident set by rs_log_open. */
 #include "roadscan/util/log.h"
 #include "testutil.h"
 
@@ -34,7 +34,7 @@ static void two_messages(void) {
 }
 
 static void a_long_message(void) {
-  static char big[3000];
+  static char big[RS_LOG_MSG_SIZE + 1000];
   memset(big, 'x', sizeof big - 1);
   rs_log(RS_LOG_INFO, "%s", big);
 }
@@ -43,7 +43,7 @@ START_TEST(t_stderr_lines) {
   const char *out = captured(two_messages);
   ck_assert_str_eq(out, "roadscand: the sensor turns at 9.97 Hz\nroadscand: errors: 3\n");
   out = captured(a_long_message);
-  ck_assert_uint_eq(strlen(out), strlen("roadscand: ") + 1023 + 1); /* cut, one line */
+  ck_assert_uint_eq(strlen(out), strlen("roadscand: ") + RS_LOG_MSG_SIZE - 1 + 1); /* cut, one line */
   ck_assert_int_eq(out[strlen(out) - 1], '\n');
 }
 END_TEST

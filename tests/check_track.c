@@ -3107,47 +3107,69 @@ static int steady_confirmed(int on, bool jumps) {
 }
 
 /* Who keeps the fast rules from a track (window_clear; clear_beside,
- * clear_part_share): the truck of t_steady setting off, with
- * - NEXT: a car waiting in the next lane, 3.5 m across (the centres 3.5 m
- *   apart, nearer than half their lengths and 1 m: 8 m). Its box, on the
- *   car's axes, is 1.35 m from the car's: no part of it. It confirms at its
- *   fourth hit with clear_beside, at its seventh (0.8 m moved) without;
- * - AHEAD: the same car standing 0.5 m ahead of the truck's front in its own
- *   lane (a piece of the same vehicle could lie there): it waits either way;
- * - PIECE: a piece of 6 returns 2 m beside its side (the truck's 300: under
- *   clear_part_share of them): no claim on it with the share, a claim without.
- * Returns the frame of the truck's confirmation, -1 none. */
-enum { NEXT, AHEAD, PIECE };
-static int beside_confirmed(int kind, int beside, double share) {
-  init_knobs("clear_beside", beside, "clear_part_share", share);
+ * clear_part_share, clear_longer): a car setting off 15 m away at 1.5 m/s,
+ * 150 returns, passes the steady rule at its fourth hit (t_steady), with
+ * - NEXT: a truck waiting in the next lane, 3.5 m across (the centres 3.5 m
+ *   apart, nearer than half their lengths and 1 m: 8 m). The car's box, on
+ *   the truck's axes, is 1.35 m from the truck's: no part of it. The car
+ *   confirms at its fourth hit with clear_beside, at its seventh (0.8 m moved)
+ *   without;
+ * - AHEAD: the same truck standing 0.5 m ahead of the car's front in its lane
+ *   (a piece of one vehicle could lie there): it waits either way;
+ * - PIECE: a piece of 6 returns 1.9 m beside its side, 0.4 m long (the car's
+ *   150: under clear_part_share of them; the car longer than it by over 0.5
+ *   m): no claim on it with the share or clear_longer, a claim with neither;
+ * - LONGER: the car standing 0.5 m ahead of a truck setting off (the truck's
+ *   the track looked at): a truck is no piece of a car (clear_longer).
+ * Returns the frame of the confirmation of the track that sets off (the
+ * first born), -1 none. */
+enum { NEXT, AHEAD, PIECE, LONGER };
+static int beside_confirmed(int kind, int beside, double share, int longer) {
+  rs_track_cfg_t c;
+  rs_track_cfg_default(&c);
+  c.clear_beside = beside;
+  c.clear_part_share = share;
+  c.clear_longer = longer;
+  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
   int at = -1;
   for (int f = 0; f < 20 && at < 0; f++) {
     const double t = 95.0 + 0.1 * f, x = -15.0 + 0.15 * f;
     clear();
-    put(t, x, 2.0, 9.6, 2.5, 0.0, 3.2, 300);
-    if (kind == NEXT) put(t, -15.0, 5.5, 4.5, 1.8, 0.0, 1.5, 150);
-    if (kind == AHEAD) put(t, x + 4.8 + 0.5 + 2.25, 2.0, 4.5, 1.8, 0.0, 1.5, 150);
-    if (kind == PIECE) put(t, -15.0, 4.3, 0.4, 0.3, 0.0, 0.5, 6);
+    if (kind == LONGER) {
+      put(t, x, 2.0, 9.6, 2.5, 0.0, 3.2, 300);
+      put(t, -15.0 + 4.8 + 0.5 + 2.25, 2.0, 4.5, 1.8, 0.0, 1.5, 150);
+    } else {
+      put(t, x, 2.0, 4.5, 1.8, 0.0, 1.5, 150);
+    }
+    if (kind == NEXT) put(t, -15.0, 5.5, 9.6, 2.5, 0.0, 3.2, 300);
+    if (kind == AHEAD) put(t, x + 2.25 + 0.5 + 4.8, 2.0, 9.6, 2.5, 0.0, 3.2, 300);
+    if (kind == PIECE) put(t, -15.0, 3.9, 0.4, 0.3, 0.0, 0.5, 6);
     rs_track_frame(&tr, &objs, t + 0.05);
     ck_assert_uint_eq(tr.n.born, 2);
     const rs_track_t *k = find_id(1);
     ck_assert_ptr_nonnull(k);
-    ck_assert_float_eq_tol(k->length, 9.6f, 0.01f); /* the truck's track throughout */
+    ck_assert_float_eq_tol(k->length, kind == LONGER ? 9.6f : 4.5f, 0.01f); /* its own object throughout */
     if (k->state != RS_TRACK_TENTATIVE) at = f;
   }
   return at;
 }
 
 START_TEST(t_window_clear) {
-  ck_assert_int_eq(defaults().clear_beside, 1);
-  ck_assert_double_eq(defaults().clear_part_share, 0.25);
-  ck_assert_int_eq(beside_confirmed(NEXT, 1, 0.25), 3);
-  ck_assert_int_eq(beside_confirmed(NEXT, 0, 0.25), 6);
-  ck_assert_int_eq(beside_confirmed(AHEAD, 1, 0.25), 6);
-  ck_assert_int_eq(beside_confirmed(AHEAD, 0, 0.25), 6);
-  ck_assert_int_eq(beside_confirmed(PIECE, 1, 0.25), 3);
-  ck_assert_int_eq(beside_confirmed(PIECE, 1, 0.0), 6);
+  const rs_track_cfg_t d = defaults();
+  ck_assert_int_eq(d.clear_beside, 1);
+  ck_assert_double_eq(d.clear_part_share, 0.25);
+  ck_assert_int_eq(d.clear_longer, 1);
+  ck_assert_int_eq(beside_confirmed(NEXT, 1, 0.25, 1), 3);
+  ck_assert_int_eq(beside_confirmed(NEXT, 0, 0.25, 1), 6);
+  ck_assert_int_eq(beside_confirmed(AHEAD, 1, 0.25, 1), 6);
+  ck_assert_int_eq(beside_confirmed(PIECE, 1, 0.25, 1), 3);
+  ck_assert_int_eq(beside_confirmed(PIECE, 1, 0.25, 0), 3); /* the share alone */
+  ck_assert_int_eq(beside_confirmed(PIECE, 1, 0.0, 0), 6);
+  ck_assert_int_eq(beside_confirmed(PIECE, 1, 0.0, 1), 3); /* the length alone: 0.4 m long */
+  ck_assert_int_eq(beside_confirmed(LONGER, 1, 0.25, 1), 3);
+  ck_assert_int_eq(beside_confirmed(LONGER, 1, 0.25, 0), 6);
   knob_refused("clear_beside", "2");
+  knob_refused("clear_longer", "-1");
   knob_refused("clear_part_share", "1.5");
   knob_refused("clear_part_share", "-0.1");
 }

@@ -68,6 +68,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->confirm_steady = 1;
   c->clear_part_share = 0.25;
   c->clear_beside = 1;
+  c->clear_longer = 1;
   c->confirm_still_points = 30;
   c->confirm_still_range = 20.0;
   c->confirm_walker_points = 20;
@@ -136,7 +137,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->confirm_still_spread >= 0 && cfg->confirm_still_spread <= 5) || cfg->confirm_still_points < 1 ||
       cfg->confirm_still_window < 0 || cfg->confirm_still_window > RS_TRACK_STILL_WINDOW ||
       cfg->confirm_steady < 0 || cfg->confirm_steady > 1 || !(cfg->clear_part_share >= 0 && cfg->clear_part_share <= 1) ||
-      cfg->clear_beside < 0 || cfg->clear_beside > 1 ||
+      cfg->clear_beside < 0 || cfg->clear_beside > 1 || cfg->clear_longer < 0 || cfg->clear_longer > 1 ||
       cfg->confirm_walker_points < 0 || cfg->confirm_walker_points > 100000 ||
       cfg->confirm_upright_points < 0 || cfg->confirm_upright_points > 100000 ||
       !(cfg->confirm_still_range >= 0 && cfg->confirm_still_range <= 1000) ||
@@ -195,7 +196,6 @@ static const rs_opt_t knobs[] = {
     KNOB(confirm_still_range, 0.0, 1000.0),
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
     KNOB(confirm_cut_walk_m, 0.0, 20.0), KNOB_INT(confirm_still_window, 0, RS_TRACK_STILL_WINDOW), KNOB_INT(confirm_steady, 0, 1),
-    KNOB(clear_part_share, 0.0, 1.0), KNOB_INT(clear_beside, 0, 1),
     KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
     KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB_INT(imm_birth_wide, 0, 1),  KNOB_INT(misfit_own, 0, 1), KNOB_INT(confirm_pace, 0, 1),
     KNOB(q_jerk, 0.01, 100.0),
@@ -208,6 +208,7 @@ static const rs_opt_t knobs[] = {
     KNOB_INT(blind_walker_fifo, 0, 1), KNOB(blind_walker_line, 0.0, 20.0), KNOB(split_car_m, 0.0, 20.0), KNOB_INT(stitch_kin, 0, 1), KNOB_INT(gap_unseen, 0, 1), KNOB(miss_cost, 0.0, 1000.0),
     KNOB_INT(still_lane, 0, 1), KNOB_INT(brake_coast, 0, 1), KNOB_INT(still_coast, 0, 1), KNOB(blind_walker_pace_s, 0.0, 60.0),
     KNOB_INT(still_reverse, 0, 1), KNOB_INT(queue_coast, 0, 1),
+    KNOB(clear_part_share, 0.0, 1.0), KNOB_INT(clear_beside, 0, 1), KNOB_INT(clear_longer, 0, 1),
 };
 
 int rs_track_cfg_set(rs_track_cfg_t *c, const char *name, const char *value, char *err, size_t n) {
@@ -1501,13 +1502,18 @@ static bool window_still(const rs_track_cfg_t *cf, const rs_track_t *t, uint32_t
 /* whether no other track may claim tentative track t, index i of the list
  * being compacted in rs_track_frame (those kept so far are at [0, w), those
  * not yet visited after i): no unseen one within gate_m (the stitching takes
- * t as its object seen again, while t is tentative), and no other whose centre
- * lies within half their lengths and WINDOW_GAP_M of t's (t may be a part of
- * the same object: the duplicate rule ends a tentative part inside a confirmed
+ * t as its object seen again, while t is tentative), and no other of which t
+ * may be a part (the duplicate rule ends a tentative part inside a confirmed
  * track's box, and a new object split in two is two tentative tracks side by
- * side; queued cars stand farther apart). A bounded scan of the list, made
- * only for a track that passed the window. */
+ * side; queued cars stand farther apart): one whose box comes within
+ * WINDOW_GAP_M of t's on its axes (clear_beside; 0: whose centre lies within
+ * half their lengths and WINDOW_GAP_M of t's, a car in the next lane too).
+ * Not a part's: a tentative one with clear_part_share of t's returns or fewer,
+ * or one shorter, as long as it has been seen, than t by CLEAR_LONGER_M
+ * (clear_longer). A bounded scan of the list, made only for a track that
+ * passed the window. */
 #define WINDOW_GAP_M 1.0
+#define CLEAR_LONGER_M 0.5 /* m: clear_longer's margin (two halves of one car are about as long) */
 /* track t's box within WINDOW_GAP_M of track u's (u's axes, length ul, width uw): t's extents along and
  * across u's axis from both headings (clear_beside) */
 static bool beside_box(const rs_track_t *t, const rs_track_t *u, double ul, double uw) {
@@ -1532,6 +1538,7 @@ static bool window_clear(const rs_tracker_t *tr, const rs_track_t *t, uint32_t w
       continue;
     }
     const double ul = fmax(u->full_length, u->length);
+    if (tr->cfg.clear_longer && t->length > ul + CLEAR_LONGER_M) continue; /* longer than all of it: no piece of it */
     if (!tr->cfg.clear_beside) {
       if (d < 0.5 * (ul + t->length) + WINDOW_GAP_M) return false;
       continue;

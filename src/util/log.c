@@ -21,7 +21,7 @@ void rs_log_close(void) {
 }
 
 void rs_log(rs_log_level_t level, const char *fmt, ...) {
-  char msg[1024];
+  char msg[RS_LOG_MSG_SIZE];
   va_list ap;
   va_start(ap, fmt);
   vsnprintf(msg, sizeof msg, fmt, ap);

@@ -197,6 +197,8 @@ typedef struct {
   int clear_beside;            /* 1: ... and another track keeps it from them only when their boxes, on the
                                   other's axes, come within 1 m (a car in the next lane does not); 0: when
                                   their centres are within half their lengths and 1 m (default 1) */
+  int clear_longer;            /* 1: ... nor by one whose box, as long as it has been seen, is shorter than the
+                                  track's by more than 0.5 m: the track is no piece of it (default 1) */
   int confirm_still_points;    /* ... when its last object has this many returns or more (default 30):
                                   a vehicle waiting at the line, not leaves */
   double confirm_still_range;  /* m: beyond this range the returns needed fall with the square of the range,

@@ -52,8 +52,9 @@ typedef enum {
 /* Number of distinct error codes; index of a code is rs_err_index(code). */
 #define RS_ERR_COUNT (RS_ERR_END_ - RS_ERR_FIRST_ - 1)
 
-/* Size of every error-message buffer in the project. */
-#define RS_ERRMSG_SIZE 1024
+/* Size of every error-message buffer in the project (an unknown tracking parameter's message lists
+ * every name: over 1500 characters). */
+#define RS_ERRMSG_SIZE 2048
 
 const char *rs_strerror(int code);
 /* Short stable key ("block-flag"), for counters and logs. */

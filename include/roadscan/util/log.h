@@ -4,7 +4,12 @@
 #ifndef ROADSCAN_LOG_H
 #define ROADSCAN_LOG_H
 
+#include "roadscan/util/error.h"
+
 #include <stdbool.h>
+
+/* a message's longest (with its NUL): an error message and what is said around it; longer ones are cut */
+#define RS_LOG_MSG_SIZE (RS_ERRMSG_SIZE + 256)
 
 typedef enum { RS_LOG_ERR = 3, RS_LOG_WARN = 4, RS_LOG_INFO = 6 } rs_log_level_t;
 

@@ -20,6 +20,8 @@
 #ifndef ROADSCAN_OPTS_H
 #define ROADSCAN_OPTS_H
 
+#include "roadscan/util/error.h"
+
 #include <getopt.h>
 #include <stdbool.h>
 #include <stddef.h>
@@ -108,7 +110,7 @@ typedef struct {
   char arena[RS_OPTS_ARENA];
   size_t used;
   struct option lopts[RS_OPTS_MAX + 5];
-  char err[1024]; /* (room for a parameter table's names: rs_opt_set) */
+  char err[RS_ERRMSG_SIZE]; /* (room for a parameter table's names: rs_opt_set) */
 } rs_opts_t;
 
 typedef enum { RS_OPTS_RUN = 0, RS_OPTS_EXIT = 1, RS_OPTS_ERROR = 2 } rs_opts_result_t;
