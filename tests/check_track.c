@@ -42,27 +42,25 @@ static void init_default(void) {
   ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
 }
 
-/* the defaults but one parameter, set by name as roadscand --track-set does (so the name and the
- * value's range are checked too) */
-static void init_knob(const char *name, double value) {
+/* the defaults but n parameters, set by name as roadscand --track-set does (so the names and the
+ * values' ranges are checked too) */
+static void init_named(int n, const char *const names[], const double values[]) {
   rs_track_cfg_t c;
   rs_track_cfg_default(&c);
   char text[32], err[256];
-  snprintf(text, sizeof text, "%.17g", value);
-  ck_assert_msg(rs_track_cfg_set(&c, name, text, err, sizeof err) == RS_OK, "%s", err);
+  for (int k = 0; k < n; k++) {
+    snprintf(text, sizeof text, "%.17g", values[k]);
+    ck_assert_msg(rs_track_cfg_set(&c, names[k], text, err, sizeof err) == RS_OK, "%s", err);
+  }
   ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
 }
 
+/* the defaults but one parameter, by name */
+static void init_knob(const char *name, double value) { init_named(1, (const char *const[]){name}, (const double[]){value}); }
+
 /* the defaults but two parameters, by name */
 static void init_knobs(const char *a, double va, const char *b, double vb) {
-  rs_track_cfg_t c;
-  rs_track_cfg_default(&c);
-  char text[32], err[256];
-  snprintf(text, sizeof text, "%.17g", va);
-  ck_assert_msg(rs_track_cfg_set(&c, a, text, err, sizeof err) == RS_OK, "%s", err);
-  snprintf(text, sizeof text, "%.17g", vb);
-  ck_assert_msg(rs_track_cfg_set(&c, b, text, err, sizeof err) == RS_OK, "%s", err);
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  init_named(2, (const char *const[]){a, b}, (const double[]){va, vb});
 }
 
 /* the default parameters */
@@ -3125,12 +3123,8 @@ static int steady_confirmed(int on, bool jumps) {
  * first born), -1 none. */
 enum { NEXT, AHEAD, PIECE, LONGER };
 static int beside_confirmed(int kind, int beside, double share, int longer) {
-  rs_track_cfg_t c;
-  rs_track_cfg_default(&c);
-  c.clear_beside = beside;
-  c.clear_part_share = share;
-  c.clear_longer = longer;
-  ck_assert_int_eq(rs_track_init(&tr, &c), RS_OK);
+  init_named(3, (const char *const[]){"clear_beside", "clear_part_share", "clear_longer"},
+             (const double[]){beside, share, longer});
   int at = -1;
   for (int f = 0; f < 20 && at < 0; f++) {
     const double t = 95.0 + 0.1 * f, x = -15.0 + 0.15 * f;

@@ -1531,12 +1531,12 @@ static bool window_clear(const rs_tracker_t *tr, const rs_track_t *t, uint32_t w
     const double d = norm2(u->x[0] - t->x[0], u->x[1] - t->x[1]);
     /* unseen this frame (not unseen(): the tracks after i still have last frame's state) */
     const bool gone = u->state != RS_TRACK_TENTATIVE && u->object < 0 && !rs_track_held(u);
-    if (!gone && u->state == RS_TRACK_TENTATIVE && (double)u->points <= tr->cfg.clear_part_share * (double)t->points)
-      continue; /* a part of t's object (clear_part_share), not t of its */
     if (gone) {
       if (d < tr->cfg.gate_m) return false;
       continue;
     }
+    if (u->state == RS_TRACK_TENTATIVE && (double)u->points <= tr->cfg.clear_part_share * (double)t->points)
+      continue; /* a part of t's object (clear_part_share), not t of its */
     const double ul = fmax(u->full_length, u->length);
     if (tr->cfg.clear_longer && t->length > ul + CLEAR_LONGER_M) continue; /* longer than all of it: no piece of it */
     if (!tr->cfg.clear_beside) {
