@@ -107,7 +107,10 @@
         reported 0 while the vehicle moved at 1 m/s or more, those reported moving while it moved
         slower than 1 m/s, and those reported under half the speed of a vehicle moving at 2 m/s or
         more (and in how many pairs of a track and a vehicle; the largest pair: its triple's number
-        from 1, track, vehicle, and share of the squared error).
+        from 1, track, vehicle, and share of the squared error). Last, by the size of the error
+        (under 0.3, 0.3-1, 1-2, 2-3, 3-5, 5 m/s or more): the rows and their share of the squared
+        error; and of the rows 3 m/s or more off, the share of all the squared error reported too
+        fast and too slow, and per kind.
     scripts/track-errors.py gaps MOTDUMP TRACKS STATES [MOTDUMP TRACKS STATES ...]
         Over all given, pedestrians and vehicles apart: where a road user's frames as a true instance
         (>= 10 returns) are away from its own track (the one matching it, IoU > 0.5, in most of its
@@ -923,6 +926,10 @@ BUDGET_KINDS = ("capture's first 3 s", "took it over < 2 s ago", "< 1 s old, its
                 "had it >= 2 s")
 
 
+BUDGET_SIZES = (0.3, 1.0, 2.0, 3.0, 5.0)  # m/s, the ends of budget's bins of the error's size
+GROSS_MS = 3.0  # m/s: budget splits the rows this far off or more
+
+
 def budget_rows(mot_path, tracks_path, states_path):
     """(kind, error, true speed, reported speed, along, across, (track, vehicle)) of each row
     roadscan-eval scores for vehicle speed; along and across: the reported velocity's error along the
@@ -986,11 +993,19 @@ def budget(*paths):
     nm, sa, sc = Counter(), Counter(), Counter()  # moving rows, squared velocity errors along and across
     zeroed, moving, slow = [0, 0.0], [0, 0.0], [0, 0.0]
     slow_pairs = Counter()  # (capture, track, vehicle) -> squared error of its rows reported under half
+    size_n, size_sq = Counter(), Counter()  # by the error's size (BUDGET_SIZES)
+    gross_sq, gross_kind = Counter(), Counter()  # rows GROSS_MS or more off: too fast / too slow, per kind
     for k in range(0, len(paths), 3):
         for kind, e, v, sp, along, across, pair in budget_rows(*paths[k:k + 3]):
             n[kind] += 1
             sq[kind] += e * e
             se[kind] += e
+            size = bin_of(abs(e), BUDGET_SIZES, "m/s", 0.0)
+            size_n[size] += 1
+            size_sq[size] += e * e
+            if abs(e) >= GROSS_MS:
+                gross_sq["too fast" if e > 0 else "too slow"] += e * e
+                gross_kind[kind] += e * e
             if along is not None:
                 nm[kind] += 1
                 sa[kind] += along * along
@@ -1023,6 +1038,14 @@ def budget(*paths):
         (k, track, vehicle), q = max(slow_pairs.items(), key=lambda kv: kv[1])
         print(f"    the last in {len(slow_pairs)} pairs of a track and a vehicle, the largest (triple {k // 3 + 1}, "
               f"track {track}, vehicle {vehicle}) {100.0 * q / total:.1f} % of the squared error")
+    print("  by the size of the error:")
+    for size in bin_labels(BUDGET_SIZES, "m/s", 0.0):
+        print(f"    {size:38s} rows {size_n[size]:6d} ({100.0 * size_n[size] / rows:5.1f} %)  squared error "
+              f"{100.0 * size_sq[size] / total:5.1f} %")
+    if gross_sq:
+        print(f"    {GROSS_MS:g} m/s or more off: too fast {100.0 * gross_sq['too fast'] / total:.1f} %, too slow "
+              f"{100.0 * gross_sq['too slow'] / total:.1f} % of the squared error; by kind: " +
+              ", ".join(f"{kind} {100.0 * gross_kind[kind] / total:.1f} %" for kind in BUDGET_KINDS if gross_kind[kind]))
 
 
 def speed_rows(mot_path, tracks_path, states, cls):

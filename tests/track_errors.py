@@ -8,8 +8,9 @@ Four true cars at 5 m/s and five tracks, 10 Hz for 10 s:
   car 3: track 3 until 4.9 s, then track 4 born at 6.0 s (under 1 s old, 1.1 s after its old track
          last had it);
   car 4: track 3 takes it at 8.0 s (took it over under 2 s ago).
-Track 1 reports 0 in its rows at 6.0-6.4 s (reported 0 while moving); track 2 reports a velocity
-1 m/s across its car's way in its first second (velocity error across, none along).
+Track 1 reports 0 in its rows at 6.0-6.4 s (reported 0 while moving; by the error's size, 5 m/s or
+more, too slow); track 2 reports a velocity 1 m/s across its car's way in its first second (velocity
+error across, none along; under 0.3 m/s off).
 
 common: two cars over 100 frames; tracker A follows car 1 throughout reporting 0.5 m/s too fast and car
 2 in frames 0-49 exactly; tracker B follows car 1 in frames 20-79 1 m/s too slow (tentative in 20-29)
@@ -276,7 +277,17 @@ def check(tmp):
             "(triple 1, track 1, vehicle 1)" not in slow[1]:
         print(f"reported under half: {slow}; wanted 5 rows in 1 pair (track 1, 6.0-6.4 s)")
         return 1
-    print(f"{sum(got.values())} rows in their kinds; 5 reported 0 while moving, under half in 1 pair")
+    # by size: track 1's five rows at 0 are 5 m/s off (all the squared error of 3 m/s or more, too slow, in
+    # 2 s or more), track 2's first second 0.099 m/s (its velocity 1 m/s across), the rest 0
+    size = {ln.split()[0]: ln for ln in out.getvalue().splitlines() if ln.startswith("    ") and "m/s" in ln}
+    rows = sum(got.values())
+    if "rows      5 " not in size.get("5", "") or f"rows {rows - 5:6d} " not in size.get("0-0.3", "") or \
+            "rows      0 " not in size.get("3-5", "") or \
+            "too fast 0.0 %, too slow 100.0 %" not in out.getvalue() or "had it >= 2 s 100.0 %" not in out.getvalue():
+        print(f"by size: {size}; wanted 5 rows of 5 m/s or more, too slow, had it >= 2 s, {rows - 5} under 0.3")
+        return 1
+    print(f"{sum(got.values())} rows in their kinds; 5 reported 0 while moving, under half in 1 pair; "
+          "5 rows 5 m/s or more off")
     return 0
 
 
