@@ -2683,6 +2683,38 @@ START_TEST(t_miss_cost) {
 }
 END_TEST
 
+/* A group of one track and one object (most of them) is settled without the solver: the pair when it
+ * costs less than leaving the track without an object, else the track goes without and is counted.
+ * A car at 10 m/s along x, 200 returns, seen 8 frames (its pairs cost -2 to 4); at the ninth its
+ * object lies 1.2 m across its prediction with 4 returns (a pair of 7.9): taken at the default
+ * miss_cost (24), left at 6. */
+static void lone_pair(double miss_cost, uint32_t *car, uint32_t *ninth, uint64_t *left) {
+  init_knob("miss_cost", miss_cost);
+  uint64_t before = 0;
+  for (int f = 0; f < 9; f++) {
+    clear();
+    put(0.1 * f, 20.0 + f, 10.0 + (f == 8 ? 1.2 : 0.0), 4.5, 1.8, 0.0, 1.5, f == 8 ? 4 : 200);
+    if (f == 8) before = tr.n.miss_left;
+    rs_track_frame(&tr, &objs, 0.1 * f);
+    if (f == 7) *car = tr.list.track[0].id;
+  }
+  *ninth = tr.list.track[0].object >= 0 ? tr.list.track[0].id : 0;
+  *left = tr.n.miss_left - before;
+}
+START_TEST(t_lone_pair) {
+  uint32_t car = 0, ninth = 0;
+  uint64_t left = 0;
+  lone_pair(24.0, &car, &ninth, &left);
+  ck_assert_uint_eq(car, 1); /* one track throughout */
+  ck_assert_uint_eq(ninth, car); /* cheaper than a miss: taken */
+  ck_assert_uint_eq(left, 0);
+  lone_pair(6.0, &car, &ninth, &left);
+  ck_assert_uint_eq(car, 1);
+  ck_assert_uint_eq(ninth, 0); /* dearer: the track goes without */
+  ck_assert_uint_eq(left, 1);
+}
+END_TEST
+
 /* Two walkers pass each other in opposite directions, 0.4-0.9 m apart
  * across; their clusters merge while they are within 1-3 m of each other
  * along (up to 2.3 s), one cluster of both, then come apart: each keeps
@@ -3767,6 +3799,7 @@ int main(void) {
   tcase_add_test(tc, t_walker_reacq);
   tcase_add_test(tc, t_walker_part);
   tcase_add_test(tc, t_miss_cost);
+  tcase_add_test(tc, t_lone_pair);
   tcase_add_test(tc, t_walkers_pass);
   tcase_add_test(tc, t_foliage_never_confirms);
   tcase_add_test(tc, t_walker_confirms_fast);

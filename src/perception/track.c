@@ -788,8 +788,9 @@ static double turn_of(const rs_tracker_t *tr, const rs_track_t *t) {
   return fabs(w) < tr->cfg.turn_rate ? 0.0 : w;
 }
 
-/* the transition over dt at turn rate w (0: constant velocity) */
-static void transition(double dt, double w, double F[4][4]) {
+/* the transition over dt at turn rate w (0: constant velocity): F = [[1, 0, a, -b], [0, 1, b, a],
+ * [0, 0, c, -s], [0, 0, s, c]], f = {a, b, c, s} */
+static void transition(double dt, double w, double f[4]) {
   double a = dt, b = 0.0, c = 1.0, s = 0.0; /* sin(w dt)/w, (1 - cos(w dt))/w, cos, sin */
   if (w != 0.0) {
     s = sin(w * dt);
@@ -797,8 +798,25 @@ static void transition(double dt, double w, double F[4][4]) {
     a = s / w;
     b = (1.0 - c) / w;
   }
-  const double G[4][4] = {{1, 0, a, -b}, {0, 1, b, a}, {0, 0, c, -s}, {0, 0, s, c}};
-  memcpy(F, G, sizeof G);
+  f[0] = a;
+  f[1] = b;
+  f[2] = c;
+  f[3] = s;
+}
+
+/* the position of track t's state moved by the transition f (transition()) */
+static void moved_pos(const rs_track_t *t, const double f[4], double p[2]) {
+  p[0] = t->x[0] + f[0] * t->x[2] + -f[1] * t->x[3];
+  p[1] = t->x[1] + f[1] * t->x[2] + f[0] * t->x[3];
+}
+
+/* predicted position of track t at time tk (predict_pos's, without the covariance) */
+static void predict_xy(const rs_tracker_t *tr, const rs_track_t *t, double tk, double p[2]) {
+  double dt = tk - t->t_state;
+  if (dt < 0) dt = 0;
+  double f[4];
+  transition(dt, turn_of(tr, t), f);
+  moved_pos(t, f, p);
 }
 
 /* predicted position and its covariance (2 x 2) of track t at time tk */
@@ -808,17 +826,21 @@ static void predict_pos(const rs_tracker_t *tr, const rs_track_t *t, double tk, 
   double q[3];
   accel_density(tr, t, q);
   const double d3 = dt * dt * dt / 3.0;
-  double F[4][4];
-  transition(dt, turn_of(tr, t), F);
-  p[0] = t->x[0] + F[0][2] * t->x[2] + F[0][3] * t->x[3];
-  p[1] = t->x[1] + F[1][2] * t->x[2] + F[1][3] * t->x[3];
-  /* S = H F P F' H' + H Q H' (xx, xy, yy): the rows of F for the position */
-  double FP[2][4];
-  for (int i = 0; i < 2; i++)
-    for (int j = 0; j < 4; j++) FP[i][j] = t->P[i][j] + F[i][2] * t->P[2][j] + F[i][3] * t->P[3][j];
-  S[0] = FP[0][0] + FP[0][2] * F[0][2] + FP[0][3] * F[0][3] + q[0] * d3;
-  S[1] = FP[0][1] + FP[0][2] * F[1][2] + FP[0][3] * F[1][3] + q[1] * d3;
-  S[2] = FP[1][1] + FP[1][2] * F[1][2] + FP[1][3] * F[1][3] + q[2] * d3;
+  double f[4];
+  transition(dt, turn_of(tr, t), f);
+  const double fa = f[0], fb = f[1];
+  moved_pos(t, f, p);
+  /* S = H F P F' H' + H Q H' (xx, xy, yy) from the rows of F for the position, written out without
+   * the zero and unit terms and the one product S does not read (the sums in the order of the full
+   * products: the same numbers) */
+  const double(*P)[4] = t->P;
+  const double fp00 = P[0][0] + fa * P[2][0] + -fb * P[3][0], fp01 = P[0][1] + fa * P[2][1] + -fb * P[3][1];
+  const double fp02 = P[0][2] + fa * P[2][2] + -fb * P[3][2], fp03 = P[0][3] + fa * P[2][3] + -fb * P[3][3];
+  const double fp11 = P[1][1] + fb * P[2][1] + fa * P[3][1], fp12 = P[1][2] + fb * P[2][2] + fa * P[3][2];
+  const double fp13 = P[1][3] + fb * P[2][3] + fa * P[3][3];
+  S[0] = fp00 + fp02 * fa + fp03 * -fb + q[0] * d3;
+  S[1] = fp01 + fp02 * fb + fp03 * fa + q[1] * d3;
+  S[2] = fp11 + fp12 * fb + fp13 * fa + q[2] * d3;
 }
 
 /* x, P to time tk (constant velocity, or a turn at the track's rate; full white-noise-acceleration Q) */
@@ -827,11 +849,11 @@ static void predict(const rs_tracker_t *tr, rs_track_t *t, double tk) {
   if (dt <= 0) return;
   double q[3];
   accel_density(tr, t, q);
-  double F[4][4];
-  transition(dt, turn_of(tr, t), F);
-  /* F = [[1, 0, a, -b], [0, 1, b, a], [0, 0, c, -s], [0, 0, s, c]]: F P F' written out without its zero
-   * and unit terms (the sums in the order of the full products: the same numbers) */
-  const double fa = F[0][2], fb = F[1][2], fc = F[2][2], fs = F[3][2];
+  double f[4];
+  transition(dt, turn_of(tr, t), f);
+  /* F P F' written out without F's zero and unit terms (the sums in the order of the full products:
+   * the same numbers) */
+  const double fa = f[0], fb = f[1], fc = f[2], fs = f[3];
   double FP[4][4], P[4][4];
   for (int j = 0; j < 4; j++) {
     FP[0][j] = t->P[0][j] + fa * t->P[2][j] + -fb * t->P[3][j];
@@ -1274,6 +1296,17 @@ static void assign(rs_tracker_t *tr, uint32_t nobj) {
     /* miss_cost: columns nog.. are each track's "no object" (at miss_cost, its own only); rows ntg.. take
      * what the tracks leave, at no cost. Off: as many pairs as the group allows, then the cheapest */
     const bool miss = cf->miss_cost > 0;
+    if (ntg == 1 && nog == 1 && e1 - e0 == 1 && (!miss || (double)tr->gedge[e0].c != cf->miss_cost)) {
+      /* one track and one object (most groups): the solver's answer without it, the pair when cheaper
+       * than the track's miss (a tie is left to the solver) */
+      if (miss && (double)tr->gedge[e0].c > cf->miss_cost) {
+        tr->n.miss_left++;
+      } else {
+        tr->list.track[tr->gedge[e0].t].object = tr->gedge[e0].o;
+        tr->taken_by[tr->gedge[e0].o] = tr->gedge[e0].t;
+      }
+      continue;
+    }
     const int n = miss ? ntg + nog : (ntg > nog ? ntg : nog);
     for (int i = 0; i < n; i++)
       for (int j = 0; j < n; j++) tr->cost[i][j] = miss && i >= ntg ? 0.0 : BIG;
@@ -1361,8 +1394,8 @@ static bool part_of_moving_vehicle(rs_tracker_t *tr, uint32_t k, const rs_object
     if (walker_like(cf, v) || walker_sized(v) || v->full_length < WALKER_PART_LEN_M ||
         tk - v->t_update > WALKER_PART_SEEN_S || norm2(v->x[2], v->x[3]) < WALKER_PART_V)
       continue;
-    double p[2], S[3], len, wid;
-    predict_pos(tr, v, tk, p, S);
+    double p[2], len, wid;
+    predict_xy(tr, v, tk, p);
     split_size(tr, v, &len, &wid);
     const double dx = ox - p[0], dy = oy - p[1];
     const double u = dx * v->hcd + dy * v->hsd, w = -dx * v->hsd + dy * v->hcd;
@@ -2574,8 +2607,8 @@ static bool merge_parts(rs_tracker_t *tr, uint32_t i, const rs_object_list_t *ob
     for (uint32_t q = 0; q < nn && !other; q++) {
       const rs_track_t *u = &L->track[tr->near[q]];
       if (u == t || u->state == RS_TRACK_TENTATIVE || u->state == RS_TRACK_LOST) continue;
-      double p[2], S[3];
-      predict_pos(tr, u, tr->obj_t[k], p, S);
+      double p[2];
+      predict_xy(tr, u, tr->obj_t[k], p);
       other = norm2(p[0] - bx, p[1] - by) < 0.5 * u->length + 1.0;
     }
     if (other) continue;
@@ -2698,8 +2731,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       const uint32_t i = tr->near[q];
       const rs_track_t *t = &L->track[i];
       if (t->state == RS_TRACK_TENTATIVE || t->state == RS_TRACK_LOST) continue;
-      double p[2], S[3];
-      predict_pos(tr, t, tr->obj_t[k], p, S);
+      double p[2];
+      predict_xy(tr, t, tr->obj_t[k], p);
       if (!in_box(o, oc, os, p[0], p[1], 0.3)) continue;
       /* apart: two objects side by side (pedestrians 0.7 m, cars in a queue 6 m) */
       if (in == 0) first[0] = p[0], first[1] = p[1], first_len = t->length;
@@ -2716,8 +2749,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     for (uint32_t q = 0; q < nn; q++) {
       rs_track_t *t = &L->track[tr->near[q]];
       if (t->state == RS_TRACK_TENTATIVE || t->state == RS_TRACK_LOST || rs_track_held(t)) continue;
-      double p[2], S[3];
-      predict_pos(tr, t, tr->obj_t[k], p, S);
+      double p[2];
+      predict_xy(tr, t, tr->obj_t[k], p);
       if (!in_box(o, oc, os, p[0], p[1], 0.3)) continue;
       t->held_object = (int32_t)k;
       tr->n.held++;
@@ -2735,8 +2768,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     for (int32_t k = objs_near_first(tr, t->x[0], t->x[1], TENT_CLAIM_REACH_M, &it); k >= 0; k = objs_near_next(tr, &it)) {
       const rs_object_t *o = &objs->obj[k];
       if (o->sensor.obb_length >= WALKER_M || o->sensor.obb_width >= WALKER_M) continue;
-      double p[2], S[3];
-      predict_pos(tr, t, tr->obj_t[k], p, S);
+      double p[2];
+      predict_xy(tr, t, tr->obj_t[k], p);
       const double d = norm2(o->sensor.obb_center[0] - p[0], o->sensor.obb_center[1] - p[1]);
       if (d <= TENT_CLAIM_NEAR_M && d < tr->tent_d[k]) tr->tent_d[k] = (float)d;
     }
