@@ -962,7 +962,7 @@ static void imm_step(rs_track_t *t, const double z[2], double r, double tk, cons
   for (int j = 0; j < 2; j++) { /* mixing: model j's start from both */
     const double w[2] = {(j == 0 ? 1.0 - ps : ps) * m->mu[0] / c[j], (j == 1 ? 1.0 - ps : ps) * m->mu[1] / c[j]};
     for (int a = 0; a < 2; a++)
-      for (int u = 0; u < 3; u++) {
+      for (int u = 0; u < (j == 0 ? 2 : 3); u++) { /* (CV's prediction reads no acceleration) */
         x0[j][a][u] = w[0] * m->x[0][a][u] + w[1] * m->x[1][a][u];
         for (int v = 0; v <= u; v++) {
           double s = 0;
