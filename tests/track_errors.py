@@ -10,7 +10,7 @@ Four true cars at 5 m/s and five tracks, 10 Hz for 10 s:
   car 4: track 3 takes it at 8.0 s (took it over under 2 s ago).
 Track 1 reports 0 in its rows at 6.0-6.4 s (reported 0 while moving; by the error's size, 5 m/s or
 more, too slow); track 2 reports a velocity 1 m/s across its car's way in its first second (velocity
-error across, none along; under 0.3 m/s off).
+error across, none along; its speed 5 m/s, under 0.3 m/s off).
 
 common: two cars over 100 frames; tracker A follows car 1 throughout reporting 0.5 m/s too fast and car
 2 in frames 0-49 exactly; tracker B follows car 1 in frames 20-79 1 m/s too slow (tentative in 20-29)
@@ -278,7 +278,8 @@ def check(tmp):
         print(f"reported under half: {slow}; wanted 5 rows in 1 pair (track 1, 6.0-6.4 s)")
         return 1
     # by size: track 1's five rows at 0 are 5 m/s off (all the squared error of 3 m/s or more, too slow, in
-    # 2 s or more), track 2's first second 0.099 m/s (its velocity 1 m/s across), the rest 0
+    # 2 s or more); every other row reports 5 m/s, 0 off (track 2's error in its first second is in its
+    # velocity's direction, not in the speed column)
     size = {ln.split()[0]: ln for ln in out.getvalue().splitlines() if ln.startswith("    ") and "m/s" in ln}
     rows = sum(got.values())
     if "rows      5 " not in size.get("5", "") or f"rows {rows - 5:6d} " not in size.get("0-0.3", "") or \

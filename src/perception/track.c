@@ -810,24 +810,27 @@ static void moved_pos(const rs_track_t *t, const double f[4], double p[2]) {
   p[1] = t->x[1] + f[1] * t->x[2] + f[0] * t->x[3];
 }
 
+/* track t's transition from its state to time tk (never back: dt at least 0); returns dt */
+static double transition_to(const rs_tracker_t *tr, const rs_track_t *t, double tk, double f[4]) {
+  const double dt = tk - t->t_state < 0 ? 0.0 : tk - t->t_state;
+  transition(dt, turn_of(tr, t), f);
+  return dt;
+}
+
 /* predicted position of track t at time tk (predict_pos's, without the covariance) */
 static void predict_xy(const rs_tracker_t *tr, const rs_track_t *t, double tk, double p[2]) {
-  double dt = tk - t->t_state;
-  if (dt < 0) dt = 0;
   double f[4];
-  transition(dt, turn_of(tr, t), f);
+  transition_to(tr, t, tk, f);
   moved_pos(t, f, p);
 }
 
 /* predicted position and its covariance (2 x 2) of track t at time tk */
 static void predict_pos(const rs_tracker_t *tr, const rs_track_t *t, double tk, double p[2], double S[3]) {
-  double dt = tk - t->t_state;
-  if (dt < 0) dt = 0;
+  double f[4];
+  const double dt = transition_to(tr, t, tk, f);
   double q[3];
   accel_density(tr, t, q);
   const double d3 = dt * dt * dt / 3.0;
-  double f[4];
-  transition(dt, turn_of(tr, t), f);
   const double fa = f[0], fb = f[1];
   moved_pos(t, f, p);
   /* S = H F P F' H' + H Q H' (xx, xy, yy) from the rows of F for the position, written out without
@@ -962,7 +965,7 @@ static void imm_step(rs_track_t *t, const double z[2], double r, double tk, cons
   for (int j = 0; j < 2; j++) { /* mixing: model j's start from both */
     const double w[2] = {(j == 0 ? 1.0 - ps : ps) * m->mu[0] / c[j], (j == 1 ? 1.0 - ps : ps) * m->mu[1] / c[j]};
     for (int a = 0; a < 2; a++)
-      for (int u = 0; u < (j == 0 ? 2 : 3); u++) { /* (CV's prediction reads no acceleration) */
+      for (int u = 0; u < (j == 0 ? 2 : 3); u++) { /* (CV's prediction reads no acceleration: 0 below) */
         x0[j][a][u] = w[0] * m->x[0][a][u] + w[1] * m->x[1][a][u];
         for (int v = 0; v <= u; v++) {
           double s = 0;
@@ -971,6 +974,10 @@ static void imm_step(rs_track_t *t, const double z[2], double r, double tk, cons
           P0[j][a][u][v] = P0[j][a][v][u] = s;
         }
       }
+  }
+  for (int a = 0; a < 2; a++) { /* CV's start: no acceleration (not computed above) */
+    x0[0][a][2] = 0.0;
+    for (int u = 0; u < 3; u++) P0[0][a][u][2] = P0[0][a][2][u] = 0.0;
   }
   /* the models' transitions: CV [[1, dt, 0], [0, 1, 0], [0, 0, 0]], CA [[1, dt, dt^2/2], [0, 1, dt], [0, 0, 1]];
    * x = F x0, P = F P0 F' + Q written out without their zero and unit terms (the sums in the order of the
@@ -1296,9 +1303,9 @@ static void assign(rs_tracker_t *tr, uint32_t nobj) {
     /* miss_cost: columns nog.. are each track's "no object" (at miss_cost, its own only); rows ntg.. take
      * what the tracks leave, at no cost. Off: as many pairs as the group allows, then the cheapest */
     const bool miss = cf->miss_cost > 0;
-    if (ntg == 1 && nog == 1 && e1 - e0 == 1 && (!miss || (double)tr->gedge[e0].c != cf->miss_cost)) {
-      /* one track and one object (most groups): the solver's answer without it, the pair when cheaper
-       * than the track's miss (a tie is left to the solver) */
+    if (ntg == 1 && nog == 1 && (!miss || (double)tr->gedge[e0].c != cf->miss_cost)) {
+      /* one track and one object (most groups; one edge, gate() pairs them once): the solver's answer
+       * without it, the pair when cheaper than the track's miss (a tie is left to the solver) */
       if (miss && (double)tr->gedge[e0].c > cf->miss_cost) {
         tr->n.miss_left++;
       } else {
