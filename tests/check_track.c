@@ -3642,6 +3642,48 @@ START_TEST(t_capacity) {
 }
 END_TEST
 
+/* The two lookup grids (objects and tracks by position) are cleared each frame by the buckets they
+ * were filled in, not wholesale: after every frame a bucket holds this frame's entries only. A bucket
+ * left over would hand a later frame an object or a track that is gone. Twelve cars drive through,
+ * then vanish; their tracks end. */
+static void grids_live(uint32_t nobj) {
+  uint32_t heads = 0, theads = 0;
+  for (int b = 0; b < RS_TRACK_GRID_BUCKETS; b++) {
+    if (tr.grid_head[b] >= 0) {
+      heads++;
+      ck_assert_int_lt(tr.grid_head[b], (int32_t)nobj);
+    }
+    if (tr.tgrid_head[b] >= 0) {
+      theads++;
+      ck_assert_int_lt(tr.tgrid_head[b], (int32_t)tr.tgrid_n);
+    }
+  }
+  ck_assert_uint_le(heads, nobj);
+  ck_assert_uint_le(theads, tr.tgrid_n);
+}
+START_TEST(t_grids_live) {
+  init_default();
+  int f = 0;
+  for (; f < 20; f++) {
+    clear();
+    for (int k = 0; k < 12; k++) put(0.1 * f, -30.0 + f, 5.0 * k, 4.5, 1.8, 0.0, 1.5, 60);
+    rs_track_frame(&tr, &objs, 0.1 * f + 0.05);
+    grids_live(objs.count);
+  }
+  ck_assert_uint_eq(tr.list.count, 12);
+  for (; f < 80 && tr.list.count > 0; f++) {
+    clear();
+    rs_track_frame(&tr, &objs, 0.1 * f + 0.05);
+    grids_live(0);
+  }
+  ck_assert_uint_eq(tr.list.count, 0);
+  clear(); /* the next frame's grid holds only its own car */
+  put(0.1 * f, 0.0, 20.0, 4.5, 1.8, 0.0, 1.5, 60);
+  rs_track_frame(&tr, &objs, 0.1 * f + 0.05);
+  grids_live(1);
+}
+END_TEST
+
 /* many objects in one crowded spot: a large group is assigned greedily, boundedly */
 START_TEST(t_crowd_and_config) {
   init_default();
@@ -3822,6 +3864,7 @@ int main(void) {
   tcase_add_test(tc, t_across_column_zero);
   tcase_add_test(tc, t_lost_frame_dt);
   tcase_add_test(tc, t_capacity);
+  tcase_add_test(tc, t_grids_live);
   tcase_add_test(tc, t_still_lane);
   tcase_add_test(tc, t_still_coast);
   tcase_add_test(tc, t_still_reverse);

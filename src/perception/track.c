@@ -167,8 +167,10 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
   memset(&tr->n, 0, sizeof tr->n);
-  for (int b = 0; b < GRID_BUCKETS; b++) tr->lead_head[b] = -1;
+  for (int b = 0; b < GRID_BUCKETS; b++) tr->lead_head[b] = tr->grid_head[b] = tr->tgrid_head[b] = -1;
   tr->nlead = 0;
+  tr->grid_nused = 0;
+  tr->tgrid_n = 0;
   tr->hold_objects = 0;
   tr->obj_base = NULL;
   tr->obj_n = 0;
@@ -262,6 +264,15 @@ const char *rs_class_name(rs_class_t c) {
  * carefully, at about twenty times the cost; the tracker's numbers are metres
  * and metres per second, far from overflow */
 static inline double norm2(double x, double y) { return sqrt(x * x + y * y); }
+
+/* fmin and fmax as glibc gives them on x86-64 (an out-of-line call each, in
+ * the tracker's hottest loops): the same result for every input, a NaN on
+ * either side and zeros of either sign included (the second operand when
+ * they compare equal) */
+static inline double min_d(double a, double b) { return a < b ? a : (b != b ? a : b); }
+static inline double max_d(double a, double b) { return a > b ? a : (b != b ? a : b); }
+static inline float min_f(float a, float b) { return a < b ? a : (b != b ? a : b); }
+static inline float max_f(float a, float b) { return a > b ? a : (b != b ? a : b); }
 
 /* object k's measurement: box centre, noise sd */
 static void meas(const rs_tracker_t *tr, const rs_object_t *o, double *z, double *sd) {
@@ -436,7 +447,7 @@ static double blind_link(const rs_tracker_t *tr, const rs_track_t *o, const rs_t
   const double sa = (dx * hyy - dy * hyx) / cr, ra = (hox * dy - hoy * dx) / cr;
   if (sa < 0.0 || ra < 0.0 || sa + ra > 0.5 * cf->max_speed * dt + 5.0) return -1.0;
   const double qx = ax + sa * hox, qy = ay + sa * hoy;
-  if (fmin(seg_near(ax, ay, qx, qy), seg_near(qx, qy, y->px0, y->py0)) >= rb + BLIND_WAY_M) return -1.0;
+  if (min_d(seg_near(ax, ay, qx, qy), seg_near(qx, qy, y->px0, y->py0)) >= rb + BLIND_WAY_M) return -1.0;
   return 1.0 + fabs((sa + ra) / vo - dt);
 }
 
@@ -470,7 +481,7 @@ static double walker_keep(const rs_tracker_t *tr, const rs_track_t *o) {
   const rs_track_cfg_t *cf = &tr->cfg;
   if (!(cf->blind_walker_cross > 0)) return cf->blind_walker_s;
   const double cross = 2.0 * (blind_reach(tr, o) + BLIND_BIRTH_M) / cf->blind_walker_cross;
-  return fmin(RS_TRACK_WALKER_KEEP_MAX, fmax(cf->blind_walker_s, cross));
+  return min_d(RS_TRACK_WALKER_KEEP_MAX, max_d(cf->blind_walker_s, cross));
 }
 /* the part of blind_walk_link that asks of o alone: might walker o, gone in, come out at (px, py) at time
  * t? how far the time is from its way's length at its pace, or -1 */
@@ -556,7 +567,7 @@ static bool below_beam_view(const rs_tracker_t *tr, const rs_track_t *t, const r
                             double *z, double *sd, double *misfit) {
   const double rb = beam_reach(tr, t);
   if (!(rb > 0) || !t->seen_whole) return false; /* a size learned inside rb is the seen part's */
-  const double dt = fmax(0.0, rs_object_time(o, t->t_state) - t->t_state);
+  const double dt = max_d(0.0, rs_object_time(o, t->t_state) - t->t_state);
   const double pcx = t->x[0] + t->x[2] * dt, pcy = t->x[1] + t->x[3] * dt;
   const double len = t->length, wid = t->width, c = t->hcos, s = t->hsin;
   if (near_edge(pcx, pcy, len, wid) > rb) return false; /* all of it beyond rb */
@@ -567,10 +578,10 @@ static bool below_beam_view(const rs_tracker_t *tr, const rs_track_t *t, const r
       const double u = len * ((double)i / (BB_NU - 1) - 0.5), v = wid * ((double)j / (BB_NV - 1) - 0.5);
       if (norm2(pcx + u * c - v * s, pcy + u * s + v * c) < rb) continue;
       seen++;
-      umin = fmin(umin, u);
-      umax = fmax(umax, u);
-      vmin = fmin(vmin, v);
-      vmax = fmax(vmax, v);
+      umin = min_d(umin, u);
+      umax = max_d(umax, u);
+      vmin = min_d(vmin, v);
+      vmax = max_d(vmax, v);
     }
   if (seen == 0 || seen == BB_NU * BB_NV) return false;
   const double cu = 0.5 * (umin + umax), cv = 0.5 * (vmin + vmax);
@@ -606,7 +617,7 @@ static void meas_on(const rs_tracker_t *tr, const rs_track_t *t, const rs_object
   box_on_axes(tr, t, o, e);
   const double ext_u = e[1] - e[0], ext_v = e[3] - e[2];
   const int hidden = tr->cfg.hidden_anchor ? hidden_end(t, o, e) : 0;
-  const double miss_u = fmin(MAX_SHIFT, fmax(0.0, 0.5 * ((double)t->length - ext_u)));
+  const double miss_u = min_d(MAX_SHIFT, max_d(0.0, 0.5 * ((double)t->length - ext_u)));
   const double pu = z[0] * c + z[1] * s, pv = -z[0] * s + z[1] * c; /* the centre on the track's axes */
   if (!size_known(t)) {
     if (hidden == 0) return;
@@ -618,13 +629,13 @@ static void meas_on(const rs_tracker_t *tr, const rs_track_t *t, const rs_object
   }
   if (tr->cfg.below_beam && hidden == 0 && below_beam_view(tr, t, o, e, z, sd, misfit)) return;
   *misfit = fabs((double)t->length - ext_u) + fabs((double)t->width - ext_v);
-  const double miss_v = fmin(MAX_SHIFT, fmax(0.0, 0.5 * ((double)t->width - ext_v)));
+  const double miss_v = min_d(MAX_SHIFT, max_d(0.0, 0.5 * ((double)t->width - ext_v)));
   const double su = hidden ? hidden * miss_u : pu >= 0 ? miss_u : -miss_u, sv = pv >= 0 ? miss_v : -miss_v;
   z[0] += su * c - sv * s;
   z[1] += su * s + sv * c;
   *sd += 0.5 * (miss_u + miss_v); /* the move is a guess: less sure the more it moves */
   if (!tr->cfg.speed_full_length || !(t->full_length > t->length)) return;
-  const double miss_f = fmin(MAX_SHIFT, fmax(0.0, 0.5 * ((double)t->full_length - ext_u)));
+  const double miss_f = min_d(MAX_SHIFT, max_d(0.0, 0.5 * ((double)t->full_length - ext_u)));
   *sf = (hidden ? hidden * miss_f : pu >= 0 ? miss_f : -miss_f) - su;
 }
 static void meas_for(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o, double *z, double *sd, double *misfit,
@@ -779,7 +790,7 @@ double rs_track_turn_rate(const rs_track_t *t) {
   const double vx = m->x[1][0][1], vy = m->x[1][1][1], ax = m->x[1][0][2], ay = m->x[1][1][2];
   const double v2 = vx * vx + vy * vy;
   if (t->hits < 3 || walker_sized(t) || v2 < OMEGA_SPEED * OMEGA_SPEED) return 0.0;
-  return fmax(-OMEGA_MAX, fmin(OMEGA_MAX, (vx * ay - vy * ax) / v2));
+  return max_d(-OMEGA_MAX, min_d(OMEGA_MAX, (vx * ay - vy * ax) / v2));
 }
 
 static double turn_of(const rs_tracker_t *tr, const rs_track_t *t) {
@@ -957,7 +968,7 @@ static void imm_step(rs_track_t *t, const double z[2], double r, double tk, cons
     imm_start(t);
     return;
   }
-  const double ps = fmin(0.5, dt / IMM_SWITCH_S);
+  const double ps = min_d(0.5, dt / IMM_SWITCH_S);
   const double d2 = dt * dt, d3 = d2 * dt;
   double c[2], nis[2] = {0, 0}, det[2] = {1, 1};
   for (int j = 0; j < 2; j++) c[j] = (1.0 - ps) * m->mu[j] + ps * m->mu[1 - j];
@@ -1027,9 +1038,9 @@ static void imm_step(rs_track_t *t, const double z[2], double r, double tk, cons
     }
   }
   /* mu_j ~ c_j N(y_j; 0, S_j): the ratio CA / CV (bounded, a model never dies out) */
-  const double lr = fmax(-30.0, fmin(30.0, -0.5 * (nis[1] - nis[0]) - 0.5 * log(det[1] / det[0])));
+  const double lr = max_d(-30.0, min_d(30.0, -0.5 * (nis[1] - nis[0]) - 0.5 * log(det[1] / det[0])));
   const double ratio = c[1] / c[0] * exp(lr);
-  m->mu[1] = fmin(0.999, fmax(0.001, ratio / (1.0 + ratio)));
+  m->mu[1] = min_d(0.999, max_d(0.001, ratio / (1.0 + ratio)));
   m->mu[0] = 1.0 - m->mu[1];
   m->t = tk;
 }
@@ -1068,7 +1079,7 @@ static void split_size(const rs_tracker_t *tr, const rs_track_t *t, double *len,
 static bool in_track_box(const rs_tracker_t *tr, const rs_track_t *t, double px, double py) {
   double len, wid;
   split_size(tr, t, &len, &wid);
-  const double m = fmin(RS_TRACK_SPLIT_MARGIN, 0.5 * len); /* a walker's box is not grown by a stride */
+  const double m = min_d(RS_TRACK_SPLIT_MARGIN, 0.5 * len); /* a walker's box is not grown by a stride */
   return in_rect(px, py, t->x[0], t->x[1], t->hcos, t->hsin, 0.5 * len + m, 0.5 * wid + 0.5 * m);
 }
 
@@ -1086,8 +1097,8 @@ static bool fits_in(const rs_object_t *a, const rs_object_t *b, double h, double
   double ea[4], eb[4];
   box_on(a, h, c, s, ea);
   box_on(b, h, c, s, eb);
-  return fmax(ea[1], eb[1]) - fmin(ea[0], eb[0]) <= len + RS_TRACK_SPLIT_MARGIN &&
-         fmax(ea[3], eb[3]) - fmin(ea[2], eb[2]) <= wid + RS_TRACK_SPLIT_MARGIN;
+  return max_d(ea[1], eb[1]) - min_d(ea[0], eb[0]) <= len + RS_TRACK_SPLIT_MARGIN &&
+         max_d(ea[3], eb[3]) - min_d(ea[2], eb[2]) <= wid + RS_TRACK_SPLIT_MARGIN;
 }
 /* objects a (taken by track t this frame) and b fit together in t's known
  * size (split_size) on the axes (c, s): parts of one vehicle */
@@ -1108,7 +1119,7 @@ static bool fits_car(const rs_tracker_t *tr, const rs_track_t *t, const rs_objec
     return false;
   double len, wid;
   split_size(tr, t, &len, &wid);
-  return fits_in(a, b, t->heading, t->hcos, t->hsin, cf->split_car_m - RS_TRACK_SPLIT_MARGIN, fmax(wid, SPLIT_CAR_W));
+  return fits_in(a, b, t->heading, t->hcos, t->hsin, cf->split_car_m - RS_TRACK_SPLIT_MARGIN, max_d(wid, SPLIT_CAR_W));
 }
 
 /* on t's axes (a far car's near side and its roof, apart by a row's gap), or
@@ -1145,7 +1156,8 @@ static uint32_t bucket(long gx, long gy) {
 
 /* ---- track lookup grid: tracks by their position (4 m cells, hashed) ---- */
 static void track_grid(rs_tracker_t *tr, double t_frame) {
-  for (int b = 0; b < GRID_BUCKETS; b++) tr->tgrid_head[b] = -1;
+  for (uint32_t i = 0; i < tr->tgrid_n; i++) tr->tgrid_head[bucket(tr->tcell[i][0], tr->tcell[i][1])] = -1;
+  tr->tgrid_n = tr->list.count;
   tr->vmax = 0.0;
   for (uint32_t i = 0; i < tr->list.count; i++) {
     const rs_track_t *t = &tr->list.track[i];
@@ -1449,7 +1461,7 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
       const double unseen = tk - t->t_update; /* the gate grows while a track is not seen */
       /* tent_claim_m: a walker's object a steady tentative track holds is not a confirmed track's from farther */
       if (confirmed_round && d > (double)tr->tent_d[k] + cf->tent_claim_m) continue;
-      if (d > (unseen > 0.5 ? fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (unseen - 0.5)) : cf->gate_m)) continue;
+      if (d > (unseen > 0.5 ? min_d(2.0 * cf->gate_m, cf->gate_m + 0.5 * (unseen - 0.5)) : cf->gate_m)) continue;
       if (off_lane(cf, t, dx, dy, unseen)) continue;
       const double dtu = tk - t->t_z; /* the speed the pairing implies, from the last measurement */
       if (dtu > 0.02 && norm2(z[0] - t->last_z[0], z[1] - t->last_z[1]) / dtu > cf->max_speed) continue;
@@ -1480,7 +1492,7 @@ static void gate(rs_tracker_t *tr, const rs_object_list_t *objs, bool confirmed_
       const double lo = o->points < t->points ? o->points : t->points, hi = o->points < t->points ? t->points : o->points;
       const double ratio = lo > 0 ? hi / lo / (1.0 + 3.0 / sqrt(lo)) : 1.0; /* (one log, none when alike) */
       const double unlike = ratio > 1.0 ? log(ratio) : 0.0;
-      const float cost = (float)(m2 + log(det) + cf->size_weight * fmin(unlike, 4.0));
+      const float cost = (float)(m2 + log(det) + cf->size_weight * min_d(unlike, 4.0));
       /* keep the best EDGES_PER_TRACK, by cost then object order */
       int at = nb;
       while (at > 0 && (best[at - 1].c > cost || (best[at - 1].c == cost && best[at - 1].o > k))) at--;
@@ -1577,13 +1589,13 @@ static bool window_clear(const rs_tracker_t *tr, const rs_track_t *t, uint32_t w
     }
     if (u->state == RS_TRACK_TENTATIVE && (double)u->points <= tr->cfg.clear_part_share * (double)t->points)
       continue; /* a part of t's object (clear_part_share), not t of its */
-    const double ul = fmax(u->full_length, u->length);
+    const double ul = max_d(u->full_length, u->length);
     if (tr->cfg.clear_longer && t->length > ul + CLEAR_LONGER_M) continue; /* longer than all of it: no piece of it */
     if (!tr->cfg.clear_beside) {
       if (d < 0.5 * (ul + t->length) + WINDOW_GAP_M) return false;
       continue;
     }
-    if (beside_box(t, u, ul, fmax(u->full_width, u->width))) return false;
+    if (beside_box(t, u, ul, max_d(u->full_width, u->width))) return false;
   }
   return true;
 }
@@ -1592,7 +1604,7 @@ static bool window_clear(const rs_tracker_t *tr, const rs_track_t *t, uint32_t w
 static uint32_t range_bar(const rs_track_cfg_t *cf, int need, double r) {
   const double r0 = cf->confirm_still_range;
   if (!(r0 > 0) || !(r > r0)) return (uint32_t)need;
-  return (uint32_t)fmin(fmax(RS_TRACK_STILL_POINTS_MIN, ceil(need * (r0 / r) * (r0 / r))), need);
+  return (uint32_t)min_d(max_d(RS_TRACK_STILL_POINTS_MIN, ceil(need * (r0 / r) * (r0 / r))), need);
 }
 /* track t's n measurements from the still window's slot first on: each within tol of the point at its
  * share of the way from the first of them to the last (evenly in time: one a frame), and each of bar
@@ -1655,7 +1667,7 @@ static bool still_fast(const rs_tracker_t *tr, const rs_track_t *t, uint32_t w, 
   if (walker && cf->confirm_walker_points > 0 && cf->confirm_walker_points < need) need = cf->confirm_walker_points;
   const int moving_need = need;
   if (walker && cf->confirm_upright_points > 0 && cf->confirm_upright_points < need && t->height >= UPRIGHT_M &&
-      (t->spread <= fmin(spread, UPRIGHT_SPREAD_M) || (cf->confirm_pace && t->spread <= spread && first_at_pace(t))))
+      (t->spread <= min_d(spread, UPRIGHT_SPREAD_M) || (cf->confirm_pace && t->spread <= spread && first_at_pace(t))))
     need = cf->confirm_upright_points;
   const double r = norm2(t->x[0], t->x[1]);
   const uint32_t bar = range_bar(cf, need, r);
@@ -1669,7 +1681,7 @@ static rs_class_t classify(const rs_track_t *t) {
   const float L = t->length, W = t->width, H = t->height, V = t->max_speed, Hmax = t->height_max;
   if (t->state == RS_TRACK_TENTATIVE) return RS_CLASS_UNKNOWN;
   if (L >= 10.0f) return RS_CLASS_BUS;
-  const float Ht = t->top_agl_n > 0 ? fmaxf(H, t->top_agl) : H; /* the top above the ground: a hidden bottom */
+  const float Ht = t->top_agl_n > 0 ? max_f(H, t->top_agl) : H; /* the top above the ground: a hidden bottom */
   if (L >= 5.6f || (L >= 4.0f && Ht >= 1.8f)) return RS_CLASS_VAN_TRUCK;
   if (L >= 3.0f && W >= 1.3f) return RS_CLASS_CAR;
   if (L >= 1.2f && V >= 9.0f) return RS_CLASS_CAR;
@@ -1864,7 +1876,7 @@ static bool circle_cut(const rs_tracker_t *tr, const rs_object_t *o) {
   const double h = o->sensor.obb_heading;
   double e[4]; /* the box on its own axes: the sensor's distance to it */
   box_on(o, h, cos(h), sin(h), e);
-  return norm2(fmax(0.0, fmax(e[0], -e[1])), fmax(0.0, fmax(e[2], -e[3]))) <= rb + WHOLE_CUT_M;
+  return norm2(max_d(0.0, max_d(e[0], -e[1])), max_d(0.0, max_d(e[2], -e[3]))) <= rb + WHOLE_CUT_M;
 }
 /* circle_whole: track t, born cut by the circle, takes o, the whole box of it moving out: turned onto its axis */
 static bool made_whole(const rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o) {
@@ -1958,7 +1970,7 @@ static void note_brake(const rs_tracker_t *tr, rs_track_t *t) {
   if (!tr->cfg.brake_coast || !tr->cfg.speed_imm || walker_sized(t) || t->hits + 1 < BRAKE_HITS || v < BRAKE_MOVING) return;
   const rs_track_imm_t *m = &t->imm;
   const double along = m->mu[1] * (m->x[1][0][2] * t->x[2] + m->x[1][1][2] * t->x[3]) / v;
-  if (-along >= BRAKE_MIN && !at_blind_edge(tr, t)) t->brake = (float)fmin(-along, BRAKE_MAX);
+  if (-along >= BRAKE_MIN && !at_blind_edge(tr, t)) t->brake = (float)min_d(-along, BRAKE_MAX);
 }
 /* unseen track t, just predicted (constant velocity) from t0 to its t_state: braked instead at
  * t->brake over that step, to a stop */
@@ -1968,7 +1980,7 @@ static void brake_step(rs_track_t *t, double t0) {
   if (!(b > 0) || !(v > 0) || !(dt > 0)) return;
   const double ux = t->x[2] / v, uy = t->x[3] / v;
   const double go = v <= b * dt ? 0.5 * v * v / b : v * dt - 0.5 * b * dt * dt; /* how far, braking */
-  const double v1 = fmax(0.0, v - b * dt), back = v * dt - go;
+  const double v1 = max_d(0.0, v - b * dt), back = v * dt - go;
   t->x[0] -= back * ux;
   t->x[1] -= back * uy;
   t->x[2] = v1 * ux;
@@ -2057,7 +2069,7 @@ static void queue_leaders(rs_tracker_t *tr, double t_frame) {
     if (l->id == 0 || l->state == RS_TRACK_TENTATIVE || !size_known(l) || l->full_length < STILL_LANE_LEN_M) continue;
     const bool seen = l->object >= 0 || rs_track_held(l), standing = norm2(l->x[2], l->x[3]) <= QUEUE_V;
     if (!seen && !(standing && t_frame - l->t_update <= tr->cfg.coast_s)) continue;
-    const double dt = fmax(0.0, t_frame - l->t_state);
+    const double dt = max_d(0.0, t_frame - l->t_state);
     const uint32_t n = tr->nlead++;
     tr->lead[n].x = l->x[0] + l->x[2] * dt;
     tr->lead[n].y = l->x[1] + l->x[3] * dt;
@@ -2067,7 +2079,7 @@ static void queue_leaders(rs_tracker_t *tr, double t_frame) {
     tr->lead[n].hs = l->hsd;
     tr->lead[n].len = l->full_length;
     tr->lead[n].id = l->id;
-    tr->lead_maxlen = fmax(tr->lead_maxlen, l->full_length);
+    tr->lead_maxlen = max_d(tr->lead_maxlen, l->full_length);
     tr->lead_cell[n][0] = (long)floor(tr->lead[n].x / QUEUE_CELL_M);
     tr->lead_cell[n][1] = (long)floor(tr->lead[n].y / QUEUE_CELL_M);
     const uint32_t bk = bucket(tr->lead_cell[n][0], tr->lead_cell[n][1]);
@@ -2086,10 +2098,10 @@ static void leader_room(const rs_tracker_t *tr, const rs_track_t *t, uint32_t j,
   if (fabs(tr->lead[j].hc * ux + tr->lead[j].hs * uy) < QUEUE_COS || (norm2(tr->lead[j].vx, tr->lead[j].vy) > QUEUE_V && lv < 0.0))
     return; /* across t's way; oncoming */
   const double room = along - 0.5 * (t->full_length + tr->lead[j].len) - QUEUE_GAP_M; /* how far on t may go */
-  const double gap_seen = room + QUEUE_GAP_M - lv * fmax(0.0, t_frame - t->t_update); /* between them when t was last seen */
+  const double gap_seen = room + QUEUE_GAP_M - lv * max_d(0.0, t_frame - t->t_update); /* between them when t was last seen */
   if (gap_seen < QUEUE_GAP_M || room >= *best) return; /* nearer then: parts of one vehicle (a bus seen in two) */
-  *best = fmax(0.0, room);
-  *vl = fmax(0.0, lv);
+  *best = max_d(0.0, room);
+  *vl = max_d(0.0, lv);
 }
 static void follow_leader(rs_tracker_t *tr, rs_track_t *t, double t_frame) {
   if (tr->nlead == 0 || !size_known(t) || t->full_length < STILL_LANE_LEN_M || t->state == RS_TRACK_TENTATIVE ||
@@ -2104,8 +2116,8 @@ static void follow_leader(rs_tracker_t *tr, rs_track_t *t, double t_frame) {
   /* the cells around its way from where it was seen as far as a leader's centre may lie */
   const double reach = at + 0.5 * (t->full_length + tr->lead_maxlen) + QUEUE_GAP_M;
   const double x0 = t->x_seen[0], y0 = t->x_seen[1], x1 = x0 + ux * reach, y1 = y0 + uy * reach;
-  const long g0x = (long)floor((fmin(x0, x1) - QUEUE_ACROSS_M) / QUEUE_CELL_M), g1x = (long)floor((fmax(x0, x1) + QUEUE_ACROSS_M) / QUEUE_CELL_M);
-  const long g0y = (long)floor((fmin(y0, y1) - QUEUE_ACROSS_M) / QUEUE_CELL_M), g1y = (long)floor((fmax(y0, y1) + QUEUE_ACROSS_M) / QUEUE_CELL_M);
+  const long g0x = (long)floor((min_d(x0, x1) - QUEUE_ACROSS_M) / QUEUE_CELL_M), g1x = (long)floor((max_d(x0, x1) + QUEUE_ACROSS_M) / QUEUE_CELL_M);
+  const long g0y = (long)floor((min_d(y0, y1) - QUEUE_ACROSS_M) / QUEUE_CELL_M), g1y = (long)floor((max_d(y0, y1) + QUEUE_ACROSS_M) / QUEUE_CELL_M);
   if ((g1x - g0x + 1) * (g1y - g0y + 1) > QUEUE_CELLS_MAX) {
     for (uint32_t j = 0; j < tr->nlead; j++) leader_room(tr, t, j, t_frame, ux, uy, &best, &vl);
   } else {
@@ -2117,7 +2129,7 @@ static void follow_leader(rs_tracker_t *tr, rs_track_t *t, double t_frame) {
   if (!(best < at)) return;
   t->x[0] -= (at - best) * ux;
   t->x[1] -= (at - best) * uy;
-  const double vn = fmin(v, vl);
+  const double vn = min_d(v, vl);
   t->x[2] = vn * ux;
   t->x[3] = vn * uy;
   t->brake = 0.0f;
@@ -2189,7 +2201,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   t->last_z[0] = z[0];
   t->last_z[1] = z[1];
   t->t_z = tk;
-  if (t->hits > 0) t->spread = fmax(t->spread, norm2(z[0] - t->px0, z[1] - t->py0));
+  if (t->hits > 0) t->spread = max_d(t->spread, norm2(z[0] - t->px0, z[1] - t->py0));
   const uint32_t slot = t->hits % RS_TRACK_STILL_WINDOW; /* the still window's ring */
   t->win_z[slot][0] = z[0];
   t->win_z[slot][1] = z[1];
@@ -2199,7 +2211,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   const double sdu = update_sd(tr, sd, misfit);
   update(t, z, sdu);
   const double sdi = /* the speed estimator's (misfit_own) */
-      tr->cfg.misfit_own && misfit > 0 && off_axis(tr, t, o) ? update_sd(tr, sd, fmin(misfit, own_misfit(t, o))) : sdu;
+      tr->cfg.misfit_own && misfit > 0 && off_axis(tr, t, o) ? update_sd(tr, sd, min_d(misfit, own_misfit(t, o))) : sdu;
   const bool first = t->hits == 0;
   double zi[2];
   if (ref_meas(tr, t, o, zs, tk, first, zi)) grown = false; /* grown at the hidden end, the seen one followed */
@@ -2210,7 +2222,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
       for (int a = 0; a < 2; a++) {
         t->imm.x[j][a][0] = zi[a];
         if (first && tr->cfg.imm_birth_wide) /* a vehicle may be born on a short box: its speed as unknown as any */
-          t->imm.P[j][a][SYM[1][1]] = fmax(t->imm.P[j][a][SYM[1][1]], tr->cfg.init_speed_sd * tr->cfg.init_speed_sd);
+          t->imm.P[j][a][SYM[1][1]] = max_d(t->imm.P[j][a][SYM[1][1]], tr->cfg.init_speed_sd * tr->cfg.init_speed_sd);
         if (grown && !whole) { /* at its velocity before (or 0 m/s), as uncertain as at birth, not correlated */
           t->imm.x[j][a][1] = tr->cfg.uncover_restart == 2 ? vprev[a] : 0.0;
           t->imm.P[j][a][0] = sdu * sdu;
@@ -2238,8 +2250,8 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
     t->top = t->top_n == 0 ? top : t->top + 0.2f * (top - t->top);
     t->top_n++;
   }
-  t->full_length = fmaxf(t->length, t->full_length - 0.05f);
-  if (o->sensor.obb_length >= fmaxf(AXIS_VIEW_M, AXIS_VIEW_SHARE * t->full_length) &&
+  t->full_length = max_f(t->length, t->full_length - 0.05f);
+  if (o->sensor.obb_length >= max_f(AXIS_VIEW_M, AXIS_VIEW_SHARE * t->full_length) &&
       o->sensor.obb_length >= AXIS_ASPECT * o->sensor.obb_width &&
       isfinite(o->sensor.obb_heading)) { /* a side seen whole: its axis (a NaN would stay in the mean) */
     const float c2 = cosf(2.0f * o->sensor.obb_heading), s2 = sinf(2.0f * o->sensor.obb_heading);
@@ -2249,7 +2261,7 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
     if (t->axis_n < UINT16_MAX) t->axis_n++;
   }
   if (!t->seen_whole && near_edge(t->x[0], t->x[1], t->length, t->width) > beam_reach(tr, t)) t->seen_whole = true;
-  t->full_width = fmaxf(t->width, t->full_width - 0.02f);
+  t->full_width = max_f(t->width, t->full_width - 0.02f);
   t->hits++;
   t->t_update = tk;
   t->points = o->points;
@@ -2280,7 +2292,7 @@ static void report_speed(const rs_tracker_t *tr, rs_track_t *t) {
   const bool imm = tr->cfg.speed_imm && !walker_sized(t);
   for (int a = 0; a < 2; a++) t->vel[a] = imm ? imm_velocity(t, a) : t->x[2 + a];
   const double sp = norm2(t->vel[0], t->vel[1]), sdv = sqrt(0.5 * (t->P[2][2] + t->P[3][3]));
-  const double floor_v = fmax(tr->cfg.still_speed, fmin(sdv, 1.0)); /* within one sd of 0 (at most 1 m/s) */
+  const double floor_v = max_d(tr->cfg.still_speed, min_d(sdv, 1.0)); /* within one sd of 0 (at most 1 m/s) */
   t->speed = (float)(sp < floor_v ? 0.0 : sp);
 }
 
@@ -2361,7 +2373,7 @@ static int twin_of(rs_tracker_t *tr, const rs_track_t *t, double t_frame) {
   if (t->state != RS_TRACK_CONFIRMED && t->state != RS_TRACK_COASTING) return -1;
   const double vt = norm2(t->x[2], t->x[3]);
   if (vt < DUP_BOX_V || t_frame - t->t_update > TWIN_SEEN_S || norm2(t->x[0], t->x[1]) > TWIN_RANGE_M) return -1;
-  const double dtt = fmax(0.0, t_frame - t->t_state);
+  const double dtt = max_d(0.0, t_frame - t->t_state);
   const double tx = t->x[0] + t->x[2] * dtt, ty = t->x[1] + t->x[3] * dtt;
   const uint32_t nn = tracks_near(tr, tx, ty, 12.0); /* half a bus each */
   for (uint32_t q = 0; q < nn; q++) {
@@ -2373,10 +2385,10 @@ static int twin_of(rs_tracker_t *tr, const rs_track_t *t, double t_frame) {
     if (vo < DUP_BOX_V || norm2(o->x[2] - t->x[2], o->x[3] - t->x[3]) > TWIN_DV ||
         o->x[2] * t->x[2] + o->x[3] * t->x[3] < TWIN_COS * vo * vt)
       continue;
-    const double dto = fmax(0.0, t_frame - o->t_state);
+    const double dto = max_d(0.0, t_frame - o->t_state);
     const double dx = tx - (o->x[0] + o->x[2] * dto), dy = ty - (o->x[1] + o->x[3] * dto);
     const double u = fabs(dx * o->hcos + dy * o->hsin), v = fabs(-dx * o->hsin + dy * o->hcos);
-    if (u < 0.5 * (o->length + t->length) - TWIN_OVERLAP_M && v < 0.5 * fmax(o->width, t->width))
+    if (u < 0.5 * (o->length + t->length) - TWIN_OVERLAP_M && v < 0.5 * max_d(o->width, t->width))
       return (int)j;
   }
   return -1;
@@ -2459,9 +2471,9 @@ static void kin_dir(const rs_track_t *o, double *c, double *s) {
  * A bus seen again by its rear after passing behind something is its rear part; a car following it,
  * seen whole, reaches out of the bus's box */
 static bool kin_rear(const rs_track_t *o, const rs_track_t *y, double off, double v, double dt, double ahead) {
-  const double braked_m = fmin(v * dt, 0.5 * KIN_BRAKE * dt * dt), half = 0.5 * o->full_length + KIN_MARGIN_M;
+  const double braked_m = min_d(v * dt, 0.5 * KIN_BRAKE * dt * dt), half = 0.5 * o->full_length + KIN_MARGIN_M;
   const double front = off + 0.5 * y->length, rear = off - 0.5 * y->length;
-  return fmax(-braked_m, front - half) <= fmin(ahead, rear + half);
+  return max_d(-braked_m, front - half) <= min_d(ahead, rear + half);
 }
 /* how far young track y lies from unseen vehicle track o's prediction along o's lane (kin_dir)
  * when it lies where o may be (the bounds above), -1 when it does not */
@@ -2517,14 +2529,14 @@ static bool stitch_feasible(const rs_tracker_t *tr, const rs_track_t *o, const r
   const double v0 = o->x_seen[2] * c + o->x_seen[3] * s, v1 = y->x[2] * c + y->x[3] * s;
   const double d = (y->x[0] - o->x_seen[0]) * c + (y->x[1] - o->x_seen[1]) * s;
   const double sv = FEAS_V + 2.0 * sqrt(0.5 * (y->P[2][2] + y->P[3][3]));
-  double a0 = fmax(0.0, v0 - FEAS_V), b0 = fmax(0.0, v0 + FEAS_V);
-  double a1 = fmax(0.0, v1 - sv), b1 = fmax(0.0, v1 + sv);
+  double a0 = max_d(0.0, v0 - FEAS_V), b0 = max_d(0.0, v0 + FEAS_V);
+  double a1 = max_d(0.0, v1 - sv), b1 = max_d(0.0, v1 + sv);
   if (a1 > b0 + FEAS_UP * dt || a0 - FEAS_DN * dt > b1) return false; /* its speed could not have changed so */
   /* the speeds within reach of each other in dt (each pair's path then fits in dt) */
-  a0 = fmax(a0, a1 - FEAS_UP * dt);
-  a1 = fmax(a1, a0 - FEAS_DN * dt);
-  b0 = fmin(b0, b1 + FEAS_DN * dt);
-  b1 = fmin(b1, b0 + FEAS_UP * dt);
+  a0 = max_d(a0, a1 - FEAS_UP * dt);
+  a1 = max_d(a1, a0 - FEAS_DN * dt);
+  b0 = min_d(b0, b1 + FEAS_DN * dt);
+  b1 = min_d(b1, b0 + FEAS_UP * dt);
   const double t1 = (a0 + FEAS_UP * dt - a1) / (FEAS_DN + FEAS_UP), vm = a0 - FEAS_DN * t1;
   const double dmin = vm >= 0.0 ? 0.5 * (a0 + vm) * t1 + 0.5 * (vm + a1) * (dt - t1)
                                 : a0 * a0 / (2.0 * FEAS_DN) + a1 * a1 / (2.0 * FEAS_UP);
@@ -2622,19 +2634,19 @@ static bool merge_parts(rs_tracker_t *tr, uint32_t i, const rs_object_list_t *ob
     double ea[4], eb[4];
     box_on(m, t->heading, t->hcos, t->hsin, ea);
     box_on(b, t->heading, t->hcos, t->hsin, eb);
-    const double u0 = fmin(ea[0], eb[0]), u1 = fmax(ea[1], eb[1]), v0 = fmin(ea[2], eb[2]), v1 = fmax(ea[3], eb[3]);
+    const double u0 = min_d(ea[0], eb[0]), u1 = max_d(ea[1], eb[1]), v0 = min_d(ea[2], eb[2]), v1 = max_d(ea[3], eb[3]);
     const double cu = 0.5 * (u0 + u1), cv = 0.5 * (v0 + v1), lu = u1 - u0, lv = v1 - v0;
     m->sensor.obb_center[0] = (float)(cu * t->hcos - cv * t->hsin);
     m->sensor.obb_center[1] = (float)(cu * t->hsin + cv * t->hcos);
     m->sensor.obb_heading = (float)(lu >= lv ? t->heading : t->heading + 0.5 * PI);
-    m->sensor.obb_length = (float)fmax(lu, lv);
-    m->sensor.obb_width = (float)fmin(lu, lv);
+    m->sensor.obb_length = (float)max_d(lu, lv);
+    m->sensor.obb_width = (float)min_d(lu, lv);
     for (int d = 0; d < 3; d++) {
-      m->sensor.box_min[d] = fminf(m->sensor.box_min[d], b->sensor.box_min[d]);
-      m->sensor.box_max[d] = fmaxf(m->sensor.box_max[d], b->sensor.box_max[d]);
+      m->sensor.box_min[d] = min_f(m->sensor.box_min[d], b->sensor.box_min[d]);
+      m->sensor.box_max[d] = max_f(m->sensor.box_max[d], b->sensor.box_max[d]);
     }
     m->points += b->points;
-    m->range_min = fminf(m->range_min, b->range_min);
+    m->range_min = min_f(m->range_min, b->range_min);
     m->occluded = 0;
     tr->taken_by[k] = (int32_t)i;
     L->object_track[k] = t->id;
@@ -2694,7 +2706,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   L->ended = 0;
   if (t_frame < tr->last_t) t_frame = tr->last_t; /* time never runs back */
   tr->last_t = t_frame;
-  for (int b = 0; b < GRID_BUCKETS; b++) tr->grid_head[b] = -1;
+  for (uint32_t j = 0; j < tr->grid_nused; j++) tr->grid_head[tr->grid_used[j]] = -1;
+  tr->grid_nused = 0;
   tr->obj_base = objs->obj;
   tr->obj_n = nobj;
   for (uint32_t k = 0; k < nobj; k++) {
@@ -2711,6 +2724,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     tr->obj_cell[k][0] = (long)floor(o->sensor.obb_center[0] / GRID);
     tr->obj_cell[k][1] = (long)floor(o->sensor.obb_center[1] / GRID);
     const uint32_t bk = bucket(tr->obj_cell[k][0], tr->obj_cell[k][1]);
+    if (tr->grid_head[bk] < 0) tr->grid_used[tr->grid_nused++] = (uint16_t)bk;
     tr->grid_next[k] = tr->grid_head[bk];
     tr->grid_head[bk] = (int32_t)k;
   }
@@ -2853,11 +2867,11 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
       if (o->t_update >= y->t_birth) {
         /* they were seen together: the same object only when the older one, unseen, is predicted where the
          * younger one is (within a third of its length) and they are of a size */
-        const double lmax = fmax(o->length, y->length), lmin = fmin(o->length, y->length);
-        if (o->id > y->id || sqrt(dx * dx + dy * dy) > fmax(0.5, 0.35 * y->length) || lmin < 0.5 * lmax - 0.5 ||
+        const double lmax = max_d(o->length, y->length), lmin = min_d(o->length, y->length);
+        if (o->id > y->id || sqrt(dx * dx + dy * dy) > max_d(0.5, 0.35 * y->length) || lmin < 0.5 * lmax - 0.5 ||
             !move_alike(o, y))
           continue;
-      } else if (sqrt(dx * dx + dy * dy) > fmin(2.0 * cf->gate_m, cf->gate_m + 0.5 * (y->t_state - o->t_update)) ||
+      } else if (sqrt(dx * dx + dy * dy) > min_d(2.0 * cf->gate_m, cf->gate_m + 0.5 * (y->t_state - o->t_update)) ||
                  off_lane(cf, o, dx, dy, y->t_state - o->t_update) || !stitch_feasible(tr, o, y)) {
         continue;
       }
@@ -2921,7 +2935,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
     const rs_track_t *o = &L->track[j];
     if (unseen(o) && !o->blind_kept && kin_vehicle(cf, o) && t_frame - o->t_update >= KIN_MIN_S) {
       tr->near[nkin++] = (uint16_t)j;
-      kin_first = fmin(kin_first, o->t_update);
+      kin_first = min_d(kin_first, o->t_update);
     }
   }
   for (uint32_t i = 0; i < L->count && nkin > 0; i++) {
@@ -2977,8 +2991,8 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
         dup = (o->state == RS_TRACK_CONFIRMED || o->state == RS_TRACK_COASTING) && o->length >= t->length &&
               in_track_box(tr, o, t->x[0], t->x[1]);
       } else if (o->id < t->id && o->object >= 0) {
-        const double lmax = fmax(o->length, t->length), lmin = fmin(o->length, t->length);
-        const double dx = o->x[0] - px, dy = o->x[1] - py, r = fmax(0.5, 0.35 * o->length);
+        const double lmax = max_d(o->length, t->length), lmin = min_d(o->length, t->length);
+        const double dx = o->x[0] - px, dy = o->x[1] - py, r = max_d(0.5, 0.35 * o->length);
         dup = dx * dx + dy * dy <= r * r && lmin >= 0.5 * lmax - 0.5;
         if (!dup && cf->dup_box && o->length >= DUP_BOX_M && norm2(o->x[2], o->x[3]) >= DUP_BOX_V && move_alike(o, t))
           dup = in_track_box(tr, o, px, py);
@@ -3024,7 +3038,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
         tr->n.confirmed++;
       }
     } else {
-      const double lost = t->shape_cls == RS_CLASS_PEDESTRIAN ? fmax(cf->lost_s, cf->lost_walker_s) : cf->lost_s;
+      const double lost = t->shape_cls == RS_CLASS_PEDESTRIAN ? max_d(cf->lost_s, cf->lost_walker_s) : cf->lost_s;
       t->blind_kept = !updated && since > cf->coast_s + lost &&
                       since <= (cf->blind_walker && walker_full_sized(t) ? walker_keep(tr, t) : cf->blind_s) &&
                       at_blind_edge(tr, t);
@@ -3114,7 +3128,7 @@ uint32_t rs_track_owner(const rs_tracker_t *tr, uint32_t k, double x, double y) 
     const double dt = tr->obj_t[k] - t->t_state;
     const double dx = x - (t->x[0] + t->x[2] * dt), dy = y - (t->x[1] + t->x[3] * dt);
     const double u = dx * t->hcos + dy * t->hsin, v = -dx * t->hsin + dy * t->hcos;
-    const double score = fmax(fabs(u) / fmax(0.25, 0.5 * t->length), fabs(v) / fmax(0.25, 0.5 * t->width));
+    const double score = max_d(fabs(u) / max_d(0.25, 0.5 * t->length), fabs(v) / max_d(0.25, 0.5 * t->width));
     if (score < best_score) {
       best_score = score;
       best = t->id;

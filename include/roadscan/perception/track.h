@@ -135,6 +135,7 @@ _Static_assert(RS_TRACK_ASSIGN_MAX * RS_TRACK_ASSIGN_MAX <= 16384,
                "the association matrix (a group's tracks and objects, and a column per track for no object) stays small");
 _Static_assert(RS_TRACK_MAX + RS_OBJ_MAX <= UINT16_MAX, "group roots fit in uint16_t");
 _Static_assert((RS_TRACK_GRID_BUCKETS & (RS_TRACK_GRID_BUCKETS - 1)) == 0, "buckets: a power of two");
+_Static_assert(RS_TRACK_GRID_BUCKETS <= 65536, "buckets: grid_used holds them as uint16_t");
 
 typedef enum { RS_TRACK_TENTATIVE = 0, RS_TRACK_CONFIRMED = 1, RS_TRACK_COASTING = 2, RS_TRACK_LOST = 3 } rs_track_state_t;
 typedef enum {
@@ -605,10 +606,13 @@ typedef struct {
   rs_track_edge_t gedge[RS_TRACK_MAX * RS_TRACK_EDGES_PER_TRACK]; /* the same, grouped */
   uint16_t eroot[RS_TRACK_MAX * RS_TRACK_EDGES_PER_TRACK];
   uint32_t root_start[RS_TRACK_MAX + RS_OBJ_MAX + 1];
-  int32_t grid_head[RS_TRACK_GRID_BUCKETS];
+  int32_t grid_head[RS_TRACK_GRID_BUCKETS]; /* -1 but the buckets in grid_used: each frame clears only those */
   int32_t grid_next[RS_OBJ_MAX];
-  int32_t tgrid_head[RS_TRACK_GRID_BUCKETS];  /* tracks by position */
+  uint16_t grid_used[RS_OBJ_MAX];
+  uint32_t grid_nused;
+  int32_t tgrid_head[RS_TRACK_GRID_BUCKETS];  /* tracks by position; -1 but the cells of tcell[0 .. tgrid_n) */
   int32_t tgrid_next[RS_TRACK_MAX];
+  uint32_t tgrid_n;
   double tpos[RS_TRACK_MAX][2];
   long tcell[RS_TRACK_MAX][2];
   double vmax;                         /* the fastest track's speed this frame */
