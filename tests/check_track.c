@@ -2826,6 +2826,35 @@ START_TEST(t_passing_not_stitched) {
 }
 END_TEST
 
+/* stitch_alike. Car A stands at (0, 15) and is not seen after 3 s (it went on unseen: below the
+ * beams, behind a van). Car B, in the same lane behind it, seen in the same frames as A, drives up at
+ * 3.5 m/s and through where A stood 2 s after A was last seen. They were seen together, so B's track
+ * is A's only if they move alike; A's velocity is 0 but its uncertainty grew while unseen. Returns
+ * whether B's returns carried A's id in any frame. */
+static bool standing_car_taken(int stitch_alike) {
+  init_knob("stitch_alike", stitch_alike);
+  uint32_t a = 0, b = 0;
+  bool taken = false;
+  for (int f = 0; f < 70; f++) {
+    const double t = 0.1 * f;
+    clear();
+    if (t < 3.0) car(t, 0.0, 15.0, 0.0);
+    car(t, -17.5 + 3.5 * t, 15.0, 0.0);
+    rs_track_frame(&tr, &objs, t + 0.05);
+    if (f == 20) a = tr.list.object_track[0], b = tr.list.object_track[1];
+    if (t >= 3.0) taken |= tr.list.object_track[0] == a;
+  }
+  ck_assert_uint_ne(a, 0);
+  ck_assert_uint_ne(b, 0);
+  ck_assert_uint_ne(a, b);
+  return taken;
+}
+START_TEST(t_standing_not_stitched) {
+  ck_assert_msg(!standing_car_taken(1), "the passing car took the standing car's id");
+  ck_assert_msg(standing_car_taken(0), "without stitch_alike the case is not made");
+}
+END_TEST
+
 /* stitch_kin. Car A drives at 3 m/s along y = 15 for 3 s and is not seen again (it turned off,
  * or stays hidden). Car B, a faster one in the same lane, comes into view at 3.6 s 6.7 m behind
  * where A was last seen and drives on at 12 m/s, through the place A's track is predicted at:
@@ -3811,6 +3840,7 @@ int main(void) {
   tcase_add_test(tc, t_blind_circle_turn);
   tcase_add_test(tc, t_queued_merge);
   tcase_add_test(tc, t_passing_not_stitched);
+  tcase_add_test(tc, t_standing_not_stitched);
   tcase_add_test(tc, t_stitch_kin);
   tcase_add_test(tc, t_crowd_divided);
   tcase_add_test(tc, t_split);

@@ -120,6 +120,7 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->speed_full_length = 1;
   c->split_car_m = 5.0;
   c->stitch_kin = 1;
+  c->stitch_alike = 1;
   c->gap_unseen = 1;
   c->miss_cost = 24.0;
   c->blind_walker_pace_s = 3.0;
@@ -162,7 +163,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       cfg->blind_walker < 0 || cfg->blind_walker > 1 || !(cfg->blind_walker_s >= 0 && cfg->blind_walker_s <= RS_TRACK_WALKER_KEEP_MAX) ||
       !(cfg->blind_walker_cross >= 0 && cfg->blind_walker_cross <= 10) || cfg->blind_walker_alone < 0 || cfg->blind_walker_alone > 1 ||
       cfg->blind_walker_fifo < 0 || cfg->blind_walker_fifo > 1 || !(cfg->blind_walker_line >= 0 && cfg->blind_walker_line <= 20) || !(cfg->split_car_m >= 0 && cfg->split_car_m <= 20) ||
-      cfg->stitch_kin < 0 || cfg->stitch_kin > 1 || cfg->gap_unseen < 0 || cfg->gap_unseen > 1 ||
+      cfg->stitch_kin < 0 || cfg->stitch_kin > 1 || cfg->stitch_alike < 0 || cfg->stitch_alike > 1 || cfg->gap_unseen < 0 || cfg->gap_unseen > 1 ||
       !(cfg->miss_cost >= 0 && cfg->miss_cost <= 1000) || !(cfg->blind_walker_pace_s >= 0 && cfg->blind_walker_pace_s <= 60))
     return RS_E_INVAL;
   memset(&tr->list, 0, sizeof tr->list);
@@ -207,7 +208,7 @@ static const rs_opt_t knobs[] = {
     KNOB(walker_reacq_s, 0.0, 60.0),  KNOB(seen_across_m, 0.0, 20.0), KNOB_INT(circle_whole, 0, 1),
     KNOB_INT(uncover_restart, 0, 2), KNOB_INT(merge_parts, 0, 1), KNOB(merge_front_m, 0.0, 20.0), KNOB(tent_claim_m, 0.0, 20.0), KNOB(kin_accel, 0.0, 10.0),
     KNOB_INT(walker_part, 0, 1), KNOB_INT(speed_full_length, 0, 1), KNOB_INT(blind_walker, 0, 1), KNOB(blind_walker_s, 0.0, RS_TRACK_WALKER_KEEP_MAX), KNOB(blind_walker_cross, 0.0, 10.0), KNOB_INT(blind_walker_alone, 0, 1),
-    KNOB_INT(blind_walker_fifo, 0, 1), KNOB(blind_walker_line, 0.0, 20.0), KNOB(split_car_m, 0.0, 20.0), KNOB_INT(stitch_kin, 0, 1), KNOB_INT(gap_unseen, 0, 1), KNOB(miss_cost, 0.0, 1000.0),
+    KNOB_INT(blind_walker_fifo, 0, 1), KNOB(blind_walker_line, 0.0, 20.0), KNOB(split_car_m, 0.0, 20.0), KNOB_INT(stitch_kin, 0, 1), KNOB_INT(stitch_alike, 0, 1), KNOB_INT(gap_unseen, 0, 1), KNOB(miss_cost, 0.0, 1000.0),
     KNOB_INT(still_lane, 0, 1), KNOB_INT(brake_coast, 0, 1), KNOB_INT(still_coast, 0, 1), KNOB(blind_walker_pace_s, 0.0, 60.0),
     KNOB_INT(still_reverse, 0, 1), KNOB_INT(queue_coast, 0, 1),
     KNOB(clear_part_share, 0.0, 1.0), KNOB_INT(clear_beside, 0, 1), KNOB_INT(clear_longer, 0, 1),
@@ -1085,10 +1086,12 @@ static bool in_track_box(const rs_tracker_t *tr, const rs_track_t *t, double px,
 
 /* tracks a and b move alike, as two tracks of one object do: their
  * velocities differ by at most 3 m/s or two standard deviations of the
- * difference (a vehicle passing where a lost track is predicted does not) */
-static bool move_alike(const rs_track_t *a, const rs_track_t *b) {
+ * difference (a vehicle passing where a lost track is predicted does not);
+ * with b_only (stitch_alike), of b's velocity alone: a's, unseen, grew while
+ * unseen */
+static bool move_alike(const rs_track_t *a, const rs_track_t *b, bool b_only) {
   const double dvx = a->x[2] - b->x[2], dvy = a->x[3] - b->x[3], d2 = dvx * dvx + dvy * dvy;
-  return d2 <= 9.0 || d2 <= 4.0 * (a->P[2][2] + a->P[3][3] + b->P[2][2] + b->P[3][3]);
+  return d2 <= 9.0 || d2 <= 4.0 * ((b_only ? 0.0 : a->P[2][2] + a->P[3][3]) + b->P[2][2] + b->P[3][3]);
 }
 
 static bool walker_like(const rs_track_cfg_t *cf, const rs_track_t *t);
@@ -2869,7 +2872,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
          * younger one is (within a third of its length) and they are of a size */
         const double lmax = max_d(o->length, y->length), lmin = min_d(o->length, y->length);
         if (o->id > y->id || sqrt(dx * dx + dy * dy) > max_d(0.5, 0.35 * y->length) || lmin < 0.5 * lmax - 0.5 ||
-            !move_alike(o, y))
+            !move_alike(o, y, cf->stitch_alike))
           continue;
       } else if (sqrt(dx * dx + dy * dy) > min_d(2.0 * cf->gate_m, cf->gate_m + 0.5 * (y->t_state - o->t_update)) ||
                  off_lane(cf, o, dx, dy, y->t_state - o->t_update) || !stitch_feasible(tr, o, y)) {
@@ -2994,7 +2997,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
         const double lmax = max_d(o->length, t->length), lmin = min_d(o->length, t->length);
         const double dx = o->x[0] - px, dy = o->x[1] - py, r = max_d(0.5, 0.35 * o->length);
         dup = dx * dx + dy * dy <= r * r && lmin >= 0.5 * lmax - 0.5;
-        if (!dup && cf->dup_box && o->length >= DUP_BOX_M && norm2(o->x[2], o->x[3]) >= DUP_BOX_V && move_alike(o, t))
+        if (!dup && cf->dup_box && o->length >= DUP_BOX_M && norm2(o->x[2], o->x[3]) >= DUP_BOX_V && move_alike(o, t, false))
           dup = in_track_box(tr, o, px, py);
       }
     }

@@ -415,6 +415,11 @@ typedef struct {
                                   (1 m/s, 2 sd of the young track's velocity and 3 m of slack): a faster car
                                   passing behind the spot a slow track was predicted to is not it (default 1;
                                   docs/tracking.md) */
+  int stitch_alike;            /* 1: an unseen track seen in the same frames as a younger one is stitched to it only
+                                  when their velocities differ by 3 m/s at most, not also within two standard
+                                  deviations of the difference: the unseen one's grows with the time unseen, and
+                                  after 2 s any vehicle passing where it stood is "alike" (default 1;
+                                  docs/tracking.md, Association) */
   int gap_unseen;              /* 1: a track unseen in a frame whose columns at its predicted centre were not
                                   measured (a lost packet, rs_object_list_t.gap) was not missed: the frame does
                                   not count against its "hit in every frame" (misses), as it could not have
