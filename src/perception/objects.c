@@ -275,7 +275,6 @@ void rs_objects_extract_cells(rs_objects_t *o, const rs_slot_t *s, const rs_sens
   out->site_valid = o->have_pose;
   out->candidates_overflow = out->approx_boxes = 0;
   out->lowest_beam_deg = sen->lasers > 0 ? sen->elevation_deg[sen->laser_of_row[0]] : 0.0f; /* row 0: the lowest */
-  out->second_beam_deg = sen->lasers > 1 ? sen->elevation_deg[sen->laser_of_row[1]] : 0.0f;
   out->gap_cols = (uint16_t)cols;
   out->ngaps = 0;
   out->gaps_dropped = 0;

@@ -84,7 +84,6 @@ void rs_track_cfg_default(rs_track_cfg_t *c) {
   c->dup_box = 1;
   c->lost_walker_s = 4.0;
   c->below_beam = 1;
-  c->beam_gap = 1;
   c->still_lane = 1;
   c->brake_coast = 1;
   c->still_coast = 1;
@@ -148,7 +147,7 @@ int rs_track_init(rs_tracker_t *tr, const rs_track_cfg_t *cfg) {
       !(cfg->confirm_cut_walk_m >= 0 && cfg->confirm_cut_walk_m <= 20) || cfg->split_full_size < 0 || cfg->split_full_size > 1 ||
       cfg->blind_turn < 0 || cfg->blind_turn > 1 || cfg->split_object_axis < 0 || cfg->split_object_axis > 1 ||
       cfg->split_near_circle < 0 || cfg->split_near_circle > 1 || cfg->dup_box < 0 || cfg->dup_box > 1 ||
-      !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 || cfg->beam_gap < 0 || cfg->beam_gap > 1 ||
+      !(cfg->lost_walker_s >= 0 && cfg->lost_walker_s <= 60) || cfg->below_beam < 0 || cfg->below_beam > 1 ||
       cfg->still_lane < 0 || cfg->still_lane > 1 || cfg->brake_coast < 0 || cfg->brake_coast > 1 || cfg->still_coast < 0 || cfg->still_coast > 1 ||
       cfg->still_reverse < 0 || cfg->still_reverse > 1 || cfg->queue_coast < 0 || cfg->queue_coast > 1 ||
       !(cfg->blind_s >= 0 && cfg->blind_s <= 60) || cfg->walked_hits < 0 || cfg->walked_hits > 1000 ||
@@ -200,7 +199,7 @@ static const rs_opt_t knobs[] = {
     KNOB(confirm_still_range, 0.0, 1000.0),
     KNOB_INT(hidden_anchor, 0, 1),   KNOB(reacq_across_m, 0.0, 20.0),    KNOB(confirm_walk_m, 0.0, 20.0),
     KNOB(confirm_cut_walk_m, 0.0, 20.0), KNOB_INT(confirm_still_window, 0, RS_TRACK_STILL_WINDOW), KNOB_INT(confirm_steady, 0, 1),
-    KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1), KNOB_INT(beam_gap, 0, 1),
+    KNOB_INT(split_full_size, 0, 1),  KNOB(lost_walker_s, 0.0, 60.0),   KNOB_INT(below_beam, 0, 1),
     KNOB(blind_s, 0.0, 60.0),         KNOB_INT(speed_imm, 0, 1),       KNOB_INT(imm_birth_wide, 0, 1),  KNOB_INT(misfit_own, 0, 1), KNOB_INT(confirm_pace, 0, 1),
     KNOB(q_jerk, 0.01, 100.0),
     KNOB_INT(walked_hits, 0, 1000),   KNOB(turn_rate, 0.0, 2.0),       KNOB_INT(blind_turn, 0, 1),
@@ -565,74 +564,6 @@ static bool earlier_out(const rs_tracker_t *tr, const rs_track_t *t, const doubl
 #define BB_NU 17
 #define BB_NV 5
 #define BB_SD 0.3 /* m added to the update noise: the grid, the smoothed top, a beam's width */
-/* beam_gap: the ranges (*lo, *hi) where track t's body is between the two lowest beams: the lowest
- * passes under its bottom (from lo on) before the next reaches its top (at hi). Its top is its highest
- * return (at the gap's far edge the next beam grazes it: a top midway to the row above, as rb's, puts
- * that edge metres too near), its bottom BG_CLEAR_M above the ground under it, or BG_BODY_M under its
- * top when the ground is not known. false when there is no such gap. */
-#define BG_BODY_M 1.0
-#define BG_CLEAR_M 0.3
-#define BB_ITER 2
-static bool beam_gap(const rs_tracker_t *tr, const rs_track_t *t, double *lo, double *hi) {
-  if (!tr->cfg.beam_gap || !(tr->second_tan > 0) || !(t->top_seen < -0.05f)) return false;
-  const double top = -(double)t->top_seen, bottom = t->top_agl_n > 0 ? -(double)t->ground_z - BG_CLEAR_M : top + BG_BODY_M;
-  *lo = bottom / tr->low_tan;
-  *hi = top / tr->second_tan;
-  return *hi > *lo;
-}
-/* the part of a box len x wid centred at (px, py) on the axes (c, s) that the beams meet: outside rb,
- * and with gap outside (glo, ghi) too, on a BB_NU x BB_NV grid; with gap, of the runs of seen columns
- * along the axis, the one the object's extent e (on the axes) overlaps most. Its centre's offset from
- * the box's (ou, ov) and extents (eu, ev); false when none or all of the box is seen. */
-static bool seen_part(double px, double py, double len, double wid, double c, double s, double rb, bool gap, double glo,
-                      double ghi, const double e[4], double *ou, double *ov, double *eu, double *ev) {
-  bool pt[BB_NU][BB_NV], col[BB_NU];
-  int seen = 0;
-  for (int i = 0; i < BB_NU; i++) {
-    col[i] = false;
-    for (int j = 0; j < BB_NV; j++) {
-      const double u = len * ((double)i / (BB_NU - 1) - 0.5), v = wid * ((double)j / (BB_NV - 1) - 0.5);
-      const double r = norm2(px + u * c - v * s, py + u * s + v * c);
-      pt[i][j] = r >= rb && !(gap && r > glo && r < ghi);
-      if (pt[i][j]) seen++, col[i] = true;
-    }
-  }
-  if (seen == 0 || seen == BB_NU * BB_NV) return false;
-  /* with the gap across the box, the seen columns may be two runs along its axis (the lowest beam's
-   * near one, the next beam's far one): the object is the one its extent overlaps most */
-  int i0 = 0, i1 = BB_NU - 1;
-  if (gap) {
-    const double pu = px * c + py * s, w0 = e[0] - pu, w1 = e[1] - pu, h = 0.5 * len / (BB_NU - 1);
-    double best = -INFINITY;
-    for (int a = 0; a < BB_NU;) { /* bounded: a grows each turn */
-      if (!col[a]) {
-        a++;
-        continue;
-      }
-      int b = a;
-      while (b + 1 < BB_NU && col[b + 1]) b++;
-      const double ua = len * ((double)a / (BB_NU - 1) - 0.5) - h, ub = len * ((double)b / (BB_NU - 1) - 0.5) + h;
-      const double ov_ = min_d(ub, w1) - max_d(ua, w0);
-      if (ov_ > best) best = ov_, i0 = a, i1 = b;
-      a = b + 1;
-    }
-  }
-  double umin = INFINITY, umax = -INFINITY, vmin = INFINITY, vmax = -INFINITY;
-  for (int i = i0; i <= i1; i++)
-    for (int j = 0; j < BB_NV; j++) {
-      if (!pt[i][j]) continue;
-      const double u = len * ((double)i / (BB_NU - 1) - 0.5), v = wid * ((double)j / (BB_NV - 1) - 0.5);
-      umin = min_d(umin, u);
-      umax = max_d(umax, u);
-      vmin = min_d(vmin, v);
-      vmax = max_d(vmax, v);
-    }
-  *ou = 0.5 * (umin + umax);
-  *ov = 0.5 * (vmin + vmax);
-  *eu = umax - umin;
-  *ev = vmax - vmin;
-  return true;
-}
 static bool below_beam_view(const rs_tracker_t *tr, const rs_track_t *t, const rs_object_t *o, const double e[4],
                             double *z, double *sd, double *misfit) {
   const double rb = beam_reach(tr, t);
@@ -640,24 +571,24 @@ static bool below_beam_view(const rs_tracker_t *tr, const rs_track_t *t, const r
   const double dt = max_d(0.0, rs_object_time(o, t->t_state) - t->t_state);
   const double pcx = t->x[0] + t->x[2] * dt, pcy = t->x[1] + t->x[3] * dt;
   const double len = t->length, wid = t->width, c = t->hcos, s = t->hsin;
-  const double ne = near_edge(pcx, pcy, len, wid), fe = norm2(pcx, pcy) + 0.5 * norm2(len, wid);
-  double glo = 0.0, ghi = 0.0;
-  const bool gap = beam_gap(tr, t, &glo, &ghi) && ghi > ne && glo < fe;
-  if (ne > rb && !gap) return false; /* all of it beyond rb, and of the gap */
-  double cu, cv, eu, ev;
-  if (!seen_part(pcx, pcy, len, wid, c, s, rb, gap, glo, ghi, e, &cu, &cv, &eu, &ev)) return false;
-  /* with the gap, the part seen depends on where the box is, and a prediction that lags (a car
-   * pulling away from the line) puts more of it in the gap than there is: the box is placed again
-   * where the part the object shows puts it, BB_ITER times */
-  for (int k = 0; gap && k < BB_ITER; k++) {
-    const double qx = z[0] - (cu * c - cv * s), qy = z[1] - (cu * s + cv * c);
-    double cu2, cv2, eu2, ev2;
-    if (!seen_part(qx, qy, len, wid, c, s, rb, gap, glo, ghi, e, &cu2, &cv2, &eu2, &ev2)) break;
-    cu = cu2, cv = cv2, eu = eu2, ev = ev2;
-  }
+  if (near_edge(pcx, pcy, len, wid) > rb) return false; /* all of it beyond rb */
+  double umin = INFINITY, umax = -INFINITY, vmin = INFINITY, vmax = -INFINITY;
+  int seen = 0;
+  for (int i = 0; i < BB_NU; i++)
+    for (int j = 0; j < BB_NV; j++) {
+      const double u = len * ((double)i / (BB_NU - 1) - 0.5), v = wid * ((double)j / (BB_NV - 1) - 0.5);
+      if (norm2(pcx + u * c - v * s, pcy + u * s + v * c) < rb) continue;
+      seen++;
+      umin = min_d(umin, u);
+      umax = max_d(umax, u);
+      vmin = min_d(vmin, v);
+      vmax = max_d(vmax, v);
+    }
+  if (seen == 0 || seen == BB_NU * BB_NV) return false;
+  const double cu = 0.5 * (umin + umax), cv = 0.5 * (vmin + vmax);
   z[0] -= cu * c - cv * s;
   z[1] -= cu * s + cv * c;
-  *misfit = fabs((e[1] - e[0]) - eu) + fabs((e[3] - e[2]) - ev);
+  *misfit = fabs((e[1] - e[0]) - (umax - umin)) + fabs((e[3] - e[2]) - (vmax - vmin));
   *sd += BB_SD;
   return true;
 }
@@ -1161,14 +1092,17 @@ static bool in_track_box(const rs_tracker_t *tr, const rs_track_t *t, double px,
   return in_rect(px, py, t->x[0], t->x[1], t->hcos, t->hsin, 0.5 * len + m, 0.5 * wid + 0.5 * m);
 }
 
+static double grown_unseen(const rs_tracker_t *tr, const rs_track_t *t, double t_now);
 /* tracks a and b move alike, as two tracks of one object do: their
  * velocities differ by at most 3 m/s or two standard deviations of the
  * difference (a vehicle passing where a lost track is predicted does not).
- * a_grown: how much of a's velocity variance (its trace) it gained while
- * unseen, left out (stitch_alike): as it was when last seen */
-static bool move_alike(const rs_track_t *a, const rs_track_t *b, double a_grown) {
+ * as_seen (stitch_alike): a's velocity variance as it was when last seen,
+ * what it gained while unseen left out */
+static bool move_alike(const rs_tracker_t *tr, const rs_track_t *a, const rs_track_t *b, bool as_seen) {
   const double dvx = a->x[2] - b->x[2], dvy = a->x[3] - b->x[3], d2 = dvx * dvx + dvy * dvy;
-  return d2 <= 9.0 || d2 <= 4.0 * (max_d(0.0, a->P[2][2] + a->P[3][3] - a_grown) + b->P[2][2] + b->P[3][3]);
+  if (d2 <= 9.0) return true;
+  const double va = a->P[2][2] + a->P[3][3] - (as_seen ? grown_unseen(tr, a, a->t_state) : 0.0);
+  return d2 <= 4.0 * (max_d(0.0, va) + b->P[2][2] + b->P[3][3]);
 }
 
 static bool walker_like(const rs_track_cfg_t *cf, const rs_track_t *t);
@@ -2321,11 +2255,9 @@ static void take(rs_tracker_t *tr, rs_track_t *t, const rs_object_t *o, double t
   t->height = smooth(t->height, o->sensor.box_max[2] - o->sensor.box_min[2], first);
   t->height_max = smooth(t->height_max, o->sensor.box_max[2] - o->sensor.box_min[2] + o->height_gap, first);
   if (o->top_agl > 0.0f) {
-    t->ground_z = smooth(t->ground_z, o->sensor.box_max[2] - o->top_agl, t->top_agl_n == 0);
     t->top_agl = smooth(t->top_agl, o->top_agl, t->top_agl_n == 0);
     t->top_agl_n++;
   }
-  t->top_seen = first ? o->sensor.box_max[2] : max_f(t->top_seen, o->sensor.box_max[2]);
   t->z_min = first ? o->sensor.box_min[2] : 0.9f * t->z_min + 0.1f * o->sensor.box_min[2];
   if (o->top_gap >= 0.0f && o->top_gap <= RS_TRACK_TOP_GAP) { /* its top is between its returns' and the row above */
     const float top = o->sensor.box_max[2] + 0.5f * o->top_gap;
@@ -2784,9 +2716,6 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
   tr->n.gap_runs_dropped += objs->gaps_dropped;
   tr->n.frames++;
   tr->low_tan = objs->lowest_beam_deg < -1.0f ? tan(-objs->lowest_beam_deg * PI / 180.0) : 0.0;
-  tr->second_tan = tr->low_tan > 0 && objs->second_beam_deg < -1.0f && objs->second_beam_deg > objs->lowest_beam_deg
-                       ? tan(-objs->second_beam_deg * PI / 180.0)
-                       : 0.0;
   L->t = t_frame;
   L->ended = 0;
   if (t_frame < tr->last_t) t_frame = tr->last_t; /* time never runs back */
@@ -2954,7 +2883,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
          * younger one is (within a third of its length) and they are of a size */
         const double lmax = max_d(o->length, y->length), lmin = min_d(o->length, y->length);
         if (o->id > y->id || sqrt(dx * dx + dy * dy) > max_d(0.5, 0.35 * y->length) || lmin < 0.5 * lmax - 0.5 ||
-            !move_alike(o, y, cf->stitch_alike ? grown_unseen(tr, o, o->t_state) : 0.0))
+            !move_alike(tr, o, y, cf->stitch_alike))
           continue;
       } else if (sqrt(dx * dx + dy * dy) > min_d(2.0 * cf->gate_m, cf->gate_m + 0.5 * (y->t_state - o->t_update)) ||
                  off_lane(cf, o, dx, dy, y->t_state - o->t_update) || !stitch_feasible(tr, o, y)) {
@@ -3079,7 +3008,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
         const double lmax = max_d(o->length, t->length), lmin = min_d(o->length, t->length);
         const double dx = o->x[0] - px, dy = o->x[1] - py, r = max_d(0.5, 0.35 * o->length);
         dup = dx * dx + dy * dy <= r * r && lmin >= 0.5 * lmax - 0.5;
-        if (!dup && cf->dup_box && o->length >= DUP_BOX_M && norm2(o->x[2], o->x[3]) >= DUP_BOX_V && move_alike(o, t, 0.0))
+        if (!dup && cf->dup_box && o->length >= DUP_BOX_M && norm2(o->x[2], o->x[3]) >= DUP_BOX_V && move_alike(tr, o, t, false))
           dup = in_track_box(tr, o, px, py);
       }
     }

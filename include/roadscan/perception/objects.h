@@ -91,7 +91,6 @@ typedef struct {
   uint32_t candidates_overflow; /* objects whose hull lost candidates (box may be small) */
   uint32_t approx_boxes;    /* objects whose rectangle search skipped hull edges */
   float lowest_beam_deg;    /* the sensor's lowest beam's elevation (degrees; 0: not known) */
-  float second_beam_deg;    /* the next beam's above it (degrees; 0: not known) */
   /* the map columns more than half the rows did not measure this frame (a lost packet's: rs_slot_t.gap is by block
    * azimuth, and a row's returns lie at its laser's azimuth offset from it, so a VLP-32C's 2.4-degree
    * hole is a different 2.4 degrees in each group of rows: no column is unmeasured in more than half), as

@@ -238,11 +238,6 @@ typedef struct {
                                   lowest beam reaches at the track's top, is measured by the part that beam can
                                   see; its top is midway between its returns' top and the row above (default 1;
                                   docs/tracking.md) */
-  int beam_gap;                /* 1: with below_beam, also the ranges where a vehicle's body is between the two
-                                  lowest beams (the first passes under it before the second reaches its top: a
-                                  VLP-32C 5 m up, 25 and 15.6 degrees down, misses a car 10.1-12.6 m away) are
-                                  not seen; the part of its box seen beyond them or inside them is what its
-                                  object shows (default 1; docs/tracking.md) */
   int still_lane;              /* 1: a standing vehicle's track (slower than 0.5 m/s) unseen for over 0.5 s whose
                                   side views agree on an axis takes no object farther across that axis than
                                   reacq_across_m plus half its width plus a tenth of how far along it (the
@@ -421,10 +416,10 @@ typedef struct {
                                   passing behind the spot a slow track was predicted to is not it (default 1;
                                   docs/tracking.md) */
   int stitch_alike;            /* 1: an unseen track seen in the same frames as a younger one is stitched to it only
-                                  when their velocities differ by 3 m/s at most, not also within two standard
-                                  deviations of the difference: the unseen one's grows with the time unseen, and
-                                  after 2 s any vehicle passing where it stood is "alike" (default 1;
-                                  docs/tracking.md, Association) */
+                                  when their velocities differ by 3 m/s, or by two standard deviations of the
+                                  difference with the unseen one's velocity variance as it was when last seen: what
+                                  it gained while unseen left out (after 2 s any vehicle passing where it stood was
+                                  "alike"; default 1; docs/tracking.md, Association) */
   int gap_unseen;              /* 1: a track unseen in a frame whose columns at its predicted centre were not
                                   measured (a lost packet, rs_object_list_t.gap) was not missed: the frame does
                                   not count against its "hit in every frame" (misses), as it could not have
@@ -491,8 +486,6 @@ typedef struct {
                                          top and the row above them, from the top_n objects whose row above
                                          passed within RS_TRACK_TOP_GAP */
   uint32_t top_n;
-  float top_seen;                     /* its highest return (sensor z) over its updates (hits > 0) */
-  float ground_z;                     /* smoothed: the ground under it (sensor z), with top_agl */
   uint16_t walked;                    /* updates in which it looked and moved like a walker, up to
                                          walked_hits (rs_track_cfg_t) */
   float across;                       /* smoothed: the box's extent across the heading while moving (0 unknown) */
@@ -588,7 +581,6 @@ typedef struct {
   rs_track_list_t list;      /* the tracks, in id order */
   uint32_t next_id;
   double low_tan;            /* tangent of the lowest beam's depression (this frame's objects; 0: none) */
-  double second_tan;         /* the next beam's (0: none, or not pointing down) */
   rs_track_counters_t n;
   double last_t;
   /* work areas */
