@@ -770,14 +770,6 @@ static void accel_density(const rs_tracker_t *tr, const rs_track_t *t, double q[
   q[2] = ql * cy + qc * cx;
 }
 
-/* how much the trace of unseen track t's velocity covariance has grown since it was last seen, by
- * time t_now: the process noise's, (q_xx + q_yy) per second (stitch_alike) */
-static double grown_unseen(const rs_tracker_t *tr, const rs_track_t *t, double t_now) {
-  double q[3];
-  accel_density(tr, t, q);
-  return (q[0] + q[2]) * max_d(0.0, t_now - t->t_update);
-}
-
 /* The turn rate (turn_rate): a vehicle's velocity turning at rate w is predicted
  * along a circle (a coordinated turn of known rate): the transition is linear in
  * the state for a given w, so the filter stays a Kalman filter. w is
@@ -1092,19 +1084,25 @@ static bool in_track_box(const rs_tracker_t *tr, const rs_track_t *t, double px,
   return in_rect(px, py, t->x[0], t->x[1], t->hcos, t->hsin, 0.5 * len + m, 0.5 * wid + 0.5 * m);
 }
 
-static double grown_unseen(const rs_tracker_t *tr, const rs_track_t *t, double t_now);
 /* tracks a and b move alike, as two tracks of one object do: their
  * velocities differ by at most 3 m/s or two standard deviations of the
- * difference (a vehicle passing where a lost track is predicted does not).
- * as_seen (stitch_alike): a's velocity variance as it was when last seen,
- * what it gained while unseen left out */
-static bool move_alike(const rs_tracker_t *tr, const rs_track_t *a, const rs_track_t *b, bool as_seen) {
+ * difference (a vehicle passing where a lost track is predicted does not) */
+static bool move_alike(const rs_track_t *a, const rs_track_t *b) {
   const double dvx = a->x[2] - b->x[2], dvy = a->x[3] - b->x[3], d2 = dvx * dvx + dvy * dvy;
-  if (d2 <= 9.0) return true;
-  const double va = a->P[2][2] + a->P[3][3] - (as_seen ? grown_unseen(tr, a, a->t_state) : 0.0);
-  return d2 <= 4.0 * (max_d(0.0, va) + b->P[2][2] + b->P[3][3]);
+  return d2 <= 9.0 || d2 <= 4.0 * (a->P[2][2] + a->P[3][3] + b->P[2][2] + b->P[3][3]);
 }
 
+/* stitch_alike: were unseen track o and younger track y two objects when o was last seen? y's place
+ * then, run back at its velocity from where it is, more than the longer of the two plus
+ * STITCH_APART_M from o's last measurement. (A track's velocity uncertainty grows while it is unseen,
+ * so after 2 s any vehicle passing where a hidden one stood moves "alike": a car's track, last seen
+ * standing at the line, took the car that had been behind it all along.) */
+#define STITCH_APART_M 1.0
+static bool apart_when_seen(const rs_track_t *o, const rs_track_t *y) {
+  const double back = max_d(0.0, y->t_state - o->t_update);
+  const double dx = y->x[0] - y->x[2] * back - o->last_z[0], dy = y->x[1] - y->x[3] * back - o->last_z[1];
+  return norm2(dx, dy) > max_d(o->length, y->length) + STITCH_APART_M;
+}
 static bool walker_like(const rs_track_cfg_t *cf, const rs_track_t *t);
 /* objects a and b fit together in len x wid, grown by RS_TRACK_SPLIT_MARGIN both ways, on the axes (c, s) */
 static bool fits_in(const rs_object_t *a, const rs_object_t *b, double h, double c, double s, double len, double wid) {
@@ -2883,7 +2881,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
          * younger one is (within a third of its length) and they are of a size */
         const double lmax = max_d(o->length, y->length), lmin = min_d(o->length, y->length);
         if (o->id > y->id || sqrt(dx * dx + dy * dy) > max_d(0.5, 0.35 * y->length) || lmin < 0.5 * lmax - 0.5 ||
-            !move_alike(tr, o, y, cf->stitch_alike))
+            !move_alike(o, y) || (cf->stitch_alike && apart_when_seen(o, y)))
           continue;
       } else if (sqrt(dx * dx + dy * dy) > min_d(2.0 * cf->gate_m, cf->gate_m + 0.5 * (y->t_state - o->t_update)) ||
                  off_lane(cf, o, dx, dy, y->t_state - o->t_update) || !stitch_feasible(tr, o, y)) {
@@ -3008,7 +3006,7 @@ void rs_track_frame(rs_tracker_t *tr, const rs_object_list_t *objs, double t_fra
         const double lmax = max_d(o->length, t->length), lmin = min_d(o->length, t->length);
         const double dx = o->x[0] - px, dy = o->x[1] - py, r = max_d(0.5, 0.35 * o->length);
         dup = dx * dx + dy * dy <= r * r && lmin >= 0.5 * lmax - 0.5;
-        if (!dup && cf->dup_box && o->length >= DUP_BOX_M && norm2(o->x[2], o->x[3]) >= DUP_BOX_V && move_alike(tr, o, t, false))
+        if (!dup && cf->dup_box && o->length >= DUP_BOX_M && norm2(o->x[2], o->x[3]) >= DUP_BOX_V && move_alike(o, t))
           dup = in_track_box(tr, o, px, py);
       }
     }

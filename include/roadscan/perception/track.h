@@ -415,11 +415,11 @@ typedef struct {
                                   (1 m/s, 2 sd of the young track's velocity and 3 m of slack): a faster car
                                   passing behind the spot a slow track was predicted to is not it (default 1;
                                   docs/tracking.md) */
-  int stitch_alike;            /* 1: an unseen track seen in the same frames as a younger one is stitched to it only
-                                  when their velocities differ by 3 m/s, or by two standard deviations of the
-                                  difference with the unseen one's velocity variance as it was when last seen: what
-                                  it gained while unseen left out (after 2 s any vehicle passing where it stood was
-                                  "alike"; default 1; docs/tracking.md, Association) */
+  int stitch_alike;            /* 1: an unseen track seen in the same frames as a younger one is not stitched to it
+                                  when, run back at its velocity to when the unseen one was last seen, the younger one
+                                  was farther from it than the longer of the two and 1 m: two objects then (moving
+                                  "alike" is no test after 2 s unseen, the velocity's uncertainty grown; default 1;
+                                  docs/tracking.md, Association) */
   int gap_unseen;              /* 1: a track unseen in a frame whose columns at its predicted centre were not
                                   measured (a lost packet, rs_object_list_t.gap) was not missed: the frame does
                                   not count against its "hit in every frame" (misses), as it could not have
